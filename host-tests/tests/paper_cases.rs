@@ -1,0 +1,136 @@
+//! GIVEN the paper's limits and its four initial states, WHEN the law is evaluated, THEN it gives
+//! the values computed independently in f64 (to 1e-3 s) and the choices of the paper's figures.
+
+mod common;
+
+use host_tests::reference;
+use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
+use twocars::{evaluate_observation, Direction, Evaluation, Observation, Scalar, Status, Variant};
+
+const TOLERANCE: f64 = 1e-3;
+
+fn evaluate<S: Scalar>(case: &Case, variant: Variant) -> Evaluation<S> {
+    let observation = Observation {
+        limits: PAPER_LIMITS.map(|v| v as f32),
+        pursuer: case.pursuer.map(|v| v as f32),
+        evader: case.evader.map(|v| v as f32),
+    };
+    evaluate_observation::<S>(&observation, variant)
+}
+
+fn upper<S: Scalar>(e: &Evaluation<S>) -> f64 {
+    e.report
+        .and_then(|r| r.solution.upper)
+        .map_or(f64::INFINITY, |v| v.to_f64())
+}
+
+fn check_values<S: Scalar>() {
+    for case in paper_cases() {
+        let e = evaluate::<S>(&case, Variant::Paper);
+        assert_eq!(e.status, Status::Ok, "{}", case.name);
+        let got = upper(&e);
+        assert!(
+            (got - case.expected_value).abs() < TOLERANCE,
+            "{}: upper {got} vs {}",
+            case.name,
+            case.expected_value
+        );
+    }
+}
+
+#[test]
+fn f32_law_reproduces_the_four_paper_values() {
+    check_values::<f32>();
+}
+
+#[test]
+fn f64_law_reproduces_the_four_paper_values() {
+    check_values::<f64>();
+}
+
+#[test]
+fn independent_reference_reproduces_the_four_paper_values() {
+    for case in paper_cases() {
+        let s = common::Scene {
+            limits: PAPER_LIMITS,
+            pursuer: case.pursuer,
+            evader: case.evader,
+        };
+        let (p, e) = s.reference();
+        let g = reference::game(&p, &e);
+        assert!(
+            (g.upper - case.expected_value).abs() < TOLERANCE,
+            "{}: {}",
+            case.name,
+            g.upper
+        );
+    }
+}
+
+#[test]
+fn chosen_circles_match_the_paper_figures() {
+    use Direction::{Anticlockwise as A, Clockwise as C};
+    let want = [(A, A), (C, C), (A, A), (A, C)];
+    for (case, (row, col)) in paper_cases().iter().zip(want) {
+        let e = evaluate::<f32>(case, Variant::Paper);
+        let s = e.report.expect("report").solution;
+        assert_eq!((s.row, s.col), (row, col), "{}", case.name);
+        assert!(
+            (e.command.pursuer - row.sigma::<f32>() * 2.0).abs() < 1e-6
+                && (e.command.evader - col.sigma::<f32>()).abs() < 1e-6,
+            "{}: command {:?}",
+            case.name,
+            e.command
+        );
+    }
+}
+
+#[test]
+fn case_three_has_no_pure_saddle_and_an_exact_double_tie() {
+    let e = evaluate::<f32>(&paper_cases()[2], Variant::Paper);
+    let r = e.report.expect("report");
+    let s = r.solution;
+    assert!(!s.saddle);
+    let lower = s.lower.expect("finite lower");
+    assert!(
+        (f64::from(lower) - 4.5123).abs() < TOLERANCE,
+        "lower {lower}"
+    );
+    let [[aa, ac], [ca, cc]] = r.matrix.entries.map(|row| row.map(|v| v.expect("finite")));
+    assert!(twocars::game::ties(aa, cc), "t_aa {aa} vs t_cc {cc}");
+    assert!(twocars::game::ties(ac, ca), "t_ac {ac} vs t_ca {ca}");
+    // Both rows and both columns tie: both choices go to A.
+    assert_eq!(
+        (s.row, s.col),
+        (Direction::Anticlockwise, Direction::Anticlockwise)
+    );
+    let mixed = s.mixed.expect("mixed value");
+    assert!(
+        mixed > lower && mixed < s.upper.expect("upper"),
+        "mixed {mixed}"
+    );
+}
+
+#[test]
+fn case_four_keeps_the_literal_overshoot_entry_or_clamps_it() {
+    let case = &paper_cases()[3];
+    let paper = evaluate::<f32>(case, Variant::Paper)
+        .report
+        .expect("report");
+    let entry = paper.pairs[1][0].expect("t_ca exists");
+    assert!(entry.capture.overshoot);
+    assert!(
+        (f64::from(entry.capture.value) + 0.2580).abs() < TOLERANCE,
+        "t_ca {:?}",
+        entry.capture
+    );
+    let clamped = evaluate::<f32>(case, Variant::Clamped)
+        .report
+        .expect("report");
+    let entry = clamped.pairs[1][0].expect("t_ca exists");
+    assert!(entry.capture.overshoot);
+    assert_eq!(entry.capture.value, entry.capture.evader_time);
+    assert!(entry.capture.value >= 0.0);
+    // Clamping raises a row-C entry that was not the row's max, so the value stays 5.9778.
+    assert!((upper::<f32>(&evaluate::<f32>(case, Variant::Clamped)) - 5.9778).abs() < TOLERANCE);
+}

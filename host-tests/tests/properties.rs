@@ -1,0 +1,279 @@
+//! Seeded property tests of the law's invariants over random states and limits.
+
+mod common;
+
+use common::{scene, seeded_runner, Scene};
+use host_tests::reference;
+use twocars::{game::ties, Direction, Law, Scalar, Status, VehicleState};
+
+const CASES: u32 = 2000;
+
+fn ok_report<S: Scalar>(s: &Scene) -> Option<twocars::GameReport<S>> {
+    let (law, p, e) = s.law::<S>();
+    let ev = law.evaluate(&p, &e);
+    match ev.status {
+        Status::Ok => ev.report,
+        _ => None,
+    }
+}
+
+#[test]
+fn tangent_points_lie_on_their_circles_and_run_in_their_directions() {
+    seeded_runner(CASES)
+        .run(&scene(30.0), |s| {
+            let (law, p, e) = s.law::<f64>();
+            let Some(r) = law.evaluate(&p, &e).report else {
+                return Ok(());
+            };
+            for (i, pc) in r.pursuer_circles.iter().enumerate() {
+                for (j, ec) in r.evader_circles.iter().enumerate() {
+                    let Some(pair) = r.pairs[i][j] else { continue };
+                    let t = pair.tangent;
+                    let u = (t.heading.cos(), t.heading.sin());
+                    for (c, point) in [(pc, t.pursuer_point), (ec, t.evader_point)] {
+                        let radial = (
+                            (point.x - c.centre.x) / c.radius,
+                            (point.y - c.centre.y) / c.radius,
+                        );
+                        let norm = radial.0.hypot(radial.1);
+                        assert!((norm - 1.0).abs() < 1e-9, "point off its circle: {norm}");
+                        // Algorithm 1: tangent = radius turned by +pi/2 (A) or -pi/2 (C).
+                        let sigma: f64 = c.direction.sigma();
+                        let want = (-sigma * radial.1, sigma * radial.0);
+                        assert!(
+                            want.0 * u.0 + want.1 * u.1 > 1.0 - 1e-9,
+                            "tangent against the turn"
+                        );
+                    }
+                    let run = (
+                        t.evader_point.x - t.pursuer_point.x,
+                        t.evader_point.y - t.pursuer_point.y,
+                    );
+                    assert!((run.0.hypot(run.1) - t.length).abs() < 1e-9 * (1.0 + t.length));
+                    assert!(
+                        (run.0 * u.1 - run.1 * u.0).abs() < 1e-9 * (1.0 + t.length),
+                        "not along u"
+                    );
+                    assert!(
+                        run.0 * u.0 + run.1 * u.1 >= -1e-9,
+                        "directed evader to pursuer"
+                    );
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+/// Position of a vehicle that turns on its circle for `t_turn` seconds and then runs straight.
+fn open_loop(state: [f64; 3], v: f64, w: f64, sigma: f64, t_turn: f64, t: f64) -> (f64, f64) {
+    let [x, y, theta] = state;
+    let t1 = t.min(t_turn);
+    let turned = theta + sigma * v * w * t1;
+    let r = 1.0 / w;
+    let (cx, cy) = (x - sigma * r * theta.sin(), y + sigma * r * theta.cos());
+    let (px, py) = (cx + sigma * r * turned.sin(), cy - sigma * r * turned.cos());
+    let straight = (t - t1).max(0.0) * v;
+    (px + straight * turned.cos(), py + straight * turned.sin())
+}
+
+#[test]
+fn algorithm_two_equals_an_open_loop_simulation_of_both_paths() {
+    seeded_runner(CASES)
+        .run(&scene(30.0), |s| {
+            let (law, p, e) = s.law::<f64>();
+            let Some(r) = law.evaluate(&p, &e).report else {
+                return Ok(());
+            };
+            let [v_pm, w_pm, v_em, w_em] = s.as_f32_rounded().limits;
+            let s32 = s.as_f32_rounded();
+            for (i, dp) in Direction::BOTH.iter().enumerate() {
+                for (j, de) in Direction::BOTH.iter().enumerate() {
+                    let Some(pair) = r.pairs[i][j] else { continue };
+                    let c = pair.capture;
+                    if c.overshoot {
+                        continue;
+                    }
+                    let t = c.value;
+                    let pp = open_loop(s32.pursuer, v_pm, w_pm, dp.sigma(), c.pursuer_time, t);
+                    let pe = open_loop(s32.evader, v_em, w_em, de.sigma(), c.evader_time, t);
+                    let gap = (pp.0 - pe.0).hypot(pp.1 - pe.1);
+                    assert!(
+                        gap < 1e-6 * (1.0 + t * v_pm),
+                        "pair {i}{j}: positions {gap} apart at T = {t}"
+                    );
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn upper_value_is_at_least_the_lower_value() {
+    seeded_runner(CASES)
+        .run(&scene(30.0), |s| {
+            if let Some(r) = ok_report::<f32>(&s) {
+                let (u, l) = (r.solution.upper.unwrap(), r.solution.lower.unwrap());
+                assert!(u >= l || ties(u, l), "upper {u} < lower {l}");
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+fn mirrored(s: &Scene) -> Scene {
+    let m = |[x, y, th]: [f64; 3]| [x, -y, -th];
+    Scene {
+        limits: s.limits,
+        pursuer: m(s.pursuer),
+        evader: m(s.evader),
+    }
+}
+
+#[test]
+fn mirroring_about_the_x_axis_swaps_a_and_c() {
+    seeded_runner(CASES)
+        .run(&scene(30.0), |s| {
+            let (Some(a), Some(b)) = (ok_report::<f64>(&s), ok_report::<f64>(&mirrored(&s))) else {
+                return Ok(());
+            };
+            for i in 0..2 {
+                for j in 0..2 {
+                    match (a.matrix.entries[i][j], b.matrix.entries[1 - i][1 - j]) {
+                        (Some(x), Some(y)) => {
+                            assert!((x - y).abs() < 1e-6 * (1.0 + x.abs()), "{x} vs {y}")
+                        }
+                        (None, None) => {}
+                        // An arc within rounding of 0 or 2 pi can flip: allow it only there.
+                        (x, y) => panic!("entry {i}{j}: {x:?} vs mirrored {y:?}"),
+                    }
+                }
+            }
+            let (sa, sb) = (a.solution, b.solution);
+            assert!(
+                (sa.upper.unwrap() - sb.upper.unwrap()).abs()
+                    < 1e-6 * (1.0 + sa.upper.unwrap().abs())
+            );
+            let worst = |r: [Option<f64>; 2]| r[0].zip(r[1]).map(|(x, y)| x.max(y));
+            if let [Some(r0), Some(r1)] = a.matrix.entries.map(worst) {
+                if !ties(r0, r1) {
+                    assert_ne!(sa.row, sb.row, "row should swap: {r0} vs {r1}");
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn translating_and_rotating_the_scene_changes_no_value() {
+    let moved = (
+        scene(30.0),
+        -100.0f64..100.0,
+        -100.0f64..100.0,
+        -3.0f64..3.0,
+    );
+    seeded_runner(CASES)
+        .run(&moved, |(s, dx, dy, phi)| {
+            let (c, sn) = (phi.cos(), phi.sin());
+            let t = |[x, y, th]: [f64; 3]| [c * x - sn * y + dx, sn * x + c * y + dy, th + phi];
+            let s2 = Scene {
+                limits: s.limits,
+                pursuer: t(s.pursuer),
+                evader: t(s.evader),
+            };
+            let exact = |s: &Scene| {
+                let (law, p, e) = s.law_exact();
+                let ev = law.evaluate(&p, &e);
+                ev.report.filter(|_| ev.status == Status::Ok)
+            };
+            let (Some(a), Some(b)) = (exact(&s), exact(&s2)) else {
+                return Ok(());
+            };
+            let (ua, ub) = (a.solution.upper.unwrap(), b.solution.upper.unwrap());
+            assert!(
+                (ua - ub).abs() < 1e-6 * (1.0 + ua.abs()),
+                "upper {ua} vs {ub}"
+            );
+            let (la, lb) = (a.solution.lower.unwrap(), b.solution.lower.unwrap());
+            assert!(
+                (la - lb).abs() < 1e-6 * (1.0 + la.abs()),
+                "lower {la} vs {lb}"
+            );
+            Ok(())
+        })
+        .unwrap();
+}
+
+/// Whether any arc of the reference lies within `margin` radians of 0 or 2 pi, where rounding of
+/// the input alone can move a value by a full turn.
+fn near_arc_wrap(g: &reference::RefGame, margin: f64) -> bool {
+    g.m.iter().flatten().flatten().any(|e| {
+        [e.alpha_p, e.alpha_e]
+            .iter()
+            .any(|a| *a < margin || *a > std::f64::consts::TAU - margin)
+    })
+}
+
+#[test]
+fn f64_law_agrees_with_the_independent_reference() {
+    seeded_runner(CASES)
+        .run(&scene(30.0), |s| {
+            let s = s.as_f32_rounded();
+            let (rp, re) = s.reference();
+            let g = reference::game(&rp, &re);
+            if near_arc_wrap(&g, 1e-6) {
+                return Ok(());
+            }
+            let (law, p, e): (Law<f64>, VehicleState<f64>, VehicleState<f64>) = s.law();
+            let ev = law.evaluate(&p, &e);
+            let Some(r) = ev.report else { return Ok(()) };
+            for i in 0..2 {
+                for j in 0..2 {
+                    let ours = r.matrix.entries[i][j];
+                    let theirs = g.m[i][j].map(|e| e.value);
+                    match (ours, theirs) {
+                        (Some(a), Some(b)) => {
+                            assert!((a - b).abs() < 1e-7 * (1.0 + b.abs()), "{i}{j}: {a} vs {b}")
+                        }
+                        (None, None) => {}
+                        (a, b) => panic!("{i}{j}: existence differs: {a:?} vs {b:?}"),
+                    }
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn f32_law_value_is_within_1e_4_relative_of_the_independent_reference() {
+    let worst = std::cell::Cell::new(0.0f64);
+    let checked = std::cell::Cell::new(0usize);
+    seeded_runner(CASES)
+        .run(&scene(30.0), |s| {
+            let s = s.as_f32_rounded();
+            let (rp, re) = s.reference();
+            let g = reference::game(&rp, &re);
+            if near_arc_wrap(&g, 1e-3) || !g.upper.is_finite() {
+                return Ok(());
+            }
+            let Some(r) = ok_report::<f32>(&s) else {
+                return Ok(());
+            };
+            let ours = f64::from(r.solution.upper.unwrap());
+            let rel = (ours - g.upper).abs() / g.upper.abs().max(1.0);
+            worst.set(worst.get().max(rel));
+            checked.set(checked.get() + 1);
+            assert!(rel <= 1e-4, "upper {ours} vs reference {}", g.upper);
+            Ok(())
+        })
+        .unwrap();
+    let (worst, checked) = (worst.get(), checked.get());
+    println!("f32 vs reference: {checked} states, worst relative value error {worst:.2e}");
+    assert!(
+        checked > CASES as usize / 2,
+        "too few states checked: {checked}"
+    );
+}

@@ -1,0 +1,70 @@
+//! Time to capture along a valid tangent (the paper's Algorithm 2).
+
+use crate::geometry::Limits;
+use crate::num::Scalar;
+
+/// Which reading of Algorithm 2's second branch to use.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Variant {
+    /// The paper's literal value, also in the overshoot case (pursuer reaches the tangent first and
+    /// would pass the evader's tangent point before the evader leaves its circle); it may be below
+    /// t_e or negative (paper case 4: t_ca = -0.2580 s).
+    #[default]
+    Paper,
+    /// In the overshoot case the capture is put at t_e, when the evader leaves its circle.
+    Clamped,
+}
+
+/// Time to capture along one valid tangent, with the pieces Algorithm 2 builds it from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CaptureTime<S> {
+    /// Time to capture, seconds (the matrix entry).
+    pub value: S,
+    /// Heading angle the pursuer turns through to reach the tangent, radians in [0, 2 pi).
+    pub pursuer_arc: S,
+    /// Heading angle the evader turns through to reach the tangent, radians in [0, 2 pi).
+    pub evader_arc: S,
+    /// Time the pursuer spends on its circle, t_p = r_p alpha_p / v_pm, seconds.
+    pub pursuer_time: S,
+    /// Time the evader spends on its circle, t_e = r_e alpha_e / v_em, seconds.
+    pub evader_time: S,
+    /// The overshoot case: t_p <= t_e and L - v_pm (t_e - t_p) < 0.
+    pub overshoot: bool,
+}
+
+/// Algorithm 2: time to capture when both players turn through their arcs (radians) at full speed
+/// and then run along a tangent of length `tangent_length` (metres).
+pub fn capture_time<S: Scalar>(
+    limits: &Limits<S>,
+    tangent_length: S,
+    pursuer_arc: S,
+    evader_arc: S,
+    variant: Variant,
+) -> CaptureTime<S> {
+    let p = &limits.pursuer;
+    let e = &limits.evader;
+    let t_p = p.radius() * pursuer_arc / p.v_max();
+    let t_e = e.radius() * evader_arc / e.v_max();
+    let closing_speed = p.v_max() - e.v_max();
+    let mut overshoot = false;
+    let value = if t_p > t_e {
+        // The evader is on the tangent first and runs v_em (t_p - t_e) ahead along it.
+        t_p + (tangent_length + e.v_max() * (t_p - t_e)) / closing_speed
+    } else {
+        // The pursuer is on the tangent first and closes v_pm (t_e - t_p) before the evader leaves.
+        let gap = tangent_length - p.v_max() * (t_e - t_p);
+        overshoot = gap < S::zero();
+        match (overshoot, variant) {
+            (true, Variant::Clamped) => t_e,
+            _ => t_e + gap / closing_speed,
+        }
+    };
+    CaptureTime {
+        value,
+        pursuer_arc,
+        evader_arc,
+        pursuer_time: t_p,
+        evader_time: t_e,
+        overshoot,
+    }
+}

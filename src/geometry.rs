@@ -1,0 +1,277 @@
+//! Vehicles, their minimum-radius turning circles and the valid directed common tangent of a
+//! pursuer/evader circle pair (the paper's Preliminaries and Algorithm 1).
+//!
+//! Frames: metres, radians anticlockwise from +x. Curvature `w` in 1/m (theta_dot = v w).
+
+use crate::num::Scalar;
+use crate::status::Status;
+
+/// Turning direction of a minimum-radius circle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// The A circle: w = +w_max, sigma = +1.
+    Anticlockwise,
+    /// The C circle: w = -w_max, sigma = -1.
+    Clockwise,
+}
+
+impl Direction {
+    /// Both directions in the paper's Table 1 order (A first).
+    pub const BOTH: [Direction; 2] = [Direction::Anticlockwise, Direction::Clockwise];
+
+    /// sigma: +1 for anticlockwise, -1 for clockwise.
+    pub fn sigma<S: Scalar>(self) -> S {
+        match self {
+            Direction::Anticlockwise => S::one(),
+            Direction::Clockwise => -S::one(),
+        }
+    }
+
+    /// The paper's letter: `A` or `C`.
+    pub fn letter(self) -> char {
+        match self {
+            Direction::Anticlockwise => 'A',
+            Direction::Clockwise => 'C',
+        }
+    }
+}
+
+/// A point in the plane, metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Point<S> {
+    /// x, metres.
+    pub x: S,
+    /// y, metres.
+    pub y: S,
+}
+
+impl<S: Scalar> Point<S> {
+    /// Euclidean distance to `other`, metres.
+    pub fn distance(self, other: Point<S>) -> S {
+        let dx = other.x - self.x;
+        let dy = other.y - self.y;
+        (dx * dx + dy * dy).sqrt()
+    }
+}
+
+/// Speed and curvature limits of one vehicle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VehicleLimits<S> {
+    v_max: S,
+    w_max: S,
+    radius: S,
+}
+
+impl<S: Scalar> VehicleLimits<S> {
+    /// Maximum speed, m/s.
+    pub fn v_max(&self) -> S {
+        self.v_max
+    }
+    /// Maximum curvature, 1/m.
+    pub fn w_max(&self) -> S {
+        self.w_max
+    }
+    /// Minimum turning radius 1 / w_max, metres.
+    pub fn radius(&self) -> S {
+        self.radius
+    }
+    /// Maximum turn rate v_max w_max, rad/s.
+    pub fn max_turn_rate(&self) -> S {
+        self.v_max * self.w_max
+    }
+}
+
+/// Largest speed (m/s) and curvature (1/m) the law accepts, and the largest turning radius (m):
+/// beyond them products and quotients of the law leave every backend's range.
+pub const MAX_SPEED: f32 = 1.0e4;
+/// See [`MAX_SPEED`].
+pub const MAX_CURVATURE: f32 = 1.0e4;
+/// See [`MAX_SPEED`].
+pub const MAX_RADIUS: f32 = 1.0e4;
+
+/// Limits of both players, validated once against the paper's Assumption 1
+/// (v_pm > v_em > 0 and w_pm > w_em > 0), so the law never sees impossible limits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits<S> {
+    /// The pursuer's limits.
+    pub pursuer: VehicleLimits<S>,
+    /// The evader's limits.
+    pub evader: VehicleLimits<S>,
+}
+
+impl<S: Scalar> Limits<S> {
+    /// Validates limits given in m/s and 1/m.
+    ///
+    /// # Errors
+    /// `NonFiniteInput` for NaN or infinity, `InvalidLimits` unless v_pm > v_em > 0 and
+    /// w_pm > w_em > 0, `OutOfRange` for speeds above [`MAX_SPEED`], curvatures above
+    /// [`MAX_CURVATURE`] or radii above [`MAX_RADIUS`].
+    pub fn new(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<Self, Status> {
+        let all = [v_pm, w_pm, v_em, w_em];
+        if all.iter().any(|v| !v.is_finite()) {
+            return Err(Status::NonFiniteInput);
+        }
+        if !(v_pm > v_em && v_em > 0.0 && w_pm > w_em && w_em > 0.0) {
+            return Err(Status::InvalidLimits);
+        }
+        if v_pm > MAX_SPEED || w_pm > MAX_CURVATURE || 1.0 / w_em > MAX_RADIUS {
+            return Err(Status::OutOfRange);
+        }
+        let vehicle = |v: f32, w: f32| VehicleLimits {
+            v_max: S::from_f32(v),
+            w_max: S::from_f32(w),
+            radius: S::one() / S::from_f32(w),
+        };
+        Ok(Limits {
+            pursuer: vehicle(v_pm, w_pm),
+            evader: vehicle(v_em, w_em),
+        })
+    }
+
+    /// The theorem's distance threshold 2 r_e + 2 pi r_e v_pm / v_em, metres: at or above it the
+    /// saddle-point strategies are circle-then-straight (Theorems 2 and 3).
+    pub fn theorem_threshold(&self) -> S {
+        let r_e = self.evader.radius;
+        r_e + r_e + S::tau() * r_e * self.pursuer.v_max / self.evader.v_max
+    }
+}
+
+/// Position and heading of a vehicle: metres, radians anticlockwise from +x.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VehicleState<S> {
+    /// x, metres.
+    pub x: S,
+    /// y, metres.
+    pub y: S,
+    /// Heading, radians anticlockwise from +x.
+    pub theta: S,
+}
+
+impl<S: Scalar> VehicleState<S> {
+    /// Validates and converts a state given in metres and radians.
+    ///
+    /// # Errors
+    /// `NonFiniteInput` for NaN or infinity; `OutOfRange` outside the backend's envelope
+    /// (`S::MAX_COORDINATE`, `S::MAX_HEADING`).
+    pub fn new(x: f32, y: f32, theta: f32) -> Result<Self, Status> {
+        if !(x.is_finite() && y.is_finite() && theta.is_finite()) {
+            return Err(Status::NonFiniteInput);
+        }
+        let c = S::MAX_COORDINATE;
+        if x.abs() > c || y.abs() > c || theta.abs() > S::MAX_HEADING {
+            return Err(Status::OutOfRange);
+        }
+        Ok(VehicleState {
+            x: S::from_f32(x),
+            y: S::from_f32(y),
+            theta: S::from_f32(theta),
+        })
+    }
+
+    /// Position, metres.
+    pub fn position(&self) -> Point<S> {
+        Point {
+            x: self.x,
+            y: self.y,
+        }
+    }
+}
+
+/// A minimum-radius turning circle of a vehicle at the current instant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TurningCircle<S> {
+    /// Centre, metres.
+    pub centre: Point<S>,
+    /// Radius 1 / w_max, metres.
+    pub radius: S,
+    /// Direction the vehicle turns on it.
+    pub direction: Direction,
+}
+
+impl<S: Scalar> TurningCircle<S> {
+    /// The A and C circles of a vehicle (in that order), sharing one sine/cosine of its heading.
+    /// Centres: A at (x - r sin theta, y + r cos theta), C at (x + r sin theta, y - r cos theta).
+    pub fn both(state: &VehicleState<S>, limits: &VehicleLimits<S>) -> [TurningCircle<S>; 2] {
+        let (sin, cos) = state.theta.sin_cos();
+        let r = limits.radius;
+        let circle = |direction: Direction| {
+            let sigma: S = direction.sigma();
+            TurningCircle {
+                centre: Point {
+                    x: state.x - sigma * r * sin,
+                    y: state.y + sigma * r * cos,
+                },
+                radius: r,
+                direction,
+            }
+        };
+        [
+            circle(Direction::Anticlockwise),
+            circle(Direction::Clockwise),
+        ]
+    }
+
+    /// The point of this circle where a vehicle moving in the circle's direction has heading
+    /// (cos psi, sin psi): centre + sigma r (sin psi, -cos psi).
+    pub fn point_with_heading(&self, sin_psi: S, cos_psi: S) -> Point<S> {
+        let sr = self.direction.sigma::<S>() * self.radius;
+        Point {
+            x: self.centre.x + sr * sin_psi,
+            y: self.centre.y - sr * cos_psi,
+        }
+    }
+
+    /// Heading angle (radians, in [0, 2 pi)) a vehicle with heading `theta` turns through on this
+    /// circle to reach heading `psi`: (sigma (psi - theta)) mod 2 pi. An angle within `tolerance`
+    /// of 2 pi counts as 0: the vehicle is a hair past the tangent, on it.
+    pub fn arc_to(&self, theta: S, psi: S, tolerance: S) -> S {
+        let alpha = (self.direction.sigma::<S>() * (psi - theta)).wrap_positive();
+        if alpha > S::tau() - tolerance {
+            S::zero()
+        } else {
+            alpha
+        }
+    }
+}
+
+/// The valid directed common tangent of a PE pair (Algorithm 1): it leaves the pursuer circle and
+/// meets the evader circle, each in that circle's turning direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ValidTangent<S> {
+    /// Tangent point on the pursuer circle, metres.
+    pub pursuer_point: Point<S>,
+    /// Tangent point on the evader circle, metres.
+    pub evader_point: Point<S>,
+    /// Heading of the tangent, radians in (-pi, pi], anticlockwise from +x.
+    pub heading: S,
+    /// Length from the pursuer's tangent point to the evader's, metres.
+    pub length: S,
+}
+
+impl<S: Scalar> ValidTangent<S> {
+    /// The valid tangent from `pursuer` to `evader`, or `None` where it does not exist.
+    ///
+    /// With D = O_e - O_p and k = sigma_e r_e - sigma_p r_p, the tangent exists iff |D| >= |k| and
+    /// |D| > 0; its length is L = sqrt(|D|^2 - k^2) and its direction is (L D + k D_perp) / |D|^2
+    /// with D_perp = (D_y, -D_x), so that |D| sin(psi - atan2(D)) = -k.
+    pub fn between(pursuer: &TurningCircle<S>, evader: &TurningCircle<S>) -> Option<Self> {
+        let dx = evader.centre.x - pursuer.centre.x;
+        let dy = evader.centre.y - pursuer.centre.y;
+        let d2 = dx * dx + dy * dy;
+        let k = evader.direction.sigma::<S>() * evader.radius
+            - pursuer.direction.sigma::<S>() * pursuer.radius;
+        let zero = S::zero();
+        if d2 <= zero || d2 < k * k {
+            return None;
+        }
+        let length = (d2 - k * k).sqrt();
+        let cos_psi = (length * dx + k * dy) / d2;
+        let sin_psi = (length * dy - k * dx) / d2;
+        Some(ValidTangent {
+            pursuer_point: pursuer.point_with_heading(sin_psi, cos_psi),
+            evader_point: evader.point_with_heading(sin_psi, cos_psi),
+            heading: S::atan2(sin_psi, cos_psi),
+            length,
+        })
+    }
+}

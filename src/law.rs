@@ -1,0 +1,308 @@
+//! The feedback law F(x) for both players (the paper's Theorem 4): four valid tangents, four
+//! capture times, the matrix game, and a command with a status for every input.
+//!
+//! Commands are curvatures in 1/m (theta_dot = v w); a turn rate in rad/s is v_max w.
+
+use crate::capture::{capture_time, CaptureTime, Variant};
+use crate::game::{GameSolution, MatrixGame};
+use crate::geometry::{
+    Direction, Limits, TurningCircle, ValidTangent, VehicleLimits, VehicleState,
+};
+use crate::num::Scalar;
+use crate::status::Status;
+
+/// Distance at or below which the positions coincide, as a fraction of the pursuer's radius.
+pub const CAPTURE_RADIUS_FRACTION: f32 = 1.0e-6;
+
+/// Curvature command of both players, 1/m. Zero is straight ahead, the safe command.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Command<S> {
+    /// Pursuer curvature w_p, 1/m, within +-w_pm.
+    pub pursuer: S,
+    /// Evader curvature w_e, 1/m, within +-w_em.
+    pub evader: S,
+}
+
+impl<S: Scalar> Command<S> {
+    /// Both players straight ahead.
+    pub fn straight() -> Self {
+        Command {
+            pursuer: S::zero(),
+            evader: S::zero(),
+        }
+    }
+}
+
+/// One PE pair: its valid tangent and the time to capture along it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairOutcome<S> {
+    /// The valid tangent (Algorithm 1).
+    pub tangent: ValidTangent<S>,
+    /// Time to capture along it (Algorithm 2).
+    pub capture: CaptureTime<S>,
+}
+
+/// Everything the law computed for a valid, uncaptured state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GameReport<S> {
+    /// The pursuer's A and C circles.
+    pub pursuer_circles: [TurningCircle<S>; 2],
+    /// The evader's A and C circles.
+    pub evader_circles: [TurningCircle<S>; 2],
+    /// Per pair `[pursuer circle][evader circle]` (A, C): `None` where no valid tangent exists.
+    pub pairs: [[Option<PairOutcome<S>>; 2]; 2],
+    /// The matrix of Table 1.
+    pub matrix: MatrixGame<S>,
+    /// Its solution: chosen circles and values.
+    pub solution: GameSolution<S>,
+}
+
+impl<S: Scalar> GameReport<S> {
+    /// The pair the two players chose, if it has a valid tangent.
+    pub fn chosen_pair(&self) -> Option<&PairOutcome<S>> {
+        let [a_row, c_row] = &self.pairs;
+        let [a, c] = match self.solution.row {
+            Direction::Anticlockwise => a_row,
+            Direction::Clockwise => c_row,
+        };
+        match self.solution.col {
+            Direction::Anticlockwise => a.as_ref(),
+            Direction::Clockwise => c.as_ref(),
+        }
+    }
+
+    /// Predicted capture time, seconds: the upper value, the pursuer's min-max guarantee
+    /// (`None` = infinity).
+    pub fn predicted_capture_time(&self) -> Option<S> {
+        self.solution.upper
+    }
+}
+
+/// Result of one evaluation: a status, what was computed, and the command to apply.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Evaluation<S> {
+    /// The contract's status.
+    pub status: Status,
+    /// The game, for `Ok` and `NoValidTangent`.
+    pub report: Option<GameReport<S>>,
+    /// The command: the law's for `Ok`, the documented safe command otherwise.
+    pub command: Command<S>,
+}
+
+impl<S: Scalar> Evaluation<S> {
+    fn safe(status: Status) -> Self {
+        Evaluation {
+            status,
+            report: None,
+            command: Command::straight(),
+        }
+    }
+}
+
+/// Raw input of the law, as it arrives from a door (CSV, wire): m/s, 1/m, metres, radians.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Observation {
+    /// v_pm, w_pm, v_em, w_em.
+    pub limits: [f32; 4],
+    /// x_p, y_p, theta_p.
+    pub pursuer: [f32; 3],
+    /// x_e, y_e, theta_e.
+    pub evader: [f32; 3],
+}
+
+/// How the arcs to the tangent points are read and ties are broken.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sampling<S> {
+    /// Arc (radians) below 2 pi beyond which the pursuer counts as on its tangent.
+    pub pursuer_arc_tolerance: S,
+    /// Arc (radians) below 2 pi beyond which the evader counts as on its tangent.
+    pub evader_arc_tolerance: S,
+    /// A stateful caller's previous (pursuer, evader) circles, kept where options tie.
+    pub previous: Option<(Direction, Direction)>,
+}
+
+impl<S: Scalar> Sampling<S> {
+    /// The instantaneous law: the backend's arc resolution, ties to A.
+    pub fn instantaneous() -> Self {
+        let tolerance = S::from_f32(S::ARC_RESOLUTION);
+        Sampling {
+            pursuer_arc_tolerance: tolerance,
+            evader_arc_tolerance: tolerance,
+            previous: None,
+        }
+    }
+}
+
+/// The law for one pair of validated limits and one Algorithm-2 variant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Law<S> {
+    /// Both players' limits.
+    pub limits: Limits<S>,
+    /// Algorithm 2's reading.
+    pub variant: Variant,
+}
+
+impl<S: Scalar> Law<S> {
+    /// The law for validated limits.
+    pub fn new(limits: Limits<S>, variant: Variant) -> Self {
+        Law { limits, variant }
+    }
+
+    /// The instantaneous feedback law F(x): each player at +-w_max of its chosen circle.
+    pub fn evaluate(&self, pursuer: &VehicleState<S>, evader: &VehicleState<S>) -> Evaluation<S> {
+        self.evaluate_sampled(pursuer, evader, &Sampling::instantaneous())
+    }
+
+    /// Evaluates the law with a caller's arc tolerances and previous choice; the command is the
+    /// instantaneous one (+-w_max of each chosen circle).
+    pub fn evaluate_sampled(
+        &self,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        sampling: &Sampling<S>,
+    ) -> Evaluation<S> {
+        let p_lim = &self.limits.pursuer;
+        let e_lim = &self.limits.evader;
+        let capture_radius = S::from_f32(CAPTURE_RADIUS_FRACTION) * p_lim.radius();
+        if pursuer.position().distance(evader.position()) <= capture_radius {
+            return Evaluation::safe(Status::Captured);
+        }
+        let pursuer_circles = TurningCircle::both(pursuer, p_lim);
+        let evader_circles = TurningCircle::both(evader, e_lim);
+        let pair = |pc: TurningCircle<S>, ec: TurningCircle<S>| -> Option<PairOutcome<S>> {
+            let tangent = ValidTangent::between(&pc, &ec)?;
+            let alpha_p = pc.arc_to(
+                pursuer.theta,
+                tangent.heading,
+                sampling.pursuer_arc_tolerance,
+            );
+            let alpha_e = ec.arc_to(evader.theta, tangent.heading, sampling.evader_arc_tolerance);
+            let capture =
+                capture_time(&self.limits, tangent.length, alpha_p, alpha_e, self.variant);
+            Some(PairOutcome { tangent, capture })
+        };
+        let pairs = pursuer_circles.map(|pc| evader_circles.map(|ec| pair(pc, ec)));
+        let matrix = MatrixGame {
+            entries: pairs.map(|row| row.map(|p| p.map(|p| p.capture.value))),
+        };
+        let solution = matrix.solve(sampling.previous);
+        let report = GameReport {
+            pursuer_circles,
+            evader_circles,
+            pairs,
+            matrix,
+            solution,
+        };
+        if solution.upper.is_none() {
+            let command = Command {
+                pursuer: steer(
+                    bearing(pursuer, evader.position().x, evader.position().y),
+                    p_lim,
+                    None,
+                ),
+                evader: steer(
+                    bearing(
+                        evader,
+                        evader.x + evader.x - pursuer.x,
+                        evader.y + evader.y - pursuer.y,
+                    ),
+                    e_lim,
+                    None,
+                ),
+            };
+            return Evaluation {
+                status: Status::NoValidTangent,
+                report: Some(report),
+                command,
+            };
+        }
+        Evaluation {
+            status: Status::Ok,
+            report: Some(report),
+            command: Command {
+                pursuer: solution.row.sigma::<S>() * p_lim.w_max(),
+                evader: solution.col.sigma::<S>() * e_lim.w_max(),
+            },
+        }
+    }
+}
+
+/// Signed angle (radians, in (-pi, pi]) from a vehicle's heading to the direction of the point
+/// (x, y), anticlockwise positive.
+pub fn bearing<S: Scalar>(from: &VehicleState<S>, x: S, y: S) -> S {
+    let direction = S::atan2(y - from.y, x - from.x);
+    let relative = (direction - from.theta).wrap_positive();
+    if relative > S::pi() {
+        relative - S::tau()
+    } else {
+        relative
+    }
+}
+
+/// Curvature (1/m) that turns a vehicle through the signed heading angle `to_go` (radians):
+/// sigma w_max, or with a control period `dt` (seconds) at most what one period needs,
+/// sigma min(w_max, |to_go| / (v_max dt)). Zero when nothing is left to turn.
+pub fn steer<S: Scalar>(to_go: S, limits: &VehicleLimits<S>, dt: Option<S>) -> S {
+    let zero = S::zero();
+    if to_go == zero {
+        return zero;
+    }
+    let magnitude = match dt {
+        Some(dt) => limits.w_max().min(to_go.abs() / (limits.v_max() * dt)),
+        None => limits.w_max(),
+    };
+    if to_go > zero {
+        magnitude
+    } else {
+        -magnitude
+    }
+}
+
+/// The contract's door: validates a raw observation and evaluates the instantaneous law.
+/// Checks in the contract's order: non-finite fields, limits, envelope, capture, tangents.
+pub fn evaluate_observation<S: Scalar>(
+    observation: &Observation,
+    variant: Variant,
+) -> Evaluation<S> {
+    match validate::<S>(observation) {
+        Ok(scene) => Law::new(scene.limits, variant).evaluate(&scene.pursuer, &scene.evader),
+        Err(status) => Evaluation::safe(status),
+    }
+}
+
+/// A validated observation in the backend's numbers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scene<S> {
+    /// Both players' limits.
+    pub limits: Limits<S>,
+    /// The pursuer's state.
+    pub pursuer: VehicleState<S>,
+    /// The evader's state.
+    pub evader: VehicleState<S>,
+}
+
+/// Validates a raw observation into limits and both states.
+///
+/// # Errors
+/// `NonFiniteInput` if any field is NaN or infinite, then `InvalidLimits`, then `OutOfRange`.
+pub fn validate<S: Scalar>(observation: &Observation) -> Result<Scene<S>, Status> {
+    let Observation {
+        limits: [v_pm, w_pm, v_em, w_em],
+        pursuer: [x_p, y_p, theta_p],
+        evader: [x_e, y_e, theta_e],
+    } = *observation;
+    let finite = [x_p, y_p, theta_p, x_e, y_e, theta_e]
+        .iter()
+        .all(|v| v.is_finite());
+    if !finite {
+        return Err(Status::NonFiniteInput);
+    }
+    let limits = Limits::new(v_pm, w_pm, v_em, w_em)?;
+    let pursuer = VehicleState::new(x_p, y_p, theta_p)?;
+    let evader = VehicleState::new(x_e, y_e, theta_e)?;
+    Ok(Scene {
+        limits,
+        pursuer,
+        evader,
+    })
+}

@@ -1,0 +1,35 @@
+//! # twocars: the time-optimal feedback law for the game of two cars
+//!
+//! A fast, agile Dubins pursuer chases a slower, less agile Dubins evader (v_pm > v_em,
+//! w_pm > w_em). At every instant, after the paper "The game of two cars" (its Algorithms 1 and 2
+//! and Table 1):
+//!
+//! 1. each vehicle has an anticlockwise (A) and a clockwise (C) minimum-radius turning circle;
+//! 2. each of the four pursuer/evader circle pairs has one valid directed common tangent;
+//! 3. turning onto it and running along it gives a time to capture per pair: a 2x2 matrix game;
+//! 4. the pursuer plays the min-max row, the evader the max-min column;
+//! 5. each turns at +-w_max on its chosen circle until on the tangent, then goes straight.
+//!
+//! Units: metres, seconds, radians anticlockwise from +x. `w` is curvature in 1/m, as in the
+//! paper (theta_dot = v w, turning radius 1 / w_max); a turn rate in rad/s is v w.
+//!
+//! The law is written once over [`num::Scalar`]; it is `no_std`, allocation-free and panic-free.
+#![no_std]
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod capture;
+pub mod game;
+pub mod geometry;
+pub mod law;
+pub mod num;
+pub mod status;
+
+pub use capture::{CaptureTime, Variant};
+pub use game::{GameSolution, MatrixGame};
+pub use geometry::{
+    Direction, Limits, Point, TurningCircle, ValidTangent, VehicleLimits, VehicleState,
+};
+pub use law::{evaluate_observation, Command, Evaluation, GameReport, Law, Observation};
+pub use num::Scalar;
+pub use status::Status;

@@ -1,0 +1,179 @@
+//! The number types the law is written over.
+//!
+//! The law in [`crate::geometry`], [`crate::capture`], [`crate::game`] and [`crate::law`] is written
+//! once, over [`Scalar`]. A backend supplies arithmetic, the few transcendental functions the law
+//! needs (square root, sine and cosine, two-argument arctangent) and its envelope: the inputs it
+//! represents faithfully. Implemented here: `f32` (the accurate default, via `libm`) and `f64`
+//! (the reference-grade path the host tests compare against).
+
+use core::fmt::Debug;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A real number as one numeric backend represents it.
+///
+/// Angles are in radians, anticlockwise from +x.
+pub trait Scalar:
+    Copy
+    + Debug
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// Largest |x|, |y| (metres) this backend accepts; beyond it the law reports `out_of_range`.
+    const MAX_COORDINATE: f32;
+    /// Largest |theta| (radians) this backend accepts; beyond it the law reports `out_of_range`.
+    const MAX_HEADING: f32;
+    /// Relative tie band of the matrix game: values within `TIE_BAND * max(|a|, |b|)` count as equal.
+    /// At most 1e-4 by contract.
+    const TIE_BAND: f32;
+    /// Smallest arc (radians) this backend resolves: an arc within it of 2 pi counts as 0, so a
+    /// vehicle on its tangent is not sent round a full circle by rounding.
+    const ARC_RESOLUTION: f32;
+
+    /// Converts from `f32`; the caller has checked the value is finite and inside the envelope.
+    fn from_f32(value: f32) -> Self;
+    /// Converts to `f32` (for reports and the wire).
+    fn to_f32(self) -> f32;
+    /// Converts to `f64` (for reports on the host).
+    fn to_f64(self) -> f64;
+    /// Square root of a non-negative value; 0 for negative input.
+    fn sqrt(self) -> Self;
+    /// `(sin(angle), cos(angle))` of an angle in radians.
+    fn sin_cos(self) -> (Self, Self);
+    /// Angle of the vector `(x, y)` in radians, in (-pi, pi]; 0 for the zero vector.
+    fn atan2(y: Self, x: Self) -> Self;
+    /// The angle reduced to [0, 2 pi).
+    fn wrap_positive(self) -> Self;
+
+    /// Zero.
+    fn zero() -> Self {
+        Self::from_f32(0.0)
+    }
+    /// One.
+    fn one() -> Self {
+        Self::from_f32(1.0)
+    }
+    /// pi, to this backend's precision.
+    fn pi() -> Self;
+    /// 2 pi, to this backend's precision.
+    fn tau() -> Self;
+    /// Absolute value.
+    fn abs(self) -> Self {
+        if self < Self::zero() {
+            -self
+        } else {
+            self
+        }
+    }
+    /// The larger of two values.
+    fn max(self, other: Self) -> Self {
+        if other > self {
+            other
+        } else {
+            self
+        }
+    }
+    /// The smaller of two values.
+    fn min(self, other: Self) -> Self {
+        if other < self {
+            other
+        } else {
+            self
+        }
+    }
+}
+
+impl Scalar for f32 {
+    const MAX_COORDINATE: f32 = 1.0e6;
+    const MAX_HEADING: f32 = 1.0e4;
+    const TIE_BAND: f32 = 1.0e-5;
+    const ARC_RESOLUTION: f32 = 1.0e-5;
+
+    fn from_f32(value: f32) -> Self {
+        value
+    }
+    fn to_f32(self) -> f32 {
+        self
+    }
+    fn pi() -> Self {
+        core::f32::consts::PI
+    }
+    fn tau() -> Self {
+        core::f32::consts::TAU
+    }
+    fn to_f64(self) -> f64 {
+        f64::from(self)
+    }
+    fn sqrt(self) -> Self {
+        if self > 0.0 {
+            libm::sqrtf(self)
+        } else {
+            0.0
+        }
+    }
+    fn sin_cos(self) -> (Self, Self) {
+        libm::sincosf(self)
+    }
+    fn atan2(y: Self, x: Self) -> Self {
+        libm::atan2f(y, x)
+    }
+    fn wrap_positive(self) -> Self {
+        let tau = core::f32::consts::TAU;
+        let wrapped = self - tau * libm::floorf(self / tau);
+        // Rounding can land exactly on 2 pi (or a hair below 0); fold those back into [0, 2 pi).
+        if wrapped >= tau || wrapped < 0.0 {
+            0.0
+        } else {
+            wrapped
+        }
+    }
+}
+
+impl Scalar for f64 {
+    const MAX_COORDINATE: f32 = 1.0e6;
+    const MAX_HEADING: f32 = 1.0e4;
+    const TIE_BAND: f32 = 1.0e-9;
+    const ARC_RESOLUTION: f32 = 1.0e-9;
+
+    fn from_f32(value: f32) -> Self {
+        f64::from(value)
+    }
+    fn to_f32(self) -> f32 {
+        // Reports only: the law itself never narrows.
+        self as f32
+    }
+    fn to_f64(self) -> f64 {
+        self
+    }
+    fn pi() -> Self {
+        core::f64::consts::PI
+    }
+    fn tau() -> Self {
+        core::f64::consts::TAU
+    }
+    fn sqrt(self) -> Self {
+        if self > 0.0 {
+            libm::sqrt(self)
+        } else {
+            0.0
+        }
+    }
+    fn sin_cos(self) -> (Self, Self) {
+        libm::sincos(self)
+    }
+    fn atan2(y: Self, x: Self) -> Self {
+        libm::atan2(y, x)
+    }
+    fn wrap_positive(self) -> Self {
+        let tau = core::f64::consts::TAU;
+        let wrapped = self - tau * libm::floor(self / tau);
+        if wrapped >= tau || wrapped < 0.0 {
+            0.0
+        } else {
+            wrapped
+        }
+    }
+}

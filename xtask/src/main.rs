@@ -1,0 +1,44 @@
+//! The project's own commands. `cargo xtask help` lists them.
+
+mod csv;
+mod eval;
+mod options;
+mod paper;
+mod test;
+
+use std::process::ExitCode;
+
+const HELP: &str = "\
+cargo xtask <command> [options]
+
+  run     the main job: the paper's four cases through the law (matrix, choices, values)
+  test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
+  eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
+";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some((command, rest)) = args.split_first() else {
+        eprint!("{HELP}");
+        return ExitCode::from(2);
+    };
+    let parsed = options::parse(rest);
+    let code = match (command.as_str(), parsed) {
+        ("help" | "--help" | "-h", _) => {
+            print!("{HELP}");
+            0
+        }
+        (_, Err(message)) => {
+            eprintln!("xtask {command}: {message}");
+            2
+        }
+        ("eval", Ok((options, _))) => eval::run(&options),
+        ("run", Ok((options, _))) => paper::run(&options),
+        ("test", Ok(_)) => test::run(),
+        (other, Ok(_)) => {
+            eprintln!("xtask: unknown command `{other}`\n{HELP}");
+            2
+        }
+    };
+    ExitCode::from(u8::try_from(code).unwrap_or(1))
+}

@@ -1,0 +1,79 @@
+//! Options shared by the doors: `--variant`, `--numeric`, `--policy`.
+
+use twocars::Variant;
+
+/// Numeric backend of the law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Numeric {
+    /// The accurate f32 path (the default).
+    F32,
+    /// The f64 reference-grade path of the same generic law.
+    F64,
+}
+
+/// Options of `eval` and `sim`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Options {
+    /// Algorithm 2's reading.
+    pub variant: Variant,
+    /// Numeric backend.
+    pub numeric: Numeric,
+}
+
+/// Parses `--variant`, `--numeric` and `--policy`; other arguments are returned for the command.
+pub fn parse(args: &[String]) -> Result<(Options, Vec<String>), String> {
+    let mut options = Options {
+        variant: Variant::Paper,
+        numeric: Numeric::F32,
+    };
+    let mut rest = Vec::new();
+    let mut it = args.iter();
+    while let Some(arg) = it.next() {
+        let (key, inline) = match arg.split_once('=') {
+            Some((k, v)) => (k, Some(v.to_string())),
+            None => (arg.as_str(), None),
+        };
+        let mut value = || {
+            inline
+                .clone()
+                .or_else(|| it.next().cloned())
+                .ok_or(format!("{key} needs a value"))
+        };
+        match key {
+            "--variant" => {
+                options.variant = match value()?.as_str() {
+                    "paper" => Variant::Paper,
+                    "clamped" => Variant::Clamped,
+                    v => return Err(format!("--variant {v}: expected paper or clamped")),
+                }
+            }
+            "--numeric" => {
+                options.numeric = match value()?.as_str() {
+                    "f32" => Numeric::F32,
+                    "f64" => Numeric::F64,
+                    v @ ("micromath" | "fixed") => {
+                        return Err(format!(
+                            "--numeric {v}: this backend has not landed yet (issue 6)"
+                        ))
+                    }
+                    v => {
+                        return Err(format!(
+                            "--numeric {v}: expected f32, micromath, fixed or f64"
+                        ))
+                    }
+                }
+            }
+            "--policy" => match value()?.as_str() {
+                "paper" => {}
+                v @ "near-field" => {
+                    return Err(format!(
+                        "--policy {v}: this policy has not landed yet (issue 9)"
+                    ))
+                }
+                v => return Err(format!("--policy {v}: expected paper or near-field")),
+            },
+            _ => rest.push(arg.clone()),
+        }
+    }
+    Ok((options, rest))
+}

@@ -1,0 +1,67 @@
+//! `cargo xtask run` until the firmware lands: the paper's four cases through the law.
+
+use crate::options::{Numeric, Options};
+use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
+use twocars::{evaluate_observation, Observation, Scalar};
+
+fn show<S: Scalar>(options: &Options) -> i32 {
+    let [v_pm, w_pm, v_em, w_em] = PAPER_LIMITS.map(|v| v as f32);
+    println!("limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m");
+    println!("variant: {:?}", options.variant);
+    let mut failures = 0;
+    for case in paper_cases() {
+        let observation = Observation {
+            limits: [v_pm, w_pm, v_em, w_em],
+            pursuer: case.pursuer.map(|v| v as f32),
+            evader: case.evader.map(|v| v as f32),
+        };
+        let evaluation = evaluate_observation::<S>(&observation, options.variant);
+        println!();
+        println!(
+            "{}: p0 = {:?}, e0 = {:?}: status {}",
+            case.name,
+            case.pursuer,
+            case.evader,
+            evaluation.status.name()
+        );
+        let Some(report) = evaluation.report else {
+            failures += 1;
+            continue;
+        };
+        let f = |v: Option<S>| v.map_or("inf".to_string(), |v| format!("{:9.4}", v.to_f64()));
+        let m = report.matrix.entries;
+        println!("           evader A   evader C");
+        println!("  pursuer A {}  {}", f(m[0][0]), f(m[0][1]));
+        println!("  pursuer C {}  {}", f(m[1][0]), f(m[1][1]));
+        let s = report.solution;
+        println!(
+            "  pursuer plays {}, evader plays {}; upper {} s, lower {} s, saddle {}{}",
+            s.row.letter(),
+            s.col.letter(),
+            f(s.upper).trim(),
+            f(s.lower).trim(),
+            s.saddle,
+            s.mixed.map_or(String::new(), |v| format!(
+                ", mixed value {:.4} s",
+                v.to_f64()
+            )),
+        );
+        let predicted = s.upper.map_or(f64::INFINITY, |v| v.to_f64());
+        println!(
+            "  predicted capture time {predicted:.4} s (independent f64: {:.4} s)",
+            case.expected_value
+        );
+        if (predicted - case.expected_value).abs() > 1e-3 {
+            failures += 1;
+        }
+    }
+    i32::from(failures > 0)
+}
+
+/// Prints the four cases; exit code 1 if a value is off by more than 1e-3 s.
+pub fn run(options: &Options) -> i32 {
+    match options.numeric {
+        Numeric::F32 => show::<f32>(options),
+        Numeric::F64 => show::<f64>(options),
+    }
+}

@@ -1,0 +1,123 @@
+//! `cargo xtask test`: every check the project has, in order; stops at the first failure.
+
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+
+/// Cortex-M targets the no_std core must build for.
+const THUMB_TARGETS: [&str; 3] = [
+    "thumbv7em-none-eabihf",
+    "thumbv7m-none-eabi",
+    "thumbv6m-none-eabi",
+];
+
+fn step(title: &str, program: &str, args: &[&str], env: &[(&str, &str)]) -> bool {
+    println!("== xtask test: {title}");
+    let mut command = Command::new(program);
+    command.args(args);
+    for (k, v) in env {
+        command.env(k, v);
+    }
+    match command.status() {
+        Ok(status) if status.success() => true,
+        Ok(status) => {
+            eprintln!("== xtask test: `{title}` failed ({status})");
+            false
+        }
+        Err(e) => {
+            eprintln!("== xtask test: could not start `{program}`: {e}");
+            false
+        }
+    }
+}
+
+/// Runs `cargo test`, echoing its output, and sums its `test result:` lines into (passed, failed).
+fn host_tests(cargo: &str) -> Option<(u64, u64)> {
+    println!("== xtask test: host tests");
+    let mut child = Command::new(cargo)
+        .args(["test", "--workspace", "--color", "never"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .ok()?;
+    let (mut passed, mut failed) = (0, 0);
+    if let Some(out) = child.stdout.take() {
+        for line in BufReader::new(out).lines().map_while(Result::ok) {
+            println!("{line}");
+            if let Some(rest) = line.strip_prefix("test result: ") {
+                let count = |word: &str| {
+                    rest.split(';')
+                        .find_map(|part| {
+                            part.trim()
+                                .trim_start_matches("ok. ")
+                                .trim_start_matches("FAILED. ")
+                                .strip_suffix(word)
+                        })
+                        .and_then(|n| n.trim().parse::<u64>().ok())
+                        .unwrap_or(0)
+                };
+                passed += count(" passed");
+                failed += count(" failed");
+            }
+        }
+    }
+    let status = child.wait().ok()?;
+    if status.success() {
+        Some((passed, failed))
+    } else {
+        eprintln!("== xtask test: `host tests` failed ({status})");
+        None
+    }
+}
+
+/// Runs every step; returns the exit code.
+pub fn run() -> i32 {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let mut ok = step("format", &cargo, &["fmt", "--all", "--", "--check"], &[])
+        && step(
+            "clippy (host)",
+            &cargo,
+            &[
+                "clippy",
+                "--workspace",
+                "--all-targets",
+                "--",
+                "-D",
+                "warnings",
+            ],
+            &[],
+        );
+    for target in THUMB_TARGETS {
+        ok = ok
+            && step(
+                &format!("clippy + build of the no_std core for {target}"),
+                &cargo,
+                &[
+                    "clippy",
+                    "-p",
+                    "twocars",
+                    "--release",
+                    "--target",
+                    target,
+                    "--",
+                    "-D",
+                    "warnings",
+                ],
+                &[],
+            );
+    }
+    let counts = if ok { host_tests(&cargo) } else { None };
+    ok = ok
+        && counts.is_some()
+        && step(
+            "docs",
+            &cargo,
+            &["doc", "--no-deps", "-p", "twocars"],
+            &[("RUSTDOCFLAGS", "-D warnings")],
+        );
+    let (passed, failed) = counts.unwrap_or((0, 0));
+    if ok {
+        println!("== xtask test: all steps passed");
+    }
+    // The closing line CI reads.
+    println!("{passed} passed, {failed} failed");
+    i32::from(!ok)
+}
