@@ -33,7 +33,14 @@ pub struct GameSolution<S> {
 
 /// Whether two values (seconds) tie within the backend's relative band `S::TIE_BAND`.
 pub fn ties<S: Scalar>(a: S, b: S) -> bool {
-    let band = S::from_f32(S::TIE_BAND) * a.abs().max(b.abs());
+    ties_within(a, b, S::zero())
+}
+
+/// Whether two values (seconds) tie within the relative band `S::TIE_BAND` or within an absolute
+/// `floor` (seconds): a sampled caller passes its control period, the shortest difference in
+/// capture time it can act on.
+pub fn ties_within<S: Scalar>(a: S, b: S, floor: S) -> bool {
+    let band = (S::from_f32(S::TIE_BAND) * a.abs().max(b.abs())).max(floor);
     (a - b).abs() <= band
 }
 
@@ -43,13 +50,14 @@ fn pick<S: Scalar>(
     options: [Option<S>; 2],
     prefer_smaller: bool,
     previous: Option<Direction>,
+    floor: S,
 ) -> (Direction, Option<S>) {
     let [a, c] = options;
     let a_wins = match (a, c) {
         (None, None) => None,
         (Some(_), None) => Some(prefer_smaller),
         (None, Some(_)) => Some(!prefer_smaller),
-        (Some(x), Some(y)) if ties(x, y) => None,
+        (Some(x), Some(y)) if ties_within(x, y, floor) => None,
         (Some(x), Some(y)) => Some((x < y) == prefer_smaller),
     };
     let choice = match a_wins {
@@ -93,14 +101,24 @@ impl<S: Scalar> MatrixGame<S> {
         }
     }
 
-    /// Solves the game. Options within the tie band count as equal and go to A, or to the
-    /// `previous` choice of a stateful caller, so that a tail chase stays on its line.
-    pub fn solve(&self, previous: Option<(Direction, Direction)>) -> GameSolution<S> {
+    /// Solves the game. Options within the tie band count as equal and go to A.
+    pub fn solve(&self) -> GameSolution<S> {
+        self.solve_sampled(None, S::zero())
+    }
+
+    /// Solves the game for a stateful caller: options within the tie band, or within `floor`
+    /// seconds of each other, count as equal and go to the `previous` choice (A if none), so that
+    /// a tail chase stays on its line.
+    pub fn solve_sampled(
+        &self,
+        previous: Option<(Direction, Direction)>,
+        floor: S,
+    ) -> GameSolution<S> {
         let [[aa, ac], [ca, cc]] = self.entries;
         let row_worst = [max_opt(aa, ac), max_opt(ca, cc)];
         let col_best = [min_opt(aa, ca), min_opt(ac, cc)];
-        let (row, upper) = pick(row_worst, true, previous.map(|p| p.0));
-        let (col, lower) = pick(col_best, false, previous.map(|p| p.1));
+        let (row, upper) = pick(row_worst, true, previous.map(|p| p.0), floor);
+        let (col, lower) = pick(col_best, false, previous.map(|p| p.1), floor);
         let saddle = match (upper, lower) {
             (Some(u), Some(l)) => ties(u, l),
             (None, None) => true,

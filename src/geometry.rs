@@ -178,10 +178,16 @@ impl<S: Scalar> VehicleState<S> {
 }
 
 /// A minimum-radius turning circle of a vehicle at the current instant.
+///
+/// Kept as the vehicle's position plus a radius along its left normal, so that differences
+/// between circles are formed from differences of positions and of headings, without the
+/// cancellation of subtracting nearly equal centres.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TurningCircle<S> {
-    /// Centre, metres.
-    pub centre: Point<S>,
+    /// Position of the vehicle on the circle, metres.
+    pub position: Point<S>,
+    /// The vehicle's left unit normal (-sin theta, cos theta).
+    pub normal: Point<S>,
     /// Radius 1 / w_max, metres.
     pub radius: S,
     /// Direction the vehicle turns on it.
@@ -193,17 +199,11 @@ impl<S: Scalar> TurningCircle<S> {
     /// Centres: A at (x - r sin theta, y + r cos theta), C at (x + r sin theta, y - r cos theta).
     pub fn both(state: &VehicleState<S>, limits: &VehicleLimits<S>) -> [TurningCircle<S>; 2] {
         let (sin, cos) = state.theta.sin_cos();
-        let r = limits.radius;
-        let circle = |direction: Direction| {
-            let sigma: S = direction.sigma();
-            TurningCircle {
-                centre: Point {
-                    x: state.x - sigma * r * sin,
-                    y: state.y + sigma * r * cos,
-                },
-                radius: r,
-                direction,
-            }
+        let circle = |direction: Direction| TurningCircle {
+            position: state.position(),
+            normal: Point { x: -sin, y: cos },
+            radius: limits.radius,
+            direction,
         };
         [
             circle(Direction::Anticlockwise),
@@ -211,22 +211,38 @@ impl<S: Scalar> TurningCircle<S> {
         ]
     }
 
+    /// sigma r: the signed radius along the left normal, metres.
+    fn signed_radius(&self) -> S {
+        self.direction.sigma::<S>() * self.radius
+    }
+
+    /// Centre of the circle, metres: position + sigma r (-sin theta, cos theta).
+    pub fn centre(&self) -> Point<S> {
+        let sr = self.signed_radius();
+        Point {
+            x: self.position.x + sr * self.normal.x,
+            y: self.position.y + sr * self.normal.y,
+        }
+    }
+
     /// The point of this circle where a vehicle moving in the circle's direction has heading
     /// (cos psi, sin psi): centre + sigma r (sin psi, -cos psi).
     pub fn point_with_heading(&self, sin_psi: S, cos_psi: S) -> Point<S> {
-        let sr = self.direction.sigma::<S>() * self.radius;
+        let sr = self.signed_radius();
+        let centre = self.centre();
         Point {
-            x: self.centre.x + sr * sin_psi,
-            y: self.centre.y - sr * cos_psi,
+            x: centre.x + sr * sin_psi,
+            y: centre.y - sr * cos_psi,
         }
     }
 
     /// Heading angle (radians, in [0, 2 pi)) a vehicle with heading `theta` turns through on this
-    /// circle to reach heading `psi`: (sigma (psi - theta)) mod 2 pi. An angle within `tolerance`
-    /// of 2 pi counts as 0: the vehicle is a hair past the tangent, on it.
+    /// circle to reach heading `psi`: (sigma (psi - theta)) mod 2 pi. The vehicle is on the
+    /// tangent (angle 0) when the angle is below the backend's resolution `S::ARC_RESOLUTION`, or
+    /// within `tolerance` of 2 pi: a hair past the tangent.
     pub fn arc_to(&self, theta: S, psi: S, tolerance: S) -> S {
         let alpha = (self.direction.sigma::<S>() * (psi - theta)).wrap_positive();
-        if alpha > S::tau() - tolerance {
+        if alpha < S::from_f32(S::ARC_RESOLUTION) || alpha > S::tau() - tolerance {
             S::zero()
         } else {
             alpha
@@ -254,17 +270,33 @@ impl<S: Scalar> ValidTangent<S> {
     /// With D = O_e - O_p and k = sigma_e r_e - sigma_p r_p, the tangent exists iff |D| >= |k| and
     /// |D| > 0; its length is L = sqrt(|D|^2 - k^2) and its direction is (L D + k D_perp) / |D|^2
     /// with D_perp = (D_y, -D_x), so that |D| sin(psi - atan2(D)) = -k.
+    ///
+    /// L^2 is formed without cancellation when the circles nearly touch: with
+    /// Delta = position_e - position_p and o = sigma r n (n the left normal),
+    /// |D|^2 - k^2 = |Delta|^2 + 2 Delta . (o_e - o_p) + sigma_e sigma_p r_e r_p |n_e - n_p|^2.
     pub fn between(pursuer: &TurningCircle<S>, evader: &TurningCircle<S>) -> Option<Self> {
-        let dx = evader.centre.x - pursuer.centre.x;
-        let dy = evader.centre.y - pursuer.centre.y;
-        let d2 = dx * dx + dy * dy;
-        let k = evader.direction.sigma::<S>() * evader.radius
-            - pursuer.direction.sigma::<S>() * pursuer.radius;
+        let (sr_p, sr_e) = (pursuer.signed_radius(), evader.signed_radius());
+        let delta_x = evader.position.x - pursuer.position.x;
+        let delta_y = evader.position.y - pursuer.position.y;
+        let offset_x = sr_e * evader.normal.x - sr_p * pursuer.normal.x;
+        let offset_y = sr_e * evader.normal.y - sr_p * pursuer.normal.y;
+        let dn_x = evader.normal.x - pursuer.normal.x;
+        let dn_y = evader.normal.y - pursuer.normal.y;
+        let length_sq = delta_x * delta_x
+            + delta_y * delta_y
+            + (delta_x * offset_x + delta_y * offset_y) * S::from_f32(2.0)
+            + sr_e * sr_p * (dn_x * dn_x + dn_y * dn_y);
+        let (dx, dy) = (delta_x + offset_x, delta_y + offset_y);
+        let k = sr_e - sr_p;
         let zero = S::zero();
-        if d2 <= zero || d2 < k * k {
+        if length_sq < zero {
             return None;
         }
-        let length = (d2 - k * k).sqrt();
+        let d2 = length_sq + k * k;
+        if d2 <= zero {
+            return None;
+        }
+        let length = length_sq.sqrt();
         let cos_psi = (length * dx + k * dy) / d2;
         let sin_psi = (length * dy - k * dx) / d2;
         Some(ValidTangent {

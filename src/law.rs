@@ -119,6 +119,9 @@ pub struct Sampling<S> {
     pub evader_arc_tolerance: S,
     /// A stateful caller's previous (pursuer, evader) circles, kept where options tie.
     pub previous: Option<(Direction, Direction)>,
+    /// Absolute tie floor, seconds: a sampled caller's control period (0 for the instantaneous
+    /// law, whose ties are the relative band alone).
+    pub tie_floor: S,
 }
 
 impl<S: Scalar> Sampling<S> {
@@ -129,6 +132,7 @@ impl<S: Scalar> Sampling<S> {
             pursuer_arc_tolerance: tolerance,
             evader_arc_tolerance: tolerance,
             previous: None,
+            tie_floor: S::zero(),
         }
     }
 }
@@ -185,7 +189,7 @@ impl<S: Scalar> Law<S> {
         let matrix = MatrixGame {
             entries: pairs.map(|row| row.map(|p| p.map(|p| p.capture.value))),
         };
-        let solution = matrix.solve(sampling.previous);
+        let solution = matrix.solve_sampled(sampling.previous, sampling.tie_floor);
         let report = GameReport {
             pursuer_circles,
             evader_circles,
@@ -194,22 +198,7 @@ impl<S: Scalar> Law<S> {
             solution,
         };
         if solution.upper.is_none() {
-            let command = Command {
-                pursuer: steer(
-                    bearing(pursuer, evader.position().x, evader.position().y),
-                    p_lim,
-                    None,
-                ),
-                evader: steer(
-                    bearing(
-                        evader,
-                        evader.x + evader.x - pursuer.x,
-                        evader.y + evader.y - pursuer.y,
-                    ),
-                    e_lim,
-                    None,
-                ),
-            };
+            let command = fallback_command(pursuer, evader, &self.limits, None);
             return Evaluation {
                 status: Status::NoValidTangent,
                 report: Some(report),
@@ -236,6 +225,23 @@ pub fn bearing<S: Scalar>(from: &VehicleState<S>, x: S, y: S) -> S {
         relative - S::tau()
     } else {
         relative
+    }
+}
+
+/// The documented fallback where no pursuer row has a finite value: the pursuer turns toward the
+/// evader's bearing, the evader toward the direction pointing away from the pursuer; with a
+/// control period `dt` each turns at most what one period needs (see [`steer`]).
+pub fn fallback_command<S: Scalar>(
+    pursuer: &VehicleState<S>,
+    evader: &VehicleState<S>,
+    limits: &Limits<S>,
+    dt: Option<S>,
+) -> Command<S> {
+    let away_x = evader.x + evader.x - pursuer.x;
+    let away_y = evader.y + evader.y - pursuer.y;
+    Command {
+        pursuer: steer(bearing(pursuer, evader.x, evader.y), &limits.pursuer, dt),
+        evader: steer(bearing(evader, away_x, away_y), &limits.evader, dt),
     }
 }
 

@@ -23,6 +23,7 @@ pub mod game;
 pub mod geometry;
 pub mod law;
 pub mod num;
+pub mod sampled;
 pub mod status;
 
 pub use capture::{CaptureTime, Variant};
@@ -32,4 +33,5 @@ pub use geometry::{
 };
 pub use law::{evaluate_observation, Command, Evaluation, GameReport, Law, Observation};
 pub use num::Scalar;
+pub use sampled::Guidance;
 pub use status::Status;

@@ -89,7 +89,7 @@ pub trait Scalar:
 impl Scalar for f32 {
     const MAX_COORDINATE: f32 = 1.0e6;
     const MAX_HEADING: f32 = 1.0e4;
-    const TIE_BAND: f32 = 1.0e-5;
+    const TIE_BAND: f32 = 1.0e-4;
     const ARC_RESOLUTION: f32 = 1.0e-5;
 
     fn from_f32(value: f32) -> Self {

@@ -32,8 +32,8 @@ fn tangent_points_lie_on_their_circles_and_run_in_their_directions() {
                     let u = (t.heading.cos(), t.heading.sin());
                     for (c, point) in [(pc, t.pursuer_point), (ec, t.evader_point)] {
                         let radial = (
-                            (point.x - c.centre.x) / c.radius,
-                            (point.y - c.centre.y) / c.radius,
+                            (point.x - c.centre().x) / c.radius,
+                            (point.y - c.centre().y) / c.radius,
                         );
                         let norm = radial.0.hypot(radial.1);
                         assert!((norm - 1.0).abs() < 1e-9, "point off its circle: {norm}");

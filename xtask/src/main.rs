@@ -4,6 +4,7 @@ mod csv;
 mod eval;
 mod options;
 mod paper;
+mod sim;
 mod test;
 
 use std::process::ExitCode;
@@ -14,6 +15,7 @@ cargo xtask <command> [options]
   run     the main job: the paper's four cases through the law (matrix, choices, values)
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
+  sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper]
 ";
 
 fn main() -> ExitCode {
@@ -33,6 +35,7 @@ fn main() -> ExitCode {
             2
         }
         ("eval", Ok((options, _))) => eval::run(&options),
+        ("sim", Ok((options, _))) => sim::run(&options),
         ("run", Ok((options, _))) => paper::run(&options),
         ("test", Ok(_)) => test::run(),
         (other, Ok(_)) => {

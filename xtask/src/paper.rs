@@ -1,6 +1,13 @@
-//! `cargo xtask run` until the firmware lands: the paper's four cases through the law.
+//! `cargo xtask run` until the firmware lands: the paper's four cases through the law and the
+//! host closed loop.
 
 use crate::options::{Numeric, Options};
+use host_tests::sim::SimParams;
+
+/// Control period of the main job's closed loop, seconds.
+const CLOSED_LOOP_DT: f64 = 0.001;
+/// Capture distance of the main job's closed loop, metres.
+const CLOSED_LOOP_EPS: f64 = 0.01;
 use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
 use twocars::{evaluate_observation, Observation, Scalar};
 
@@ -54,6 +61,25 @@ fn show<S: Scalar>(options: &Options) -> i32 {
         if (predicted - case.expected_value).abs() > 1e-3 {
             failures += 1;
         }
+        let params = SimParams {
+            limits: PAPER_LIMITS,
+            pursuer: case.pursuer,
+            evader: case.evader,
+            dt: CLOSED_LOOP_DT,
+            t_max: 30.0,
+            eps: CLOSED_LOOP_EPS,
+        };
+        let r = crate::sim::run_one(&params, options, false);
+        let closed = r.t_capture + CLOSED_LOOP_EPS / (PAPER_LIMITS[0] - PAPER_LIMITS[2]);
+        println!(
+            "  closed loop (dt = {CLOSED_LOOP_DT} s): {}, captured to {CLOSED_LOOP_EPS} m at {:.4} s \
+             (+ eps / (v_pm - v_em) = {closed:.4} s vs predicted {predicted:.4} s); \
+             {} switches, {} sign flips",
+            r.status.name(),
+            r.t_capture,
+            r.switches,
+            r.sign_flips
+        );
     }
     i32::from(failures > 0)
 }

@@ -1,0 +1,242 @@
+//! Closed loop on the host: both players apply the sampled command every dt (zero-order hold)
+//! and move exactly (a constant-curvature arc within a step), in f64.
+//!
+//! Capture is the first time the distance falls to `eps`, interpolated within its step.
+
+use twocars::{Direction, Guidance, Law, Observation, Scalar, Status, Variant, VehicleState};
+
+/// Number of sub-samples per step used to find the capture instant and the minimum distance.
+const SUBSAMPLES: usize = 16;
+
+/// Parameters of one closed-loop run: the law's observation at t = 0 plus dt, t_max, eps.
+#[derive(Clone, Copy, Debug)]
+pub struct SimParams {
+    /// v_pm, w_pm, v_em, w_em (m/s, 1/m).
+    pub limits: [f64; 4],
+    /// Pursuer x, y, theta at t = 0 (metres, radians).
+    pub pursuer: [f64; 3],
+    /// Evader x, y, theta at t = 0.
+    pub evader: [f64; 3],
+    /// Control period, seconds.
+    pub dt: f64,
+    /// Time limit, seconds.
+    pub t_max: f64,
+    /// Capture distance, metres.
+    pub eps: f64,
+}
+
+/// Outcome class of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SimStatus {
+    /// Captured within t_max.
+    Captured,
+    /// Not captured within t_max.
+    Timeout,
+    /// dt, t_max or eps not finite and positive, or t_max / dt > 1e7.
+    InvalidSimParams,
+    /// The law's status for the initial state when it is an input error or already captured.
+    Law(Status),
+}
+
+impl SimStatus {
+    /// The contract's name of the status.
+    pub fn name(self) -> &'static str {
+        match self {
+            SimStatus::Captured => "ok",
+            SimStatus::Timeout => "timeout",
+            SimStatus::InvalidSimParams => "invalid_sim_params",
+            SimStatus::Law(s) => s.name(),
+        }
+    }
+}
+
+/// What a run shows.
+#[derive(Clone, Debug)]
+pub struct SimResult {
+    /// Outcome.
+    pub status: SimStatus,
+    /// Capture time, seconds (infinity on timeout).
+    pub t_capture: f64,
+    /// Upper value at t = 0, seconds (infinity if none).
+    pub predicted: f64,
+    /// Lower value at t = 0, seconds.
+    pub predicted_lower: f64,
+    /// Minimum distance seen, metres.
+    pub d_min: f64,
+    /// Steps whose (row, col) differs from the step before.
+    pub switches: u64,
+    /// Steps, summed over both players, whose w has the opposite sign to that player's last w
+    /// with |w| > 1e-6 w_max.
+    pub sign_flips: u64,
+    /// Both trajectories, one (t, pursuer, evader) per step, if recording was asked for.
+    pub trajectory: Vec<(f64, [f64; 3], [f64; 3])>,
+}
+
+/// Exact Dubins motion for `t` seconds at speed `v` (m/s) and curvature `w` (1/m).
+pub fn advance(state: [f64; 3], v: f64, w: f64, t: f64) -> [f64; 3] {
+    let [x, y, theta] = state;
+    let turned = v * w * t;
+    if turned.abs() < 1e-9 {
+        // Straight, plus the second-order term of the arc.
+        let mid = theta + 0.5 * turned;
+        return [x + v * t * mid.cos(), y + v * t * mid.sin(), theta + turned];
+    }
+    let th = theta + turned;
+    [
+        x + (th.sin() - theta.sin()) / w,
+        y - (th.cos() - theta.cos()) / w,
+        th,
+    ]
+}
+
+fn wrap_pi(theta: f64) -> f64 {
+    let t = theta.rem_euclid(std::f64::consts::TAU);
+    if t > std::f64::consts::PI {
+        t - std::f64::consts::TAU
+    } else {
+        t
+    }
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+fn to_state<S: Scalar>(s: [f64; 3]) -> Result<VehicleState<S>, Status> {
+    VehicleState::new(s[0] as f32, s[1] as f32, s[2] as f32)
+}
+
+/// Per-player sign-flip counter.
+#[derive(Default)]
+struct SignFlips {
+    last: [f64; 2],
+    count: u64,
+}
+
+impl SignFlips {
+    fn record(&mut self, player: usize, w: f64, w_max: f64) {
+        let Some(last) = self.last.get_mut(player) else {
+            return;
+        };
+        if w.abs() > 1e-6 * w_max {
+            if *last != 0.0 && last.signum() != w.signum() {
+                self.count += 1;
+            }
+            *last = w;
+        }
+    }
+}
+
+/// Runs the closed loop with the paper's law on backend `S`.
+pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -> SimResult {
+    let mut result = SimResult {
+        status: SimStatus::InvalidSimParams,
+        t_capture: f64::INFINITY,
+        predicted: f64::INFINITY,
+        predicted_lower: f64::INFINITY,
+        d_min: distance(params.pursuer, params.evader),
+        switches: 0,
+        sign_flips: 0,
+        trajectory: Vec::new(),
+    };
+    let SimParams { dt, t_max, eps, .. } = *params;
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if !(positive(dt) && positive(t_max) && positive(eps)) || t_max / dt > 1e7 {
+        return result;
+    }
+    let observation = Observation {
+        limits: params.limits.map(|v| v as f32),
+        pursuer: params.pursuer.map(|v| v as f32),
+        evader: params.evader.map(|v| v as f32),
+    };
+    let initial = twocars::evaluate_observation::<S>(&observation, variant);
+    if let Some(report) = initial.report {
+        let s = report.solution;
+        result.predicted = s.upper.map_or(f64::INFINITY, |v| v.to_f64());
+        result.predicted_lower = s.lower.map_or(f64::INFINITY, |v| v.to_f64());
+    }
+    let scene = match (initial.status, twocars::law::validate::<S>(&observation)) {
+        (Status::Ok | Status::NoValidTangent, Ok(scene)) => scene,
+        (Status::Captured, _) => {
+            result.status = SimStatus::Law(Status::Captured);
+            result.t_capture = 0.0;
+            result.predicted = 0.0;
+            return result;
+        }
+        (status, _) => {
+            result.status = SimStatus::Law(status);
+            return result;
+        }
+    };
+    let Ok(mut guidance) = Guidance::new(Law::new(scene.limits, variant), dt as f32) else {
+        return result;
+    };
+    let [v_pm, w_pm, v_em, w_em] = observation.limits.map(f64::from);
+    let (mut p, mut e) = (params.pursuer, params.evader);
+    let mut previous: Option<(Direction, Direction)> = None;
+    let mut flips = SignFlips::default();
+    let steps = (t_max / dt).ceil() as u64;
+    for k in 0..steps {
+        let t0 = k as f64 * dt;
+        if record {
+            result.trajectory.push((t0, p, e));
+        }
+        let command = match (to_state::<S>(p), to_state::<S>(e)) {
+            (Ok(ps), Ok(es)) => {
+                let ev = guidance.step(&ps, &es);
+                if let Some(r) = ev.report {
+                    let choice = (r.solution.row, r.solution.col);
+                    if previous.is_some_and(|prev| prev != choice) {
+                        result.switches += 1;
+                    }
+                    previous = Some(choice);
+                }
+                (ev.command.pursuer.to_f64(), ev.command.evader.to_f64())
+            }
+            _ => (0.0, 0.0),
+        };
+        flips.record(0, command.0, w_pm);
+        flips.record(1, command.1, w_em);
+        // Find the first sub-sample at or below eps; bisect the crossing within it.
+        let at = |tau: f64| {
+            (
+                advance(p, v_pm, command.0, tau),
+                advance(e, v_em, command.1, tau),
+            )
+        };
+        let gap = |tau: f64| {
+            let (a, b) = at(tau);
+            distance(a, b)
+        };
+        let h = dt / SUBSAMPLES as f64;
+        let mut before = 0.0;
+        for i in 1..=SUBSAMPLES {
+            let tau = h * i as f64;
+            let d = gap(tau);
+            result.d_min = result.d_min.min(d);
+            if d <= eps {
+                let (mut lo, mut hi) = (before, tau);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if gap(mid) <= eps {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                result.status = SimStatus::Captured;
+                result.t_capture = t0 + hi;
+                result.sign_flips = flips.count;
+                result.d_min = result.d_min.min(eps);
+                return result;
+            }
+            before = tau;
+        }
+        let (np, ne) = at(dt);
+        p = [np[0], np[1], wrap_pi(np[2])];
+        e = [ne[0], ne[1], wrap_pi(ne[2])];
+    }
+    result.status = SimStatus::Timeout;
+    result.sign_flips = flips.count;
+    result
+}

@@ -1,0 +1,81 @@
+//! `cargo xtask sim`: closed loop on the host, CSV rows from stdin (format in docs/contract.md).
+
+use std::io::{BufRead, Write};
+
+use crate::csv::{number, parse_fields, trim_cr};
+use crate::options::{Numeric, Options};
+use host_tests::sim::{simulate, SimParams, SimResult};
+
+/// Input header of `sim`.
+pub const INPUT_HEADER: &str = "v_pm,w_pm,v_em,w_em,x_p,y_p,theta_p,x_e,y_e,theta_e,dt,t_max,eps";
+/// Output header of `sim`.
+pub const OUTPUT_HEADER: &str = "status,t_capture,predicted,d_min,switches,sign_flips";
+
+/// Parameters from the thirteen CSV fields.
+pub fn params(f: &[f64; 13]) -> SimParams {
+    SimParams {
+        limits: [f[0], f[1], f[2], f[3]],
+        pursuer: [f[4], f[5], f[6]],
+        evader: [f[7], f[8], f[9]],
+        dt: f[10],
+        t_max: f[11],
+        eps: f[12],
+    }
+}
+
+/// Runs one set of parameters on the chosen backend.
+pub fn run_one(p: &SimParams, options: &Options, record: bool) -> SimResult {
+    match options.numeric {
+        Numeric::F32 => simulate::<f32>(p, options.variant, record),
+        Numeric::F64 => simulate::<f64>(p, options.variant, record),
+    }
+}
+
+/// One output row.
+pub fn row(r: &SimResult) -> String {
+    format!(
+        "{},{},{},{},{},{}",
+        r.status.name(),
+        number(r.t_capture),
+        number(r.predicted),
+        number(r.d_min),
+        r.switches,
+        r.sign_flips
+    )
+}
+
+/// Runs the door: returns the process exit code.
+pub fn run(options: &Options) -> i32 {
+    let stdin = std::io::stdin();
+    let mut lines = stdin.lock().lines();
+    match lines.next() {
+        Some(Ok(header)) if trim_cr(&header) == INPUT_HEADER => {}
+        _ => {
+            eprintln!("sim: the first line must be exactly `{INPUT_HEADER}`");
+            return 2;
+        }
+    }
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if writeln!(out, "{OUTPUT_HEADER}").is_err() {
+        return 1;
+    }
+    for line in lines {
+        let Ok(line) = line else {
+            eprintln!("sim: stdin is not UTF-8 text");
+            return 2;
+        };
+        let line = trim_cr(&line);
+        if line.trim().is_empty() {
+            continue;
+        }
+        let text = match parse_fields::<13>(line) {
+            Ok(fields) => row(&run_one(&params(&fields), options, false)),
+            Err(e) => format!("{},inf,inf,inf,0,0", e.status()),
+        };
+        if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
+            return 1;
+        }
+    }
+    0
+}
