@@ -1,6 +1,50 @@
 //! The CSV doors' shared pieces: header checks, field parsing, number printing.
 
+use std::io::{BufRead, Write};
+
 use twocars::Status;
+
+/// Runs a CSV door on stdin/stdout: checks the input header (exit code 2 and nothing on stdout
+/// otherwise), prints the output header, then one output line per non-blank input line, flushed
+/// line by line. Returns the process exit code.
+pub fn run_door(
+    name: &str,
+    input_header: &str,
+    output_header: &str,
+    mut each: impl FnMut(&str) -> String,
+) -> i32 {
+    let stdin = std::io::stdin();
+    let mut lines = stdin.lock().lines();
+    match lines.next() {
+        Some(Ok(header)) if trim_cr(&header) == input_header => {}
+        _ => {
+            eprintln!("{name}: the first line must be exactly `{input_header}`");
+            return 2;
+        }
+    }
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if writeln!(out, "{output_header}").is_err() {
+        return 1;
+    }
+    for line in lines {
+        let Ok(line) = line else {
+            eprintln!("{name}: stdin is not UTF-8 text");
+            return 2;
+        };
+        let line = trim_cr(&line);
+        if line.trim().is_empty() {
+            continue;
+        }
+        if writeln!(out, "{}", each(line))
+            .and_then(|()| out.flush())
+            .is_err()
+        {
+            return 1;
+        }
+    }
+    0
+}
 
 /// Why a data row could not become an observation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

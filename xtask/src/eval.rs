@@ -1,8 +1,6 @@
 //! `cargo xtask eval`: the law on CSV rows from stdin (format in docs/contract.md).
 
-use std::io::{BufRead, Write};
-
-use crate::csv::{narrow, number, optional, parse_fields, trim_cr};
+use crate::csv::{narrow, number, optional, parse_fields, run_door};
 use crate::options::{Numeric, Options};
 use twocars::{evaluate_observation, Evaluation, Observation, Scalar, Status};
 
@@ -57,39 +55,12 @@ fn eval_line<S: Scalar>(line: &str, options: &Options) -> String {
     }
 }
 
-/// Runs the door: returns the process exit code.
+/// Runs the door: returns the /// Runs the door: returns the process exit code.
 pub fn run(options: &Options) -> i32 {
-    let stdin = std::io::stdin();
-    let mut lines = stdin.lock().lines();
-    match lines.next() {
-        Some(Ok(header)) if trim_cr(&header) == INPUT_HEADER => {}
-        _ => {
-            eprintln!("eval: the first line must be exactly `{INPUT_HEADER}`");
-            return 2;
-        }
-    }
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    let mut emit = |text: String| writeln!(out, "{text}").is_ok();
-    if !emit(OUTPUT_HEADER.to_string()) {
-        return 1;
-    }
-    for line in lines {
-        let Ok(line) = line else {
-            eprintln!("eval: stdin is not UTF-8 text");
-            return 2;
-        };
-        let line = trim_cr(&line);
-        if line.trim().is_empty() {
-            continue;
-        }
-        let text = match options.numeric {
+    run_door("eval", INPUT_HEADER, OUTPUT_HEADER, |line| {
+        match options.numeric {
             Numeric::F32 => eval_line::<f32>(line, options),
             Numeric::F64 => eval_line::<f64>(line, options),
-        };
-        if !emit(text) {
-            return 1;
         }
-    }
-    0
+    })
 }

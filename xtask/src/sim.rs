@@ -1,8 +1,6 @@
 //! `cargo xtask sim`: closed loop on the host, CSV rows from stdin (format in docs/contract.md).
 
-use std::io::{BufRead, Write};
-
-use crate::csv::{number, parse_fields, trim_cr};
+use crate::csv::{number, parse_fields, run_door};
 use crate::options::{Numeric, Options};
 use host_tests::sim::{simulate, SimParams, SimResult};
 
@@ -44,38 +42,15 @@ pub fn row(r: &SimResult) -> String {
     )
 }
 
-/// Runs the door: returns the process exit code.
+/// Runs the door: returns the /// Runs the door: returns the process exit code.
 pub fn run(options: &Options) -> i32 {
-    let stdin = std::io::stdin();
-    let mut lines = stdin.lock().lines();
-    match lines.next() {
-        Some(Ok(header)) if trim_cr(&header) == INPUT_HEADER => {}
-        _ => {
-            eprintln!("sim: the first line must be exactly `{INPUT_HEADER}`");
-            return 2;
-        }
-    }
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    if writeln!(out, "{OUTPUT_HEADER}").is_err() {
-        return 1;
-    }
-    for line in lines {
-        let Ok(line) = line else {
-            eprintln!("sim: stdin is not UTF-8 text");
-            return 2;
-        };
-        let line = trim_cr(&line);
-        if line.trim().is_empty() {
-            continue;
-        }
-        let text = match parse_fields::<13>(line) {
+    run_door(
+        "sim",
+        INPUT_HEADER,
+        OUTPUT_HEADER,
+        |line| match parse_fields::<13>(line) {
             Ok(fields) => row(&run_one(&params(&fields), options, false)),
             Err(e) => format!("{},inf,inf,inf,0,0", e.status()),
-        };
-        if writeln!(out, "{text}").and_then(|()| out.flush()).is_err() {
-            return 1;
-        }
-    }
-    0
+        },
+    )
 }
