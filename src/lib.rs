@@ -22,9 +22,12 @@ pub mod capture;
 pub mod game;
 pub mod geometry;
 pub mod law;
+pub mod message;
 pub mod num;
 pub mod sampled;
 pub mod status;
+pub mod unit;
+pub mod wire;
 
 pub use capture::{CaptureTime, Variant};
 pub use game::{GameSolution, MatrixGame};

@@ -1,0 +1,84 @@
+//! The host's end of the serial link: builds frames for the unit and decodes its replies, with
+//! the same wire code the firmware uses.
+
+use twocars::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
+use twocars::wire::{encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME};
+
+/// A decoded reply of the unit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reply {
+    /// Configure accepted (echoed sequence).
+    ConfigureAck(u16),
+    /// A command (echoed sequence; 0 for the watchdog's).
+    Command(u16, CommandMsg),
+    /// Counters (echoed sequence).
+    Counters(u16, Counters),
+    /// An input refused (sequence, if known).
+    Error(Option<u16>, ErrorMsg),
+}
+
+fn frame(
+    message_type: u8,
+    sequence: u16,
+    emit: impl FnOnce(&mut twocars::wire::Writer<'_>) -> Option<()>,
+) -> Vec<u8> {
+    let mut out = [0u8; MAX_ENCODED];
+    let n = encode_frame(message_type, sequence, emit, &mut out).expect("message fits a frame");
+    out[..n].to_vec()
+}
+
+/// A Configure frame.
+pub fn configure(sequence: u16, m: &Configure) -> Vec<u8> {
+    frame(kind::CONFIGURE, sequence, |w| m.emit(w))
+}
+
+/// A State frame.
+pub fn state(sequence: u16, m: &StateMsg) -> Vec<u8> {
+    frame(kind::STATE, sequence, |w| m.emit(w))
+}
+
+/// A ReadCounters frame.
+pub fn read_counters(sequence: u16) -> Vec<u8> {
+    frame(kind::READ_COUNTERS, sequence, |_| Some(()))
+}
+
+/// A frame of any type with any payload (for tests of refusals).
+pub fn raw(message_type: u8, sequence: u16, payload: &[u8]) -> Vec<u8> {
+    frame(message_type, sequence, |w| w.put(payload))
+}
+
+/// Decodes the unit's replies from a byte stream.
+#[derive(Default)]
+pub struct ReplyDecoder {
+    deframer: Deframer<MAX_FRAME>,
+}
+
+impl ReplyDecoder {
+    /// Feeds bytes; returns every complete reply (or why a frame was not one).
+    pub fn feed(&mut self, bytes: &[u8]) -> Vec<Result<Reply, WireError>> {
+        let mut out = Vec::new();
+        for &b in bytes {
+            match self.deframer.push(b) {
+                Feed::Pending => {}
+                Feed::Error(e) => out.push(Err(e)),
+                Feed::Frame(f) => out.push(decode(f)),
+            }
+        }
+        out
+    }
+}
+
+fn decode(bytes: &[u8]) -> Result<Reply, WireError> {
+    let f = Frame::new_checked(bytes)?;
+    let seq = f.sequence();
+    match f.message_type() {
+        kind::CONFIGURE_ACK => Ok(Reply::ConfigureAck(seq)),
+        kind::COMMAND => Ok(Reply::Command(seq, CommandMsg::parse(f.payload())?)),
+        kind::COUNTERS => Ok(Reply::Counters(seq, Counters::parse(f.payload())?)),
+        kind::ERROR => {
+            let e = ErrorMsg::parse(f.payload())?;
+            Ok(Reply::Error((e.sequence_known == 1).then_some(seq), e))
+        }
+        _ => Err(WireError::UnknownType),
+    }
+}

@@ -1,0 +1,125 @@
+//! The guidance unit on the host: the scripted session, commands equal to the law, counters,
+//! watchdog.
+
+use host_tests::link::{self, Reply, ReplyDecoder};
+use host_tests::session::{paper_configure, paper_state, script, Expect};
+use twocars::message::ROLE_PURSUER;
+use twocars::unit::{Unit, STATUS_STALE_INPUT};
+use twocars::wire::WireError;
+use twocars::{Guidance, Law, Limits, Variant, VehicleState};
+
+fn send(unit: &mut Unit, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
+    let mut decoder = ReplyDecoder::default();
+    let mut replies = Vec::new();
+    for &b in bytes {
+        if let Some(r) = unit.receive(b, now_ms) {
+            replies.extend(
+                decoder
+                    .feed(r.as_bytes())
+                    .into_iter()
+                    .map(|r| r.expect("valid reply")),
+            );
+        }
+    }
+    replies
+}
+
+#[test]
+fn the_scripted_session_gets_the_documented_replies_and_the_loop_survives() {
+    let mut unit = Unit::new();
+    for step in script() {
+        let replies = send(&mut unit, &step.bytes, 0);
+        assert_eq!(replies.len(), 1, "{}: {replies:?}", step.name);
+        let reply = replies[0];
+        match (step.expect, reply) {
+            (Expect::Ack, Reply::ConfigureAck(seq)) => assert_eq!(seq, step.sequence),
+            (Expect::Error(code, known), Reply::Error(seq, e)) => {
+                assert_eq!(WireError::from_code(e.code), Some(code), "{}", step.name);
+                assert_eq!(seq.is_some(), known, "{}", step.name);
+                if known {
+                    assert_eq!(seq, Some(step.sequence), "{}", step.name);
+                }
+            }
+            (Expect::Command(status), Reply::Command(seq, c)) => {
+                assert_eq!((seq, c.status), (step.sequence, status), "{}", step.name);
+            }
+            (Expect::Counters, Reply::Counters(_, c)) => {
+                // Every error kind at least once; five kinds twice.
+                assert!(WireError::ALL.iter().all(|e| c.of(*e) >= 1), "{c:?}");
+                assert_eq!(c.of(WireError::BadCrc), 1);
+                assert_eq!(c.of(WireError::InvalidConfig), 2);
+                assert_eq!(c.of(WireError::NonFiniteField), 2);
+                assert_eq!(c.of(WireError::Truncated), 2);
+                assert_eq!(c.of(WireError::Oversized), 2);
+                assert_eq!(c.errors.iter().sum::<u32>(), 16);
+                assert_eq!(c.accepted, 5);
+            }
+            (want, got) => panic!("{}: expected {want:?}, got {got:?}", step.name),
+        }
+    }
+}
+
+#[test]
+fn commands_equal_the_host_law_bit_for_bit() {
+    let mut unit = Unit::new();
+    send(&mut unit, &link::configure(1, &paper_configure()), 0);
+    let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
+    let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.01).unwrap();
+    for case in 0..4 {
+        let s = paper_state(case, 0);
+        let replies = send(&mut unit, &link::state(2, &s), 0);
+        let Reply::Command(_, c) = replies[0] else {
+            panic!("{replies:?}")
+        };
+        let p = VehicleState::new(s.pursuer[0], s.pursuer[1], s.pursuer[2]).unwrap();
+        let e = VehicleState::new(s.evader[0], s.evader[1], s.evader[2]).unwrap();
+        let ev = guidance.step(&p, &e);
+        assert_eq!(
+            c.pursuer_rate.to_bits(),
+            (2.0 * ev.command.pursuer).to_bits()
+        );
+        assert_eq!(c.evader_rate.to_bits(), (1.0 * ev.command.evader).to_bits());
+        let upper = ev.report.unwrap().solution.upper.unwrap();
+        assert_eq!(c.predicted.to_bits(), upper.to_bits());
+    }
+}
+
+#[test]
+fn a_role_not_computed_gets_zero_rate() {
+    let mut unit = Unit::new();
+    let config = twocars::message::Configure {
+        roles: ROLE_PURSUER,
+        ..paper_configure()
+    };
+    send(&mut unit, &link::configure(1, &config), 0);
+    let replies = send(&mut unit, &link::state(2, &paper_state(0, 0)), 0);
+    let Reply::Command(_, c) = replies[0] else {
+        panic!()
+    };
+    assert_eq!(c.evader_rate, 0.0);
+    assert_eq!(c.pursuer_rate, 4.0);
+}
+
+#[test]
+fn the_watchdog_sends_the_safe_command_once_after_silence() {
+    let mut unit = Unit::new();
+    assert!(unit.poll(10_000).is_none(), "unconfigured: silent");
+    send(&mut unit, &link::configure(1, &paper_configure()), 0);
+    assert!(
+        unit.poll(10_000).is_none(),
+        "configured but no state yet: not armed"
+    );
+    send(&mut unit, &link::state(2, &paper_state(0, 0)), 1000);
+    assert!(unit.poll(1500).is_none(), "within 0.5 s");
+    let reply = unit.poll(1501).expect("stale after 0.5 s");
+    let replies = ReplyDecoder::default().feed(reply.as_bytes());
+    let Ok(Reply::Command(_, c)) = replies[0] else {
+        panic!("{replies:?}")
+    };
+    assert_eq!(c.status, STATUS_STALE_INPUT);
+    assert_eq!((c.pursuer_rate, c.evader_rate), (0.0, 0.0));
+    assert!(unit.poll(5000).is_none(), "once per silence");
+    assert_eq!(unit.counters().stale, 1);
+    send(&mut unit, &link::state(3, &paper_state(0, 0)), 6000);
+    assert!(unit.poll(6600).is_some(), "re-armed by a valid state");
+}

@@ -1,0 +1,163 @@
+//! The wire format: golden bytes, round trips, and every refusal.
+
+use twocars::message::{CommandMsg, Configure, StateMsg};
+use twocars::wire::{cobs_decode_in_place, cobs_encode, crc16, Deframer, Feed, Frame, WireError};
+
+#[test]
+fn crc16_ccitt_false_matches_its_check_value() {
+    // The catalogue check value of CRC-16/CCITT-FALSE over "123456789".
+    assert_eq!(crc16(b"123456789"), 0x29B1);
+}
+
+#[test]
+fn cobs_round_trips_and_matches_known_encodings() {
+    let cases: [(&[u8], &[u8]); 4] = [
+        (&[0x00], &[0x01, 0x01, 0x00]),
+        (
+            &[0x11, 0x22, 0x00, 0x33],
+            &[0x03, 0x11, 0x22, 0x02, 0x33, 0x00],
+        ),
+        (
+            &[0x11, 0x00, 0x00, 0x00],
+            &[0x02, 0x11, 0x01, 0x01, 0x01, 0x00],
+        ),
+        (&[], &[0x01, 0x00]),
+    ];
+    for (plain, encoded) in cases {
+        let mut out = [0u8; 16];
+        let n = cobs_encode(plain, &mut out).unwrap();
+        assert_eq!(&out[..n], encoded, "{plain:?}");
+        let mut buf = encoded[..encoded.len() - 1].to_vec();
+        let m = cobs_decode_in_place(&mut buf).unwrap();
+        assert_eq!(&buf[..m], plain);
+    }
+    let long: Vec<u8> = (1..=255u8).chain(1..=20).collect();
+    let mut out = [0u8; 300];
+    let n = cobs_encode(&long, &mut out).unwrap();
+    assert!(!out[..n - 1].contains(&0));
+    let mut buf = out[..n - 1].to_vec();
+    let m = cobs_decode_in_place(&mut buf).unwrap();
+    assert_eq!(&buf[..m], &long[..]);
+}
+
+#[test]
+fn golden_state_frame() {
+    let state = StateMsg {
+        time_ms: 1,
+        pursuer: [0.0, 0.0, 1.0],
+        evader: [-3.0, -6.0, 1.0],
+    };
+    let bytes = host_tests::link::state(0x0102, &state);
+    // version 1, type 2, seq 0x0102 LE, t = 1 LE, then f32s; zeros stuffed by COBS.
+    let mut decoded = bytes[..bytes.len() - 1].to_vec();
+    let n = cobs_decode_in_place(&mut decoded).unwrap();
+    let decoded = &decoded[..n];
+    assert_eq!(
+        &decoded[..8],
+        &[0x01, 0x02, 0x02, 0x01, 0x01, 0x00, 0x00, 0x00]
+    );
+    assert_eq!(&decoded[16..20], &1.0f32.to_le_bytes());
+    assert_eq!(&decoded[20..24], &(-3.0f32).to_le_bytes());
+    assert_eq!(decoded.len(), 4 + StateMsg::LEN + 2);
+    let crc = crc16(&decoded[..decoded.len() - 2]);
+    assert_eq!(&decoded[decoded.len() - 2..], &crc.to_le_bytes());
+    assert_eq!(*bytes.last().unwrap(), 0);
+    let frame = Frame::new_checked(decoded).unwrap();
+    assert_eq!(frame.sequence(), 0x0102);
+    assert_eq!(StateMsg::parse(frame.payload()).unwrap(), state);
+}
+
+#[test]
+fn messages_round_trip() {
+    let c = Configure {
+        limits: [2.0, 2.0, 1.0, 1.0],
+        dt: 0.01,
+        watchdog: 0.5,
+        roles: 3,
+        variant: 1,
+        policy: 0,
+    };
+    let mut buf = [0u8; 64];
+    let mut w = twocars::wire::Writer::new(&mut buf);
+    c.emit(&mut w).unwrap();
+    let n = w.len();
+    assert_eq!(n, Configure::LEN);
+    assert_eq!(Configure::parse(&buf[..n]).unwrap(), c);
+    assert_eq!(Configure::parse(&buf[..n - 1]), Err(WireError::Truncated));
+    let cmd = CommandMsg {
+        status: 0,
+        roles: 3,
+        pursuer_rate: 4.0,
+        evader_rate: -1.0,
+        row: 0,
+        col: 1,
+        predicted: 5.5,
+        upper: 5.5,
+        lower: f32::INFINITY,
+    };
+    let mut buf = [0u8; 64];
+    let mut w = twocars::wire::Writer::new(&mut buf);
+    cmd.emit(&mut w).unwrap();
+    let n = w.len();
+    assert_eq!(CommandMsg::parse(&buf[..n]).unwrap(), cmd);
+    let mut long = buf[..n].to_vec();
+    long.push(0);
+    assert_eq!(CommandMsg::parse(&long), Err(WireError::Oversized));
+}
+
+#[test]
+fn frame_checks_refuse_each_defect() {
+    assert_eq!(Frame::new_checked(&[1, 2, 0]), Err(WireError::Truncated));
+    assert_eq!(Frame::new_checked(&[0u8; 65]), Err(WireError::Oversized));
+    let mut good = [1u8, 2, 7, 0, 0, 0];
+    let crc = crc16(&good[..4]).to_le_bytes();
+    good[4..].copy_from_slice(&crc);
+    assert!(Frame::new_checked(&good).is_ok());
+    let mut bad_crc = good;
+    bad_crc[2] ^= 0x40;
+    assert_eq!(Frame::new_checked(&bad_crc), Err(WireError::BadCrc));
+    let mut bad_version = good;
+    bad_version[0] = 9;
+    let crc = crc16(&bad_version[..4]).to_le_bytes();
+    bad_version[4..].copy_from_slice(&crc);
+    assert_eq!(Frame::new_checked(&bad_version), Err(WireError::BadVersion));
+}
+
+#[test]
+fn deframer_resynchronises_after_garbage_and_overflow() {
+    let state = StateMsg {
+        time_ms: 7,
+        pursuer: [1.0, 2.0, 3.0],
+        evader: [4.0, 5.0, 6.0],
+    };
+    let good = host_tests::link::state(9, &state);
+    let mut stream = vec![0x13, 0x37, 0xFF, 0x00]; // garbage, then a delimiter
+    stream.extend(std::iter::repeat_n(0x55, 100)); // oversized garbage
+    stream.push(0);
+    stream.extend(&good);
+    let mut d = Deframer::<64>::new();
+    let mut seen = Vec::new();
+    for b in stream {
+        match d.push(b) {
+            Feed::Pending => {}
+            Feed::Error(e) => seen.push(Err(e)),
+            Feed::Frame(f) => seen.push(Ok(StateMsg::parse(
+                Frame::new_checked(f).unwrap().payload(),
+            )
+            .unwrap())),
+        }
+    }
+    assert_eq!(seen.len(), 3, "{seen:?}");
+    assert!(seen[0].is_err());
+    assert_eq!(seen[1], Err(WireError::Oversized));
+    assert_eq!(seen[2], Ok(state));
+}
+
+#[test]
+fn error_codes_are_stable_and_distinct() {
+    for (i, e) in WireError::ALL.iter().enumerate() {
+        assert_eq!(*e as u8, i as u8 + 1);
+        assert_eq!(WireError::from_code(*e as u8), Some(*e));
+    }
+    assert_eq!(WireError::from_code(0), None);
+}

@@ -1,0 +1,275 @@
+//! The guidance unit: bytes in, bytes out. It deframes the serial stream, answers Configure,
+//! State and ReadCounters, refuses every malformed input with an Error, counts each kind, and
+//! emits the safe command when no valid State arrived within the watchdog time.
+//!
+//! Pure and allocation-free: the firmware feeds it UART bytes and its clock; the host tests and
+//! fuzzers feed it anything.
+
+use crate::capture::Variant;
+use crate::geometry::{Direction, Limits, VehicleState};
+use crate::law::{Evaluation, Law};
+use crate::message::{
+    kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg, NO_CIRCLE, ROLE_EVADER, ROLE_PURSUER,
+};
+use crate::sampled::Guidance;
+use crate::status::Status;
+use crate::wire::{encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME};
+
+/// Wire status code of the watchdog's safe command (the law's statuses are 0 to 5).
+pub const STATUS_STALE_INPUT: u8 = 6;
+
+/// Wire code of a law status.
+pub fn status_code(status: Status) -> u8 {
+    match status {
+        Status::Ok => 0,
+        Status::NonFiniteInput => 1,
+        Status::InvalidLimits => 2,
+        Status::OutOfRange => 3,
+        Status::Captured => 4,
+        Status::NoValidTangent => 5,
+    }
+}
+
+fn circle_code(d: Direction) -> u8 {
+    match d {
+        Direction::Anticlockwise => 0,
+        Direction::Clockwise => 1,
+    }
+}
+
+/// A reply frame ready to send: COBS-encoded, delimiter included.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reply {
+    bytes: [u8; MAX_ENCODED],
+    len: usize,
+}
+
+impl Reply {
+    /// The bytes to write to the serial port.
+    pub fn as_bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len).unwrap_or(&[])
+    }
+
+    fn build(
+        message_type: u8,
+        sequence: u16,
+        payload: impl FnOnce(&mut crate::wire::Writer<'_>) -> Option<()>,
+    ) -> Option<Reply> {
+        let mut bytes = [0; MAX_ENCODED];
+        let len = encode_frame(message_type, sequence, payload, &mut bytes)?;
+        Some(Reply { bytes, len })
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Configured {
+    guidance: Guidance<f32>,
+    roles: u8,
+    watchdog_ms: u32,
+}
+
+/// The unit's state: configuration, deframer, counters, watchdog.
+#[derive(Debug)]
+pub struct Unit {
+    deframer: Deframer<MAX_FRAME>,
+    configured: Option<Configured>,
+    counters: Counters,
+    last_state_at_ms: u32,
+    watchdog_armed: bool,
+}
+
+impl Default for Unit {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Unit {
+    /// An unconfigured unit.
+    pub const fn new() -> Self {
+        Unit {
+            deframer: Deframer::new(),
+            configured: None,
+            counters: Counters {
+                accepted: 0,
+                stale: 0,
+                errors: [0; crate::wire::ERROR_KINDS],
+            },
+            last_state_at_ms: 0,
+            watchdog_armed: false,
+        }
+    }
+
+    /// Counters so far.
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// Feeds one received byte at device time `now_ms`; returns the reply to send, if any.
+    pub fn receive(&mut self, byte: u8, now_ms: u32) -> Option<Reply> {
+        let outcome = match self.deframer.push(byte) {
+            Feed::Pending => return None,
+            Feed::Error(e) => Err((e, None)),
+            Feed::Frame(bytes) => {
+                let mut copy = [0u8; MAX_FRAME];
+                let n = bytes.len().min(MAX_FRAME);
+                if let (Some(dst), Some(src)) = (copy.get_mut(..n), bytes.get(..n)) {
+                    dst.copy_from_slice(src);
+                }
+                Ok((copy, n))
+            }
+        };
+        let result = match outcome {
+            Ok((copy, n)) => match Frame::new_checked(copy.get(..n).unwrap_or(&[])) {
+                Ok(frame) => self.handle(&frame, now_ms),
+                Err(e) => Err((e, None)),
+            },
+            Err(e) => Err(e),
+        };
+        match result {
+            Ok(reply) => {
+                self.counters.accepted = self.counters.accepted.saturating_add(1);
+                reply
+            }
+            Err((error, sequence)) => {
+                self.counters.count(error);
+                let message = ErrorMsg {
+                    code: error as u8,
+                    sequence_known: u8::from(sequence.is_some()),
+                };
+                Reply::build(kind::ERROR, sequence.unwrap_or(0), |w| message.emit(w))
+            }
+        }
+    }
+
+    /// Checks the watchdog at device time `now_ms`: once per silence longer than the configured
+    /// time, returns the safe command (zero turn rates) with status `stale_input`.
+    pub fn poll(&mut self, now_ms: u32) -> Option<Reply> {
+        let configured = self.configured?;
+        if !self.watchdog_armed
+            || now_ms.wrapping_sub(self.last_state_at_ms) <= configured.watchdog_ms
+        {
+            return None;
+        }
+        self.watchdog_armed = false;
+        self.counters.stale = self.counters.stale.saturating_add(1);
+        let message = CommandMsg {
+            status: STATUS_STALE_INPUT,
+            roles: configured.roles,
+            pursuer_rate: 0.0,
+            evader_rate: 0.0,
+            row: NO_CIRCLE,
+            col: NO_CIRCLE,
+            predicted: f32::INFINITY,
+            upper: f32::INFINITY,
+            lower: f32::INFINITY,
+        };
+        Reply::build(kind::COMMAND, 0, |w| message.emit(w))
+    }
+
+    fn handle(
+        &mut self,
+        frame: &Frame<'_>,
+        now_ms: u32,
+    ) -> Result<Option<Reply>, (WireError, Option<u16>)> {
+        let sequence = frame.sequence();
+        let refuse = |e: WireError| (e, Some(sequence));
+        match frame.message_type() {
+            kind::CONFIGURE => {
+                let message = Configure::parse(frame.payload()).map_err(refuse)?;
+                self.configured = Some(configure(&message).map_err(refuse)?);
+                self.watchdog_armed = false;
+                Ok(Reply::build(kind::CONFIGURE_ACK, sequence, |_| Some(())))
+            }
+            kind::STATE => {
+                let message = StateMsg::parse(frame.payload()).map_err(refuse)?;
+                let configured = self
+                    .configured
+                    .as_mut()
+                    .ok_or(refuse(WireError::NotConfigured))?;
+                let state = |s: [f32; 3]| {
+                    VehicleState::<f32>::new(s[0], s[1], s[2]).map_err(|status| match status {
+                        Status::NonFiniteInput => refuse(WireError::NonFiniteField),
+                        _ => refuse(WireError::OutOfRangeField),
+                    })
+                };
+                let pursuer = state(message.pursuer)?;
+                let evader = state(message.evader)?;
+                let evaluation = configured.guidance.step(&pursuer, &evader);
+                let reply = command_message(&evaluation, configured);
+                self.last_state_at_ms = now_ms;
+                self.watchdog_armed = true;
+                Ok(Reply::build(kind::COMMAND, sequence, |w| reply.emit(w)))
+            }
+            kind::READ_COUNTERS => {
+                if !frame.payload().is_empty() {
+                    return Err(refuse(WireError::Oversized));
+                }
+                let counters = self.counters;
+                Ok(Reply::build(kind::COUNTERS, sequence, |w| counters.emit(w)))
+            }
+            _ => Err(refuse(WireError::UnknownType)),
+        }
+    }
+}
+
+/// Largest watchdog time accepted, seconds.
+pub const MAX_WATCHDOG_S: f32 = 3600.0;
+
+fn configure(message: &Configure) -> Result<Configured, WireError> {
+    let [v_pm, w_pm, v_em, w_em] = message.limits;
+    let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|status| match status {
+        Status::NonFiniteInput => WireError::NonFiniteField,
+        Status::InvalidLimits => WireError::InvalidLimits,
+        _ => WireError::OutOfRangeField,
+    })?;
+    let variant = match message.variant {
+        0 => Variant::Paper,
+        1 => Variant::Clamped,
+        _ => return Err(WireError::InvalidConfig),
+    };
+    let roles_valid = message.roles != 0 && message.roles & !(ROLE_PURSUER | ROLE_EVADER) == 0;
+    let watchdog = message.watchdog;
+    if !roles_valid
+        || message.policy != 0
+        || !(watchdog.is_finite() && watchdog > 0.0 && watchdog <= MAX_WATCHDOG_S)
+    {
+        return Err(WireError::InvalidConfig);
+    }
+    let guidance = Guidance::new(Law::new(limits, variant), message.dt)
+        .map_err(|_| WireError::InvalidConfig)?;
+    // In range by the check above: at most 3.6e6 ms.
+    let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
+    Ok(Configured {
+        guidance,
+        roles: message.roles,
+        watchdog_ms,
+    })
+}
+
+fn command_message(evaluation: &Evaluation<f32>, configured: &Configured) -> CommandMsg {
+    let limits = configured.guidance.law().limits;
+    let roles = configured.roles;
+    let rate = |role: u8, w: f32, v: f32| if roles & role != 0 { v * w } else { 0.0 };
+    let solution = evaluation.report.map(|r| r.solution);
+    let value = |v: Option<Option<f32>>| v.flatten().unwrap_or(f32::INFINITY);
+    CommandMsg {
+        status: status_code(evaluation.status),
+        roles,
+        pursuer_rate: rate(
+            ROLE_PURSUER,
+            evaluation.command.pursuer,
+            limits.pursuer.v_max(),
+        ),
+        evader_rate: rate(
+            ROLE_EVADER,
+            evaluation.command.evader,
+            limits.evader.v_max(),
+        ),
+        row: solution.map_or(NO_CIRCLE, |s| circle_code(s.row)),
+        col: solution.map_or(NO_CIRCLE, |s| circle_code(s.col)),
+        predicted: value(solution.map(|s| s.upper)),
+        upper: value(solution.map(|s| s.upper)),
+        lower: value(solution.map(|s| s.lower)),
+    }
+}

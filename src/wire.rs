@@ -1,0 +1,407 @@
+//! The serial wire protocol: COBS frames delimited by 0x00, each carrying a versioned, CRC-checked
+//! message with little-endian fields. Byte-by-byte layout in `docs/protocol.md`.
+//!
+//! A frame before COBS encoding is
+//! `version (u8) | type (u8) | sequence (u16) | payload | crc (u16)`, the CRC-16/CCITT-FALSE of
+//! every byte before it. Parsing never panics: every malformed input is a [`WireError`].
+
+/// Protocol version carried in every frame.
+pub const VERSION: u8 = 1;
+/// Largest decoded frame (header, payload and CRC), bytes.
+pub const MAX_FRAME: usize = 64;
+/// Largest encoded frame on the wire: COBS overhead and the 0x00 delimiter included.
+pub const MAX_ENCODED: usize = MAX_FRAME + MAX_FRAME / 254 + 2;
+/// Header bytes: version, type, sequence.
+pub const HEADER_LEN: usize = 4;
+/// CRC bytes.
+pub const CRC_LEN: usize = 2;
+
+/// Why an input could not be used. The code (`as u8`) goes on the wire in an Error message.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+#[repr(u8)]
+pub enum WireError {
+    /// CRC mismatch.
+    BadCrc = 1,
+    /// Not a valid COBS encoding.
+    BadFraming = 2,
+    /// Shorter than its header and CRC, or than its message type needs.
+    Truncated = 3,
+    /// Longer than [`MAX_FRAME`], or longer than its message type.
+    Oversized = 4,
+    /// Unknown message type.
+    UnknownType = 5,
+    /// Unknown protocol version.
+    BadVersion = 6,
+    /// NaN or infinity in a field.
+    NonFiniteField = 7,
+    /// A field outside the law's envelope (coordinates, headings, limits, period).
+    OutOfRangeField = 8,
+    /// A State arrived before any valid Configure.
+    NotConfigured = 9,
+    /// Configure with limits that violate v_pm > v_em > 0 and w_pm > w_em > 0.
+    InvalidLimits = 10,
+    /// Configure with a control period or watchdog time that is not finite and positive, or a
+    /// role, variant or policy byte out of range.
+    InvalidConfig = 11,
+}
+
+/// Number of [`WireError`] kinds (codes 1 ..= ERROR_KINDS).
+pub const ERROR_KINDS: usize = 11;
+
+impl WireError {
+    /// All kinds, in code order.
+    pub const ALL: [WireError; ERROR_KINDS] = [
+        WireError::BadCrc,
+        WireError::BadFraming,
+        WireError::Truncated,
+        WireError::Oversized,
+        WireError::UnknownType,
+        WireError::BadVersion,
+        WireError::NonFiniteField,
+        WireError::OutOfRangeField,
+        WireError::NotConfigured,
+        WireError::InvalidLimits,
+        WireError::InvalidConfig,
+    ];
+
+    /// The kind for a wire code.
+    pub fn from_code(code: u8) -> Option<Self> {
+        Self::ALL.iter().copied().find(|e| *e as u8 == code)
+    }
+}
+
+const CRC_TABLE: [u16; 256] = crc_table();
+
+const fn crc_table() -> [u16; 256] {
+    let mut table = [0u16; 256];
+    let mut i = 0;
+    while i < 256 {
+        let mut crc = (i as u16) << 8;
+        let mut bit = 0;
+        while bit < 8 {
+            crc = if crc & 0x8000 != 0 {
+                (crc << 1) ^ 0x1021
+            } else {
+                crc << 1
+            };
+            bit += 1;
+        }
+        table[i] = crc;
+        i += 1;
+    }
+    table
+}
+
+/// CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection, no final xor) of `bytes`.
+pub fn crc16(bytes: &[u8]) -> u16 {
+    bytes.iter().fold(0xFFFF, |crc: u16, &b| {
+        let index = usize::from((crc >> 8) as u8 ^ b);
+        (crc << 8) ^ CRC_TABLE.get(index).copied().unwrap_or(0)
+    })
+}
+
+/// COBS-encodes `input` into `out` and appends the 0x00 delimiter; returns the encoded length,
+/// or `None` if `out` is too small.
+pub fn cobs_encode(input: &[u8], out: &mut [u8]) -> Option<usize> {
+    let mut code_at = 0;
+    let mut len = 1;
+    let mut code: u8 = 1;
+    for &byte in input {
+        if byte == 0 {
+            *out.get_mut(code_at)? = code;
+            code_at = len;
+            len += 1;
+            code = 1;
+        } else {
+            *out.get_mut(len)? = byte;
+            len += 1;
+            code += 1;
+            if code == 0xFF {
+                *out.get_mut(code_at)? = code;
+                code_at = len;
+                len += 1;
+                code = 1;
+            }
+        }
+    }
+    *out.get_mut(code_at)? = code;
+    *out.get_mut(len)? = 0;
+    Some(len + 1)
+}
+
+/// Decodes one COBS frame (without its delimiter) in place; returns the decoded length.
+///
+/// # Errors
+/// [`WireError::BadFraming`] for a zero byte inside the frame or a code running past its end.
+pub fn cobs_decode_in_place(buf: &mut [u8]) -> Result<usize, WireError> {
+    let mut read = 0;
+    let mut write = 0;
+    let len = buf.len();
+    while read < len {
+        let code = usize::from(*buf.get(read).ok_or(WireError::BadFraming)?);
+        if code == 0 || read + code > len {
+            return Err(WireError::BadFraming);
+        }
+        read += 1;
+        for _ in 1..code {
+            let byte = *buf.get(read).ok_or(WireError::BadFraming)?;
+            if byte == 0 {
+                return Err(WireError::BadFraming);
+            }
+            *buf.get_mut(write).ok_or(WireError::BadFraming)? = byte;
+            write += 1;
+            read += 1;
+        }
+        if code < 0xFF && read < len {
+            *buf.get_mut(write).ok_or(WireError::BadFraming)? = 0;
+            write += 1;
+        }
+    }
+    Ok(write)
+}
+
+/// Outcome of feeding one byte to a [`Deframer`].
+#[derive(Debug, PartialEq, Eq)]
+pub enum Feed<'a> {
+    /// More bytes needed.
+    Pending,
+    /// A complete, COBS-decoded frame (header, payload, CRC; not yet checked).
+    Frame(&'a [u8]),
+    /// A delimited frame that could not be decoded; the deframer is ready for the next one.
+    Error(WireError),
+}
+
+/// Accumulates UART bytes into frames; resynchronises on every 0x00 delimiter, so garbage costs
+/// at most the frame it lands in.
+#[derive(Debug)]
+pub struct Deframer<const N: usize> {
+    buf: [u8; N],
+    len: usize,
+    overflowed: bool,
+}
+
+impl<const N: usize> Default for Deframer<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Deframer<N> {
+    /// An empty deframer.
+    pub const fn new() -> Self {
+        Deframer {
+            buf: [0; N],
+            len: 0,
+            overflowed: false,
+        }
+    }
+
+    /// Feeds one byte.
+    pub fn push(&mut self, byte: u8) -> Feed<'_> {
+        if byte != 0 {
+            match self.buf.get_mut(self.len) {
+                Some(slot) if !self.overflowed => {
+                    *slot = byte;
+                    self.len += 1;
+                }
+                _ => self.overflowed = true,
+            }
+            return Feed::Pending;
+        }
+        let len = core::mem::take(&mut self.len);
+        if core::mem::take(&mut self.overflowed) {
+            return Feed::Error(WireError::Oversized);
+        }
+        if len == 0 {
+            // Back-to-back delimiters: an empty frame, used by senders to resynchronise.
+            return Feed::Pending;
+        }
+        let Some(frame) = self.buf.get_mut(..len) else {
+            return Feed::Error(WireError::Oversized);
+        };
+        match cobs_decode_in_place(frame) {
+            Ok(n) => match frame.get(..n) {
+                Some(decoded) => Feed::Frame(decoded),
+                None => Feed::Error(WireError::BadFraming),
+            },
+            Err(e) => Feed::Error(e),
+        }
+    }
+}
+
+/// Byte offsets of the frame header.
+mod field {
+    pub const VERSION: usize = 0;
+    pub const TYPE: usize = 1;
+    pub const SEQUENCE: core::ops::Range<usize> = 2..4;
+}
+
+/// A checked view of a decoded frame: header and CRC verified, payload length not yet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Frame<'a> {
+    bytes: &'a [u8],
+}
+
+impl<'a> Frame<'a> {
+    /// Checks length, CRC and version of a decoded frame.
+    ///
+    /// # Errors
+    /// `Truncated` below header plus CRC, `Oversized` above [`MAX_FRAME`], `BadCrc`, `BadVersion`.
+    pub fn new_checked(bytes: &'a [u8]) -> Result<Self, WireError> {
+        if bytes.len() < HEADER_LEN + CRC_LEN {
+            return Err(WireError::Truncated);
+        }
+        if bytes.len() > MAX_FRAME {
+            return Err(WireError::Oversized);
+        }
+        let body_len = bytes.len() - CRC_LEN;
+        let (body, crc) = bytes.split_at(body_len);
+        let received = u16::from_le_bytes([
+            crc.first().copied().unwrap_or(0),
+            crc.get(1).copied().unwrap_or(0),
+        ]);
+        if crc16(body) != received {
+            return Err(WireError::BadCrc);
+        }
+        if body.get(field::VERSION) != Some(&VERSION) {
+            return Err(WireError::BadVersion);
+        }
+        Ok(Frame { bytes: body })
+    }
+
+    /// Message type byte.
+    pub fn message_type(&self) -> u8 {
+        self.bytes.get(field::TYPE).copied().unwrap_or(0)
+    }
+
+    /// Sequence number.
+    pub fn sequence(&self) -> u16 {
+        let s = self.bytes.get(field::SEQUENCE).unwrap_or(&[0, 0]);
+        u16::from_le_bytes([
+            s.first().copied().unwrap_or(0),
+            s.get(1).copied().unwrap_or(0),
+        ])
+    }
+
+    /// Payload bytes.
+    pub fn payload(&self) -> &'a [u8] {
+        self.bytes.get(HEADER_LEN..).unwrap_or(&[])
+    }
+}
+
+/// Little-endian field reader over a payload; every read is bounds-checked.
+#[derive(Debug)]
+pub struct Reader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    /// A reader at the start of `bytes`.
+    pub fn new(bytes: &'a [u8]) -> Self {
+        Reader { bytes, at: 0 }
+    }
+    fn take<const K: usize>(&mut self) -> Result<[u8; K], WireError> {
+        let end = self.at + K;
+        let slice = self.bytes.get(self.at..end).ok_or(WireError::Truncated)?;
+        let mut out = [0; K];
+        out.copy_from_slice(slice);
+        self.at = end;
+        Ok(out)
+    }
+    /// Reads a u8.
+    pub fn u8(&mut self) -> Result<u8, WireError> {
+        Ok(self.take::<1>()?[0])
+    }
+    /// Reads a little-endian u16.
+    pub fn u16(&mut self) -> Result<u16, WireError> {
+        Ok(u16::from_le_bytes(self.take()?))
+    }
+    /// Reads a little-endian u32.
+    pub fn u32(&mut self) -> Result<u32, WireError> {
+        Ok(u32::from_le_bytes(self.take()?))
+    }
+    /// Reads a little-endian f32.
+    pub fn f32(&mut self) -> Result<f32, WireError> {
+        Ok(f32::from_le_bytes(self.take()?))
+    }
+    /// Succeeds only if every byte was read.
+    pub fn finish(&self) -> Result<(), WireError> {
+        if self.at == self.bytes.len() {
+            Ok(())
+        } else {
+            Err(WireError::Oversized)
+        }
+    }
+}
+
+/// Little-endian field writer into a frame buffer; fails rather than truncates.
+#[derive(Debug)]
+pub struct Writer<'a> {
+    bytes: &'a mut [u8],
+    at: usize,
+}
+
+impl<'a> Writer<'a> {
+    /// A writer at the start of `bytes`.
+    pub fn new(bytes: &'a mut [u8]) -> Self {
+        Writer { bytes, at: 0 }
+    }
+    /// Appends raw bytes.
+    pub fn put(&mut self, data: &[u8]) -> Option<()> {
+        let end = self.at + data.len();
+        self.bytes.get_mut(self.at..end)?.copy_from_slice(data);
+        self.at = end;
+        Some(())
+    }
+    /// Appends a u8.
+    pub fn u8(&mut self, v: u8) -> Option<()> {
+        self.put(&[v])
+    }
+    /// Appends a little-endian u16.
+    pub fn u16(&mut self, v: u16) -> Option<()> {
+        self.put(&v.to_le_bytes())
+    }
+    /// Appends a little-endian u32.
+    pub fn u32(&mut self, v: u32) -> Option<()> {
+        self.put(&v.to_le_bytes())
+    }
+    /// Appends a little-endian f32.
+    pub fn f32(&mut self, v: f32) -> Option<()> {
+        self.put(&v.to_le_bytes())
+    }
+    /// Bytes written so far.
+    pub fn len(&self) -> usize {
+        self.at
+    }
+    /// Whether nothing was written.
+    pub fn is_empty(&self) -> bool {
+        self.at == 0
+    }
+}
+
+/// Builds a complete wire frame: header, `payload` (written by the closure), CRC, COBS, delimiter.
+/// Returns the number of bytes to send, or `None` if `out` is too small.
+pub fn encode_frame(
+    message_type: u8,
+    sequence: u16,
+    payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
+    out: &mut [u8],
+) -> Option<usize> {
+    let mut raw = [0u8; MAX_FRAME];
+    let mut w = Writer::new(&mut raw);
+    w.u8(VERSION)?;
+    w.u8(message_type)?;
+    w.u16(sequence)?;
+    payload(&mut w)?;
+    let body_len = w.len();
+    let crc = crc16(raw.get(..body_len)?);
+    let mut w = Writer {
+        bytes: &mut raw,
+        at: body_len,
+    };
+    w.u16(crc)?;
+    let total = w.len();
+    cobs_encode(raw.get(..total)?, out)
+}
