@@ -11,12 +11,16 @@ pub mod kind {
     pub const STATE: u8 = 0x02;
     /// Host -> unit: ask for the counters.
     pub const READ_COUNTERS: u8 = 0x03;
+    /// Host -> unit: end the session (a board may stop; QEMU exits with code 0).
+    pub const SHUTDOWN: u8 = 0x04;
     /// Unit -> host: Configure accepted.
     pub const CONFIGURE_ACK: u8 = 0x81;
     /// Unit -> host: the command for a State (or the watchdog's safe command).
     pub const COMMAND: u8 = 0x82;
     /// Unit -> host: the counters.
     pub const COUNTERS: u8 = 0x83;
+    /// Unit -> host: Shutdown accepted; nothing follows.
+    pub const SHUTDOWN_ACK: u8 = 0x84;
     /// Unit -> host: an input was refused.
     pub const ERROR: u8 = 0x8F;
 }

@@ -42,12 +42,18 @@ fn circle_code(d: Direction) -> u8 {
 pub struct Reply {
     bytes: [u8; MAX_ENCODED],
     len: usize,
+    message_type: u8,
 }
 
 impl Reply {
     /// The bytes to write to the serial port.
     pub fn as_bytes(&self) -> &[u8] {
         self.bytes.get(..self.len).unwrap_or(&[])
+    }
+
+    /// Whether this acknowledges a Shutdown: the session is over once it is sent.
+    pub fn is_shutdown(&self) -> bool {
+        self.message_type == kind::SHUTDOWN_ACK
     }
 
     fn build(
@@ -57,7 +63,11 @@ impl Reply {
     ) -> Option<Reply> {
         let mut bytes = [0; MAX_ENCODED];
         let len = encode_frame(message_type, sequence, payload, &mut bytes)?;
-        Some(Reply { bytes, len })
+        Some(Reply {
+            bytes,
+            len,
+            message_type,
+        })
     }
 }
 
@@ -207,6 +217,12 @@ impl Unit {
                 }
                 let counters = self.counters;
                 Ok(Reply::build(kind::COUNTERS, sequence, |w| counters.emit(w)))
+            }
+            kind::SHUTDOWN => {
+                if !frame.payload().is_empty() {
+                    return Err(refuse(WireError::Oversized));
+                }
+                Ok(Reply::build(kind::SHUTDOWN_ACK, sequence, |_| Some(())))
             }
             _ => Err(refuse(WireError::UnknownType)),
         }

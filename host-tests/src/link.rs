@@ -15,6 +15,8 @@ pub enum Reply {
     Counters(u16, Counters),
     /// An input refused (sequence, if known).
     Error(Option<u16>, ErrorMsg),
+    /// Shutdown accepted (echoed sequence).
+    ShutdownAck(u16),
 }
 
 fn frame(
@@ -40,6 +42,11 @@ pub fn state(sequence: u16, m: &StateMsg) -> Vec<u8> {
 /// A ReadCounters frame.
 pub fn read_counters(sequence: u16) -> Vec<u8> {
     frame(kind::READ_COUNTERS, sequence, |_| Some(()))
+}
+
+/// A Shutdown frame.
+pub fn shutdown(sequence: u16) -> Vec<u8> {
+    frame(kind::SHUTDOWN, sequence, |_| Some(()))
 }
 
 /// A frame of any type with any payload (for tests of refusals).
@@ -73,6 +80,7 @@ fn decode(bytes: &[u8]) -> Result<Reply, WireError> {
     let seq = f.sequence();
     match f.message_type() {
         kind::CONFIGURE_ACK => Ok(Reply::ConfigureAck(seq)),
+        kind::SHUTDOWN_ACK => Ok(Reply::ShutdownAck(seq)),
         kind::COMMAND => Ok(Reply::Command(seq, CommandMsg::parse(f.payload())?)),
         kind::COUNTERS => Ok(Reply::Counters(seq, Counters::parse(f.payload())?)),
         kind::ERROR => {

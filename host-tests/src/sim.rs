@@ -127,10 +127,37 @@ impl SignFlips {
     }
 }
 
-/// Runs the closed loop with the paper's law on backend `S`.
-pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -> SimResult {
+/// One control period's command: curvatures (1/m) and, where known, the chosen circles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepCommand {
+    /// Pursuer curvature, 1/m.
+    pub pursuer: f64,
+    /// Evader curvature, 1/m.
+    pub evader: f64,
+    /// Chosen (pursuer, evader) circles, if the law reported them.
+    pub choice: Option<(Direction, Direction)>,
+}
+
+/// Whether dt, t_max and eps are usable (finite, positive, t_max / dt <= 1e7).
+pub fn valid_params(params: &SimParams) -> bool {
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    positive(params.dt)
+        && positive(params.t_max)
+        && positive(params.eps)
+        && params.t_max / params.dt <= 1e7
+}
+
+/// Runs the closed loop with any controller (the host law, or the firmware over a serial link):
+/// every dt the controller sees time and both states and returns the command, held for the step;
+/// both vehicles move exactly at full speed. The result's `predicted` fields are left infinite for
+/// the caller. `Err` if the controller fails.
+pub fn closed_loop<E>(
+    params: &SimParams,
+    record: bool,
+    mut controller: impl FnMut(f64, [f64; 3], [f64; 3]) -> Result<StepCommand, E>,
+) -> Result<SimResult, E> {
     let mut result = SimResult {
-        status: SimStatus::InvalidSimParams,
+        status: SimStatus::Timeout,
         t_capture: f64::INFINITY,
         predicted: f64::INFINITY,
         predicted_lower: f64::INFINITY,
@@ -140,38 +167,7 @@ pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -
         trajectory: Vec::new(),
     };
     let SimParams { dt, t_max, eps, .. } = *params;
-    let positive = |v: f64| v.is_finite() && v > 0.0;
-    if !(positive(dt) && positive(t_max) && positive(eps)) || t_max / dt > 1e7 {
-        return result;
-    }
-    let observation = Observation {
-        limits: params.limits.map(|v| v as f32),
-        pursuer: params.pursuer.map(|v| v as f32),
-        evader: params.evader.map(|v| v as f32),
-    };
-    let initial = twocars::evaluate_observation::<S>(&observation, variant);
-    if let Some(report) = initial.report {
-        let s = report.solution;
-        result.predicted = s.upper.map_or(f64::INFINITY, |v| v.to_f64());
-        result.predicted_lower = s.lower.map_or(f64::INFINITY, |v| v.to_f64());
-    }
-    let scene = match (initial.status, twocars::law::validate::<S>(&observation)) {
-        (Status::Ok | Status::NoValidTangent, Ok(scene)) => scene,
-        (Status::Captured, _) => {
-            result.status = SimStatus::Law(Status::Captured);
-            result.t_capture = 0.0;
-            result.predicted = 0.0;
-            return result;
-        }
-        (status, _) => {
-            result.status = SimStatus::Law(status);
-            return result;
-        }
-    };
-    let Ok(mut guidance) = Guidance::new(Law::new(scene.limits, variant), dt as f32) else {
-        return result;
-    };
-    let [v_pm, w_pm, v_em, w_em] = observation.limits.map(f64::from);
+    let [v_pm, w_pm, v_em, w_em] = params.limits;
     let (mut p, mut e) = (params.pursuer, params.evader);
     let mut previous: Option<(Direction, Direction)> = None;
     let mut flips = SignFlips::default();
@@ -181,27 +177,20 @@ pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -
         if record {
             result.trajectory.push((t0, p, e));
         }
-        let command = match (to_state::<S>(p), to_state::<S>(e)) {
-            (Ok(ps), Ok(es)) => {
-                let ev = guidance.step(&ps, &es);
-                if let Some(r) = ev.report {
-                    let choice = (r.solution.row, r.solution.col);
-                    if previous.is_some_and(|prev| prev != choice) {
-                        result.switches += 1;
-                    }
-                    previous = Some(choice);
-                }
-                (ev.command.pursuer.to_f64(), ev.command.evader.to_f64())
+        let command = controller(t0, p, e)?;
+        if let Some(choice) = command.choice {
+            if previous.is_some_and(|prev| prev != choice) {
+                result.switches += 1;
             }
-            _ => (0.0, 0.0),
-        };
-        flips.record(0, command.0, w_pm);
-        flips.record(1, command.1, w_em);
+            previous = Some(choice);
+        }
+        flips.record(0, command.pursuer, w_pm);
+        flips.record(1, command.evader, w_em);
         // Find the first sub-sample at or below eps; bisect the crossing within it.
         let at = |tau: f64| {
             (
-                advance(p, v_pm, command.0, tau),
-                advance(e, v_em, command.1, tau),
+                advance(p, v_pm, command.pursuer, tau),
+                advance(e, v_em, command.evader, tau),
             )
         };
         let gap = |tau: f64| {
@@ -228,7 +217,7 @@ pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -
                 result.t_capture = t0 + hi;
                 result.sign_flips = flips.count;
                 result.d_min = result.d_min.min(eps);
-                return result;
+                return Ok(result);
             }
             before = tau;
         }
@@ -236,7 +225,90 @@ pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -
         p = [np[0], np[1], wrap_pi(np[2])];
         e = [ne[0], ne[1], wrap_pi(ne[2])];
     }
-    result.status = SimStatus::Timeout;
     result.sign_flips = flips.count;
-    result
+    Ok(result)
+}
+
+/// Runs the closed loop with the paper's law on backend `S`.
+pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -> SimResult {
+    let idle = SimResult {
+        status: SimStatus::InvalidSimParams,
+        t_capture: f64::INFINITY,
+        predicted: f64::INFINITY,
+        predicted_lower: f64::INFINITY,
+        d_min: distance(params.pursuer, params.evader),
+        switches: 0,
+        sign_flips: 0,
+        trajectory: Vec::new(),
+    };
+    if !valid_params(params) {
+        return idle;
+    }
+    let observation = Observation {
+        limits: params.limits.map(|v| v as f32),
+        pursuer: params.pursuer.map(|v| v as f32),
+        evader: params.evader.map(|v| v as f32),
+    };
+    let initial = twocars::evaluate_observation::<S>(&observation, variant);
+    let (predicted, predicted_lower) = initial.report.map_or((f64::INFINITY, f64::INFINITY), |r| {
+        let s = r.solution;
+        (
+            s.upper.map_or(f64::INFINITY, |v| v.to_f64()),
+            s.lower.map_or(f64::INFINITY, |v| v.to_f64()),
+        )
+    });
+    let scene = match (initial.status, twocars::law::validate::<S>(&observation)) {
+        (Status::Ok | Status::NoValidTangent, Ok(scene)) => scene,
+        (Status::Captured, _) => {
+            return SimResult {
+                status: SimStatus::Law(Status::Captured),
+                t_capture: 0.0,
+                predicted: 0.0,
+                predicted_lower: 0.0,
+                ..idle
+            }
+        }
+        (status, _) => {
+            return SimResult {
+                status: SimStatus::Law(status),
+                predicted,
+                predicted_lower,
+                ..idle
+            }
+        }
+    };
+    let Ok(mut guidance) = Guidance::new(Law::new(scene.limits, variant), params.dt as f32) else {
+        return idle;
+    };
+    // The vehicles move with the limits the law was given (f32), so both see the same car.
+    let params = SimParams {
+        limits: observation.limits.map(f64::from),
+        ..*params
+    };
+    let result = closed_loop(&params, record, |_, p, e| {
+        let command = match (to_state::<S>(p), to_state::<S>(e)) {
+            (Ok(ps), Ok(es)) => {
+                let ev = guidance.step(&ps, &es);
+                StepCommand {
+                    pursuer: ev.command.pursuer.to_f64(),
+                    evader: ev.command.evader.to_f64(),
+                    choice: ev.report.map(|r| (r.solution.row, r.solution.col)),
+                }
+            }
+            _ => StepCommand {
+                pursuer: 0.0,
+                evader: 0.0,
+                choice: None,
+            },
+        };
+        Ok::<_, core::convert::Infallible>(command)
+    });
+    match result {
+        Ok(r) => SimResult {
+            predicted,
+            predicted_lower,
+            ..r
+        },
+        Err(never) => match never {},
+    }
 }

@@ -2,8 +2,11 @@
 
 mod csv;
 mod eval;
+mod firmware_loop;
 mod options;
-mod paper;
+mod qemu;
+mod qemu_tests;
+mod run;
 mod sim;
 mod test;
 
@@ -12,7 +15,9 @@ use std::process::ExitCode;
 const HELP: &str = "\
 cargo xtask <command> [options]
 
-  run     the main job: the paper's four cases through the law (matrix, choices, values)
+  run     the main job: the firmware in QEMU in closed loop with the host simulator
+          [--case paper1..paper4|all] [--dt S] [--t-max S] [--roles both|pursuer|evader]
+          [--limits v,w,v,w] [--pursuer x,y,th --evader x,y,th] [--host-only]
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
   sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper]
@@ -36,7 +41,7 @@ fn main() -> ExitCode {
         }
         ("eval", Ok((options, _))) => eval::run(&options),
         ("sim", Ok((options, _))) => sim::run(&options),
-        ("run", Ok((options, _))) => paper::run(&options),
+        ("run", Ok((options, rest))) => run::run(&options, &rest),
         ("test", Ok(_)) => test::run(),
         (other, Ok(_)) => {
             eprintln!("xtask: unknown command `{other}`\n{HELP}");

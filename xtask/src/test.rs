@@ -111,6 +111,21 @@ pub fn run() -> i32 {
                 &[],
             );
     }
+    let firmware_clippy = [
+        "clippy",
+        "-p",
+        "twocars",
+        "--release",
+        "--target",
+        "thumbv7em-none-eabihf",
+        "--features",
+        "board-qemu",
+        "--bins",
+        "--",
+        "-D",
+        "warnings",
+    ];
+    ok = ok && step("clippy of the QEMU firmware", &cargo, &firmware_clippy, &[]);
     let counts = if ok { host_tests(&cargo) } else { None };
     ok = ok
         && counts.is_some()
@@ -120,7 +135,13 @@ pub fn run() -> i32 {
             &["doc", "--no-deps", "-p", "twocars"],
             &[("RUSTDOCFLAGS", "-D warnings")],
         );
-    let (passed, failed) = counts.unwrap_or((0, 0));
+    let (mut passed, mut failed) = counts.unwrap_or((0, 0));
+    if ok {
+        let (p, f) = crate::qemu_tests::run();
+        passed += p;
+        failed += f;
+        ok = f == 0;
+    }
     if ok {
         println!("== xtask test: all steps passed");
     }

@@ -1,0 +1,5 @@
+//! Board shells: registers and clocks only; the loop is [`crate::firmware::serve`].
+#![allow(unsafe_code)]
+
+#[cfg(feature = "board-qemu")]
+pub mod qemu_mps2;

@@ -1,0 +1,166 @@
+//! Tests of the firmware in QEMU (part of `cargo xtask test`): the scripted session answered
+//! exactly like the host's unit, the closed loop equal to the host simulation, the watchdog, and
+//! exit code 0 after Shutdown.
+
+use std::time::Duration;
+
+use host_tests::link::{Reply, ReplyDecoder};
+use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
+use host_tests::session::{paper_configure, paper_state, script};
+use host_tests::sim::{simulate, SimParams};
+use twocars::message::{ROLE_EVADER, ROLE_PURSUER};
+use twocars::unit::{Unit, STATUS_STALE_INPUT};
+use twocars::Variant;
+
+use crate::firmware_loop;
+use crate::qemu::{self, Board, Qemu};
+
+type Outcome = Result<String, String>;
+type QemuTest = fn(&std::path::Path) -> Outcome;
+
+fn host_replies(bytes: &[u8], unit: &mut Unit) -> Vec<Reply> {
+    let mut decoder = ReplyDecoder::default();
+    bytes
+        .iter()
+        .filter_map(|&b| unit.receive(b, 0))
+        .flat_map(|r| decoder.feed(r.as_bytes()))
+        .filter_map(Result::ok)
+        .collect()
+}
+
+fn same(a: &Reply, b: &Reply) -> bool {
+    match (a, b) {
+        (Reply::Command(s, x), Reply::Command(t, y)) => {
+            s == t
+                && x.status == y.status
+                && x.pursuer_rate.to_bits() == y.pursuer_rate.to_bits()
+                && x.evader_rate.to_bits() == y.evader_rate.to_bits()
+                && (x.row, x.col) == (y.row, y.col)
+                && x.predicted.to_bits() == y.predicted.to_bits()
+                && x.upper.to_bits() == y.upper.to_bits()
+                && x.lower.to_bits() == y.lower.to_bits()
+        }
+        _ => a == b,
+    }
+}
+
+fn scripted_session(elf: &std::path::Path) -> Outcome {
+    let mut q = Qemu::start(elf, false)?;
+    let mut unit = Unit::new();
+    for step in script() {
+        q.send(&step.bytes)?;
+        let got = q.reply().map_err(|e| format!("{}: {e}", step.name))?;
+        let want = host_replies(&step.bytes, &mut unit);
+        match want.as_slice() {
+            [w] if same(w, &got) => {}
+            _ => {
+                return Err(format!(
+                    "{}: firmware {got:?}, host unit {want:?}",
+                    step.name
+                ))
+            }
+        }
+    }
+    let mut sequence = 1000;
+    let code = firmware_loop::shutdown(q, &mut sequence)?;
+    if code != 0 {
+        return Err(format!("exit code {code} after Shutdown"));
+    }
+    Ok(format!(
+        "{} steps answered as the host unit does; exit code 0",
+        script().len()
+    ))
+}
+
+fn closed_loop(elf: &std::path::Path) -> Outcome {
+    let mut q = Qemu::start(elf, false)?;
+    let mut sequence = 0;
+    let mut report = Vec::new();
+    for case in paper_cases() {
+        let params = SimParams {
+            limits: PAPER_LIMITS,
+            pursuer: case.pursuer,
+            evader: case.evader,
+            dt: 0.01,
+            t_max: 30.0,
+            eps: 0.01,
+        };
+        let fw =
+            firmware_loop::run_case(&mut q, &mut sequence, &params, ROLE_PURSUER | ROLE_EVADER)?;
+        let host = simulate::<f32>(&params, Variant::Paper, false);
+        let diff = fw.result.t_capture - host.t_capture;
+        // Stated tolerance: one control period (the same f32 code runs on both sides).
+        if fw.result.status != host.status || diff.abs() > params.dt || fw.errors_received > 0 {
+            return Err(format!(
+                "{}: firmware {:?} vs host {:?}",
+                case.name, fw.result, host
+            ));
+        }
+        report.push(format!("{} {:+.1e} s", case.name, diff));
+    }
+    firmware_loop::shutdown(q, &mut sequence)?;
+    Ok(format!(
+        "capture time firmware - host: {}",
+        report.join(", ")
+    ))
+}
+
+fn watchdog(elf: &std::path::Path) -> Outcome {
+    let mut q = Qemu::start(elf, false)?;
+    q.send(&host_tests::link::configure(1, &paper_configure()))?;
+    q.reply()?;
+    q.send(&host_tests::link::state(2, &paper_state(0, 0)))?;
+    q.reply()?;
+    // Silence past the 0.5 s watchdog: the firmware sends the safe command by itself.
+    std::thread::sleep(Duration::from_millis(700));
+    match q.reply()? {
+        Reply::Command(_, c)
+            if c.status == STATUS_STALE_INPUT && c.pursuer_rate == 0.0 && c.evader_rate == 0.0 => {}
+        other => {
+            return Err(format!(
+                "expected the stale-input safe command, got {other:?}"
+            ))
+        }
+    }
+    let mut sequence = 3;
+    let counters = firmware_loop::counters(&mut q, &mut sequence)?;
+    if counters.stale != 1 {
+        return Err(format!("stale counter {}", counters.stale));
+    }
+    firmware_loop::shutdown(q, &mut sequence)?;
+    Ok("safe command with status stale_input after 0.5 s of silence".to_string())
+}
+
+/// Runs the QEMU tests; returns (passed, failed).
+pub fn run() -> (u64, u64) {
+    println!("== xtask test: firmware in QEMU (mps2-an386)");
+    let elf = match qemu::qemu_binary().and_then(|_| qemu::build(Board::Qemu)) {
+        Ok(elf) => elf,
+        Err(e) => {
+            eprintln!("== xtask test: {e}");
+            return (0, 1);
+        }
+    };
+    let tests: [(&str, QemuTest); 3] = [
+        (
+            "qemu::scripted_session_matches_the_host_unit_byte_for_byte",
+            scripted_session,
+        ),
+        ("qemu::closed_loop_matches_the_host_simulation", closed_loop),
+        ("qemu::watchdog_sends_the_safe_command", watchdog),
+    ];
+    let (mut passed, mut failed) = (0, 0);
+    for (name, test) in tests {
+        match test(&elf) {
+            Ok(detail) => {
+                println!("test {name} ... ok ({detail})");
+                passed += 1;
+            }
+            Err(e) => {
+                println!("test {name} ... FAILED: {e}");
+                failed += 1;
+            }
+        }
+    }
+    (passed, failed)
+}

@@ -1,0 +1,275 @@
+//! `cargo xtask run`: the main job. The firmware runs in QEMU (mps2-an386), its UART on a
+//! loopback TCP link to the host simulator, which integrates both vehicles exactly and sends a
+//! State every control period; per case it prints the law's matrix at t = 0, the capture time in
+//! closed loop with the firmware, the host-only simulation of the same case, frames and counters.
+
+use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
+use host_tests::sim::{SimParams, SimStatus};
+use twocars::message::{ROLE_EVADER, ROLE_PURSUER};
+use twocars::{evaluate_observation, Observation, Scalar};
+
+use crate::firmware_loop;
+use crate::options::{Numeric, Options};
+use crate::qemu::{self, Board, Qemu};
+
+/// Capture distance, metres.
+const EPS: f64 = 0.01;
+/// Largest |firmware - host| capture-time difference accepted, in control periods.
+const AGREEMENT_PERIODS: f64 = 3.0;
+
+/// Options of `run`.
+#[derive(Debug, Clone)]
+struct RunOptions {
+    cases: Vec<Case>,
+    limits: [f64; 4],
+    dt: f64,
+    t_max: f64,
+    roles: u8,
+    host_only: bool,
+}
+
+fn triple(text: &str) -> Result<[f64; 3], String> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{text}: {e}"))?;
+    <[f64; 3]>::try_from(v).map_err(|_| format!("{text}: expected x,y,theta"))
+}
+
+fn parse(args: &[String]) -> Result<RunOptions, String> {
+    let mut o = RunOptions {
+        cases: Vec::new(),
+        limits: PAPER_LIMITS,
+        dt: 0.01,
+        t_max: 30.0,
+        roles: ROLE_PURSUER | ROLE_EVADER,
+        host_only: false,
+    };
+    let (mut pursuer, mut evader) = (None, None);
+    let mut it = args.iter();
+    while let Some(arg) = it.next() {
+        let mut value = || it.next().cloned().ok_or(format!("{arg} needs a value"));
+        match arg.as_str() {
+            "--case" => {
+                let name = value()?;
+                if name == "all" {
+                    o.cases.extend(paper_cases());
+                } else {
+                    let case = paper_cases().into_iter().find(|c| c.name == name);
+                    o.cases.push(
+                        case.ok_or(format!("--case {name}: expected paper1..paper4 or all"))?,
+                    );
+                }
+            }
+            "--dt" => o.dt = value()?.parse().map_err(|e| format!("--dt: {e}"))?,
+            "--t-max" => o.t_max = value()?.parse().map_err(|e| format!("--t-max: {e}"))?,
+            "--roles" => {
+                o.roles = match value()?.as_str() {
+                    "both" => ROLE_PURSUER | ROLE_EVADER,
+                    "pursuer" => ROLE_PURSUER,
+                    "evader" => ROLE_EVADER,
+                    v => return Err(format!("--roles {v}: expected both, pursuer or evader")),
+                }
+            }
+            "--limits" => {
+                let v: Vec<f64> = value()?
+                    .split(',')
+                    .map(|s| s.trim().parse::<f64>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| format!("--limits: {e}"))?;
+                o.limits = <[f64; 4]>::try_from(v)
+                    .map_err(|_| "--limits v_pm,w_pm,v_em,w_em".to_string())?;
+            }
+            "--pursuer" => pursuer = Some(triple(&value()?)?),
+            "--evader" => evader = Some(triple(&value()?)?),
+            "--host-only" => o.host_only = true,
+            other => return Err(format!("unknown option {other}")),
+        }
+    }
+    match (pursuer, evader) {
+        (Some(p), Some(e)) => o.cases.push(Case {
+            name: "custom",
+            pursuer: p,
+            evader: e,
+            expected_value: f64::NAN,
+        }),
+        (None, None) => {}
+        _ => return Err("--pursuer and --evader go together".to_string()),
+    }
+    if o.cases.is_empty() {
+        o.cases.extend(paper_cases());
+    }
+    if !(o.dt.is_finite() && o.dt > 0.0 && o.t_max.is_finite() && o.t_max > 0.0) {
+        return Err("--dt and --t-max must be positive".to_string());
+    }
+    Ok(o)
+}
+
+fn observation(o: &RunOptions, case: &Case) -> Observation {
+    Observation {
+        limits: o.limits.map(|v| v as f32),
+        pursuer: case.pursuer.map(|v| v as f32),
+        evader: case.evader.map(|v| v as f32),
+    }
+}
+
+/// Prints the law's matrix at t = 0; false if a paper value is off by more than 1e-3 s.
+fn show_matrix<S: Scalar>(o: &RunOptions, case: &Case, options: &Options) -> bool {
+    let evaluation = evaluate_observation::<S>(&observation(o, case), options.variant);
+    println!();
+    println!(
+        "{}: p0 = {:?}, e0 = {:?}: status {}",
+        case.name,
+        case.pursuer,
+        case.evader,
+        evaluation.status.name()
+    );
+    let Some(report) = evaluation.report else {
+        return case.expected_value.is_nan();
+    };
+    let f = |v: Option<S>| v.map_or("inf".to_string(), |v| format!("{:9.4}", v.to_f64()));
+    let m = report.matrix.entries;
+    println!("             evader A   evader C");
+    println!("  pursuer A {}  {}", f(m[0][0]), f(m[0][1]));
+    println!("  pursuer C {}  {}", f(m[1][0]), f(m[1][1]));
+    let s = report.solution;
+    println!(
+        "  pursuer plays {}, evader plays {}; upper {} s, lower {} s, saddle {}{}",
+        s.row.letter(),
+        s.col.letter(),
+        f(s.upper).trim(),
+        f(s.lower).trim(),
+        s.saddle,
+        s.mixed.map_or(String::new(), |v| format!(
+            ", mixed value {:.4} s",
+            v.to_f64()
+        )),
+    );
+    let predicted = s.upper.map_or(f64::INFINITY, |v| v.to_f64());
+    if case.expected_value.is_nan() {
+        println!("  predicted capture time {predicted:.4} s");
+        true
+    } else {
+        println!(
+            "  predicted capture time {predicted:.4} s (independent f64: {:.4} s)",
+            case.expected_value
+        );
+        (predicted - case.expected_value).abs() <= 1e-3
+    }
+}
+
+fn params(o: &RunOptions, case: &Case) -> SimParams {
+    SimParams {
+        limits: o.limits,
+        pursuer: case.pursuer,
+        evader: case.evader,
+        dt: o.dt,
+        t_max: o.t_max,
+        eps: EPS,
+    }
+}
+
+fn closing(o: &RunOptions, t: f64) -> f64 {
+    t + EPS / (o.limits[0] - o.limits[2])
+}
+
+/// Runs the main job; returns the exit code.
+pub fn run(options: &Options, args: &[String]) -> i32 {
+    let o = match parse(args) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("xtask run: {e}");
+            return 2;
+        }
+    };
+    let [v_pm, w_pm, v_em, w_em] = o.limits;
+    println!("limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m; variant {:?}", options.variant);
+    let mut ok = true;
+    let mut session = None;
+    if !o.host_only {
+        let started = qemu::build(Board::Qemu).and_then(|elf| Qemu::start(&elf, true));
+        match started {
+            Ok(q) => session = Some(q),
+            Err(e) => {
+                eprintln!("xtask run: {e}");
+                return 1;
+            }
+        }
+    }
+    let mut sequence = 0u16;
+    for case in &o.cases {
+        ok &= match options.numeric {
+            Numeric::F32 => show_matrix::<f32>(&o, case, options),
+            Numeric::F64 => show_matrix::<f64>(&o, case, options),
+        };
+        let host = crate::sim::run_one(&params(&o, case), options, false);
+        println!(
+            "  host simulation (dt = {} s): {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); {} switches, {} sign flips",
+            o.dt,
+            host.status.name(),
+            host.t_capture,
+            closing(&o, host.t_capture),
+            host.switches,
+            host.sign_flips
+        );
+        let Some(q) = session.as_mut() else { continue };
+        match firmware_loop::run_case(q, &mut sequence, &params(&o, case), o.roles) {
+            Ok(fw) => {
+                let r = &fw.result;
+                let diff = r.t_capture - host.t_capture;
+                println!(
+                    "  firmware in QEMU: {}, captured at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s), firmware's prediction {:.4} s; \
+                     vs host: {:+.6} s ({:+.2} control periods); {} States sent, {} Commands and {} Errors received; {} switches, {} sign flips",
+                    r.status.name(),
+                    r.t_capture,
+                    closing(&o, r.t_capture),
+                    fw.predicted,
+                    diff,
+                    diff / o.dt,
+                    fw.states_sent,
+                    fw.commands_received,
+                    fw.errors_received,
+                    r.switches,
+                    r.sign_flips
+                );
+                let agree = r.status == host.status
+                    && (r.status != SimStatus::Captured || diff.abs() <= AGREEMENT_PERIODS * o.dt);
+                ok &= agree;
+            }
+            Err(e) => {
+                eprintln!("xtask run: {}: {e}", case.name);
+                return 1;
+            }
+        }
+    }
+    if let Some(mut q) = session {
+        match firmware_loop::counters(&mut q, &mut sequence) {
+            Ok(c) => println!(
+                "\nfirmware counters: {} messages accepted, {} refused {:?}, {} watchdog expiries; {} bytes sent, {} frames received",
+                c.accepted,
+                c.errors.iter().sum::<u32>(),
+                c.errors,
+                c.stale,
+                q.bytes_sent,
+                q.frames_received
+            ),
+            Err(e) => {
+                eprintln!("xtask run: {e}");
+                return 1;
+            }
+        }
+        match firmware_loop::shutdown(q, &mut sequence) {
+            Ok(0) => println!("firmware exited with code 0"),
+            Ok(code) => {
+                println!("firmware exited with code {code}");
+                ok = false;
+            }
+            Err(e) => {
+                eprintln!("xtask run: {e}");
+                return 1;
+            }
+        }
+    }
+    i32::from(!ok)
+}
