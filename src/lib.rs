@@ -19,7 +19,7 @@
 // Board shells need `unsafe` for registers; everything else is safe code.
 #![deny(unsafe_code)]
 
-#[cfg(feature = "board-qemu")]
+#[cfg(any(feature = "board-qemu", feature = "board-stm32f405"))]
 pub mod board;
 pub mod capture;
 #[cfg(feature = "firmware")]

@@ -3,3 +3,6 @@
 
 #[cfg(feature = "board-qemu")]
 pub mod qemu_mps2;
+
+#[cfg(feature = "board-stm32f405")]
+pub mod stm32f405;

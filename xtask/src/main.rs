@@ -8,6 +8,7 @@ mod qemu;
 mod qemu_tests;
 mod run;
 mod sim;
+mod size;
 mod test;
 
 use std::process::ExitCode;
@@ -18,6 +19,7 @@ cargo xtask <command> [options]
   run     the main job: the firmware in QEMU in closed loop with the host simulator
           [--case paper1..paper4|all] [--dt S] [--t-max S] [--roles both|pursuer|evader]
           [--limits v,w,v,w] [--pursuer x,y,th --evader x,y,th] [--host-only]
+  build   build a firmware image and print its flash and RAM  [--board qemu|stm32f405|all]
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
   sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper]
@@ -43,6 +45,7 @@ fn main() -> ExitCode {
         ("sim", Ok((options, _))) => sim::run(&options),
         ("run", Ok((options, rest))) => run::run(&options, &rest),
         ("test", Ok(_)) => test::run(),
+        ("build", Ok((_, rest))) => qemu::build_command(&rest),
         (other, Ok(_)) => {
             eprintln!("xtask: unknown command `{other}`\n{HELP}");
             2

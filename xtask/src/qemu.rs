@@ -18,22 +18,40 @@ use host_tests::link::{Reply, ReplyDecoder};
 pub enum Board {
     /// QEMU mps2-an386 (Cortex-M4F).
     Qemu,
+    /// STM32F405 flight controller (Cortex-M4F): build and size only.
+    Stm32f405,
 }
 
 impl Board {
+    /// Every board.
+    pub const ALL: [Board; 2] = [Board::Qemu, Board::Stm32f405];
+
     fn target(self) -> &'static str {
-        match self {
-            Board::Qemu => "thumbv7em-none-eabihf",
-        }
+        "thumbv7em-none-eabihf"
     }
     fn bin(self) -> &'static str {
         match self {
             Board::Qemu => "twocars-qemu",
+            Board::Stm32f405 => "twocars-stm32f405",
         }
     }
     fn feature(self) -> &'static str {
         match self {
             Board::Qemu => "board-qemu",
+            Board::Stm32f405 => "board-stm32f405",
+        }
+    }
+    /// Flash origin of the board's memory map: where the vector table must be.
+    pub fn flash_origin(self) -> u64 {
+        match self {
+            Board::Qemu => 0x0000_0000,
+            Board::Stm32f405 => 0x0800_0000,
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Board::Qemu => "qemu (mps2-an386)",
+            Board::Stm32f405 => "stm32f405",
         }
     }
 }
@@ -240,4 +258,71 @@ impl Drop for Qemu {
             let _ = d.wait();
         }
     }
+}
+
+/// Builds `board`'s image and checks its vector table sits at the board's flash origin (a
+/// wrong memory map links silently otherwise).
+pub fn build_checked(board: Board) -> Result<(PathBuf, crate::size::ImageSize), String> {
+    let elf = build(board)?;
+    let size = crate::size::of(&elf)?;
+    if size.vector_table != board.flash_origin() {
+        return Err(format!(
+            "{}: vector table at {:#010x}, expected the board's flash origin {:#010x}",
+            board.name(),
+            size.vector_table,
+            board.flash_origin()
+        ));
+    }
+    Ok((elf, size))
+}
+
+/// `cargo xtask build [--board qemu|stm32f405|all]`: builds each image, checks its memory map
+/// and prints its size.
+pub fn build_command(args: &[String]) -> i32 {
+    let boards: Vec<Board> = match args {
+        [] => Board::ALL.to_vec(),
+        [flag, name] if flag == "--board" => match name.as_str() {
+            "qemu" => vec![Board::Qemu],
+            "stm32f405" => vec![Board::Stm32f405],
+            "all" => Board::ALL.to_vec(),
+            other => {
+                eprintln!("xtask build: unknown board {other}");
+                return 2;
+            }
+        },
+        _ => {
+            eprintln!("xtask build: usage: cargo xtask build [--board qemu|stm32f405|all]");
+            return 2;
+        }
+    };
+    let mut rows = Vec::new();
+    for board in boards {
+        match build_checked(board) {
+            Ok((elf, s)) => rows.push(format!(
+                "| {} | {} | {} | {:#010x} | {} B ({} + {} + {}) | {} B ({} + {}) |",
+                board.name(),
+                board.target(),
+                elf.file_name()
+                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+                s.entry,
+                s.flash(),
+                s.text,
+                s.rodata,
+                s.data,
+                s.ram(),
+                s.data,
+                s.bss
+            )),
+            Err(e) => {
+                eprintln!("xtask build: {e}");
+                return 1;
+            }
+        }
+    }
+    println!("| board | target | image | entry | flash (text + rodata + data) | static RAM (data + bss) |");
+    println!("|---|---|---|---|---|---|");
+    for row in rows {
+        println!("{row}");
+    }
+    0
 }

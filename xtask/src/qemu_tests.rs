@@ -134,8 +134,8 @@ fn watchdog(elf: &std::path::Path) -> Outcome {
 /// Runs the QEMU tests; returns (passed, failed).
 pub fn run() -> (u64, u64) {
     println!("== xtask test: firmware in QEMU (mps2-an386)");
-    let elf = match qemu::qemu_binary().and_then(|_| qemu::build(Board::Qemu)) {
-        Ok(elf) => elf,
+    let elf = match qemu::qemu_binary().and_then(|_| qemu::build_checked(Board::Qemu)) {
+        Ok((elf, _)) => elf,
         Err(e) => {
             eprintln!("== xtask test: {e}");
             return (0, 1);

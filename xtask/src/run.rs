@@ -188,7 +188,7 @@ pub fn run(options: &Options, args: &[String]) -> i32 {
     let mut ok = true;
     let mut session = None;
     if !o.host_only {
-        let started = qemu::build(Board::Qemu).and_then(|elf| Qemu::start(&elf, true));
+        let started = qemu::build_checked(Board::Qemu).and_then(|(elf, _)| Qemu::start(&elf, true));
         match started {
             Ok(q) => session = Some(q),
             Err(e) => {

@@ -111,21 +111,40 @@ pub fn run() -> i32 {
                 &[],
             );
     }
-    let firmware_clippy = [
-        "clippy",
-        "-p",
-        "twocars",
-        "--release",
-        "--target",
-        "thumbv7em-none-eabihf",
-        "--features",
-        "board-qemu",
-        "--bins",
-        "--",
-        "-D",
-        "warnings",
-    ];
-    ok = ok && step("clippy of the QEMU firmware", &cargo, &firmware_clippy, &[]);
+    for (feature, name) in [("board-qemu", "QEMU"), ("board-stm32f405", "STM32F405")] {
+        let firmware_clippy = [
+            "clippy",
+            "-p",
+            "twocars",
+            "--release",
+            "--target",
+            "thumbv7em-none-eabihf",
+            "--features",
+            feature,
+            "--bins",
+            "--",
+            "-D",
+            "warnings",
+        ];
+        ok = ok
+            && step(
+                &format!("clippy of the {name} firmware"),
+                &cargo,
+                &firmware_clippy,
+                &[],
+            );
+    }
+    if ok {
+        println!(
+            "== xtask test: firmware images build, vector tables at their boards' flash origins"
+        );
+        for board in crate::qemu::Board::ALL {
+            if let Err(e) = crate::qemu::build_checked(board) {
+                eprintln!("== xtask test: {e}");
+                ok = false;
+            }
+        }
+    }
     let counts = if ok { host_tests(&cargo) } else { None };
     ok = ok
         && counts.is_some()
