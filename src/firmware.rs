@@ -25,6 +25,17 @@ pub enum Stop<E> {
     Serial(E),
 }
 
+/// Writes every byte, retrying while the port takes none. Unlike `embedded_io::Write::write_all`
+/// it has no panic path: a HAL that reports a full transmitter as `Ok(0)` (stm32f4xx-hal does)
+/// makes `write_all` panic; here it only waits.
+fn send<P: Write>(port: &mut P, mut bytes: &[u8]) -> Result<(), P::Error> {
+    while !bytes.is_empty() {
+        let n = port.write(bytes)?;
+        bytes = bytes.get(n..).unwrap_or(&[]);
+    }
+    port.flush()
+}
+
 /// Serves the serial port until Shutdown or a port error.
 pub fn serve<P, C>(port: &mut P, clock: &C, unit: &mut Unit) -> Stop<P::Error>
 where
@@ -36,7 +47,7 @@ where
         let now = clock.now_ms();
         if let Some(reply) = unit.poll(now) {
             crate::log_warn!("no valid State within the watchdog time: safe command");
-            if let Err(e) = port.write_all(reply.as_bytes()) {
+            if let Err(e) = send(port, reply.as_bytes()) {
                 return Stop::Serial(e);
             }
         }
@@ -56,7 +67,7 @@ where
             let Some(reply) = unit.receive(byte, now) else {
                 continue;
             };
-            if let Err(e) = port.write_all(reply.as_bytes()).and_then(|()| port.flush()) {
+            if let Err(e) = send(port, reply.as_bytes()) {
                 return Stop::Serial(e);
             }
             if reply.is_shutdown() {

@@ -104,30 +104,32 @@ pub fn crc16(bytes: &[u8]) -> u16 {
 /// COBS-encodes `input` into `out` and appends the 0x00 delimiter; returns the encoded length,
 /// or `None` if `out` is too small.
 pub fn cobs_encode(input: &[u8], out: &mut [u8]) -> Option<usize> {
+    // Indices only grow by one after a successful write into `out`, so `checked_add` never fails
+    // in practice; it keeps the function free of overflow panics when overflow checks are on.
     let mut code_at = 0;
-    let mut len = 1;
+    let mut len: usize = 1;
     let mut code: u8 = 1;
     for &byte in input {
         if byte == 0 {
             *out.get_mut(code_at)? = code;
             code_at = len;
-            len += 1;
+            len = len.checked_add(1)?;
             code = 1;
         } else {
             *out.get_mut(len)? = byte;
-            len += 1;
-            code += 1;
+            len = len.checked_add(1)?;
+            code = code.checked_add(1)?;
             if code == 0xFF {
                 *out.get_mut(code_at)? = code;
                 code_at = len;
-                len += 1;
+                len = len.checked_add(1)?;
                 code = 1;
             }
         }
     }
     *out.get_mut(code_at)? = code;
     *out.get_mut(len)? = 0;
-    Some(len + 1)
+    len.checked_add(1)
 }
 
 /// Decodes one COBS frame (without its delimiter) in place; returns the decoded length.
@@ -135,27 +137,29 @@ pub fn cobs_encode(input: &[u8], out: &mut [u8]) -> Option<usize> {
 /// # Errors
 /// [`WireError::BadFraming`] for a zero byte inside the frame or a code running past its end.
 pub fn cobs_decode_in_place(buf: &mut [u8]) -> Result<usize, WireError> {
-    let mut read = 0;
-    let mut write = 0;
+    let mut read: usize = 0;
+    let mut write: usize = 0;
     let len = buf.len();
+    let step = |i: usize| i.checked_add(1).ok_or(WireError::BadFraming);
     while read < len {
         let code = usize::from(*buf.get(read).ok_or(WireError::BadFraming)?);
-        if code == 0 || read + code > len {
+        let end = read.checked_add(code).ok_or(WireError::BadFraming)?;
+        if code == 0 || end > len {
             return Err(WireError::BadFraming);
         }
-        read += 1;
-        for _ in 1..code {
+        read = step(read)?;
+        while read < end {
             let byte = *buf.get(read).ok_or(WireError::BadFraming)?;
             if byte == 0 {
                 return Err(WireError::BadFraming);
             }
             *buf.get_mut(write).ok_or(WireError::BadFraming)? = byte;
-            write += 1;
-            read += 1;
+            write = step(write)?;
+            read = step(read)?;
         }
         if code < 0xFF && read < len {
             *buf.get_mut(write).ok_or(WireError::BadFraming)? = 0;
-            write += 1;
+            write = step(write)?;
         }
     }
     Ok(write)
@@ -203,7 +207,8 @@ impl<const N: usize> Deframer<N> {
             match self.buf.get_mut(self.len) {
                 Some(slot) if !self.overflowed => {
                     *slot = byte;
-                    self.len += 1;
+                    // Below N after a successful `get_mut`: cannot saturate.
+                    self.len = self.len.saturating_add(1);
                 }
                 _ => self.overflowed = true,
             }
@@ -303,7 +308,7 @@ impl<'a> Reader<'a> {
         Reader { bytes, at: 0 }
     }
     fn take<const K: usize>(&mut self) -> Result<[u8; K], WireError> {
-        let end = self.at + K;
+        let end = self.at.checked_add(K).ok_or(WireError::Truncated)?;
         let slice = self.bytes.get(self.at..end).ok_or(WireError::Truncated)?;
         let mut out = [0; K];
         out.copy_from_slice(slice);
@@ -350,7 +355,7 @@ impl<'a> Writer<'a> {
     }
     /// Appends raw bytes.
     pub fn put(&mut self, data: &[u8]) -> Option<()> {
-        let end = self.at + data.len();
+        let end = self.at.checked_add(data.len())?;
         self.bytes.get_mut(self.at..end)?.copy_from_slice(data);
         self.at = end;
         Some(())

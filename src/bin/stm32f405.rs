@@ -37,7 +37,19 @@ fn main() -> ! {
     }
 }
 
+#[cfg(not(feature = "panic-never"))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     cortex_m::peripheral::SCB::sys_reset()
+}
+
+#[cfg(feature = "panic-never")]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    unsafe extern "C" {
+        /// Defined nowhere: linking fails if any panic path survives optimisation.
+        fn twocars_panic_path_is_reachable() -> !;
+    }
+    // SAFETY: never called in an image that links.
+    unsafe { twocars_panic_path_is_reachable() }
 }

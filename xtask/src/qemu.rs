@@ -37,8 +37,16 @@ impl Board {
     }
     fn feature(self) -> &'static str {
         match self {
-            Board::Qemu => "board-qemu",
+            // The QEMU image logs with defmt over semihosting.
+            Board::Qemu => "qemu-log",
             Board::Stm32f405 => "board-stm32f405",
+        }
+    }
+    /// Features of the flight image: no logger, so panic freedom can be proven at link time.
+    pub fn flight_features(self) -> &'static str {
+        match self {
+            Board::Qemu => "board-qemu,panic-never",
+            Board::Stm32f405 => "board-stm32f405,panic-never",
         }
     }
     /// Flash origin of the board's memory map: where the vector table must be.
@@ -66,11 +74,22 @@ pub fn root() -> PathBuf {
 
 /// Builds the release firmware for `board`; returns the ELF's path.
 pub fn build(board: Board) -> Result<PathBuf, String> {
+    build_with(board, board.feature())
+}
+
+/// Builds the flight image of `board` with the link-time panic check: it links only if no
+/// panic path survives optimisation.
+pub fn prove_panic_free(board: Board) -> Result<PathBuf, String> {
+    build_with(board, board.flight_features())
+        .map_err(|e| format!("{e}: a panic path is reachable (see the undefined symbol above)"))
+}
+
+fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let status = Command::new(cargo)
         .current_dir(root())
         .args(["build", "--release", "--target", board.target()])
-        .args(["--features", board.feature(), "--bin", board.bin()])
+        .args(["--features", features, "--bin", board.bin()])
         .env("DEFMT_LOG", "info")
         .status()
         .map_err(|e| format!("cargo build: {e}"))?;

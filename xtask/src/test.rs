@@ -111,7 +111,7 @@ pub fn run() -> i32 {
                 &[],
             );
     }
-    for (feature, name) in [("board-qemu", "QEMU"), ("board-stm32f405", "STM32F405")] {
+    for (feature, name) in [("qemu-log", "QEMU"), ("board-stm32f405", "STM32F405")] {
         let firmware_clippy = [
             "clippy",
             "-p",
@@ -140,6 +140,15 @@ pub fn run() -> i32 {
         );
         for board in crate::qemu::Board::ALL {
             if let Err(e) = crate::qemu::build_checked(board) {
+                eprintln!("== xtask test: {e}");
+                ok = false;
+            }
+        }
+    }
+    if ok {
+        println!("== xtask test: panic freedom of the flight images, proven at link time");
+        for board in crate::qemu::Board::ALL {
+            if let Err(e) = crate::qemu::prove_panic_free(board) {
                 eprintln!("== xtask test: {e}");
                 ok = false;
             }
