@@ -4,9 +4,11 @@ use std::path::PathBuf;
 
 fn main() {
     let target = std::env::var("TARGET").unwrap_or_default();
-    let stm32 = std::env::var_os("CARGO_FEATURE_BOARD_STM32F405").is_some();
-    let map = if stm32 {
+    let feature = |name: &str| std::env::var_os(format!("CARGO_FEATURE_{name}")).is_some();
+    let map = if feature("BOARD_STM32F405") {
         "src/board/stm32f405.x"
+    } else if feature("BOARD_MICROBIT") {
+        "src/board/microbit.x"
     } else {
         "src/board/qemu_mps2.x"
     };
@@ -15,11 +17,16 @@ fn main() {
             println!("cargo:rustc-link-search={}", out.display());
         }
     }
-    if target.starts_with("thumb") && std::env::var_os("CARGO_FEATURE_DEFMT").is_some() {
+    if target.starts_with("thumb") && feature("DEFMT") {
         println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     }
-    println!("cargo:rerun-if-changed=memory.x");
-    println!("cargo:rerun-if-changed=src/board/qemu_mps2.x");
-    println!("cargo:rerun-if-changed=src/board/stm32f405.x");
-    println!("cargo:rerun-if-changed=build.rs");
+    for file in [
+        "memory.x",
+        "build.rs",
+        "src/board/qemu_mps2.x",
+        "src/board/stm32f405.x",
+        "src/board/microbit.x",
+    ] {
+        println!("cargo:rerun-if-changed={file}");
+    }
 }

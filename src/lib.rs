@@ -19,6 +19,8 @@
 // Board shells need `unsafe` for registers; everything else is safe code.
 #![deny(unsafe_code)]
 
+#[cfg(feature = "bench")]
+pub mod bench;
 #[cfg(any(feature = "board-qemu", feature = "board-stm32f405"))]
 pub mod board;
 pub mod capture;

@@ -1,5 +1,6 @@
 //! The project's own commands. `cargo xtask help` lists them.
 
+mod bench;
 mod csv;
 mod eval;
 mod firmware_loop;
@@ -20,6 +21,7 @@ cargo xtask <command> [options]
           [--case paper1..paper4|all] [--dt S] [--t-max S] [--roles both|pursuer|evader]
           [--limits v,w,v,w] [--pursuer x,y,th --evader x,y,th] [--host-only]
   build   build a firmware image and print its flash and RAM  [--board qemu|stm32f405|all]
+  bench   instructions per law evaluation (M4F, M0), flash, stack, host throughput -> docs/bench.md
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
   sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper]
@@ -45,6 +47,7 @@ fn main() -> ExitCode {
         ("sim", Ok((options, _))) => sim::run(&options),
         ("run", Ok((options, rest))) => run::run(&options, &rest),
         ("test", Ok(_)) => test::run(),
+        ("bench", Ok(_)) => bench::run(),
         ("build", Ok((_, rest))) => qemu::build_command(&rest),
         (other, Ok(_)) => {
             eprintln!("xtask: unknown command `{other}`\n{HELP}");

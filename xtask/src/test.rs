@@ -111,7 +111,12 @@ pub fn run() -> i32 {
                 &[],
             );
     }
-    for (feature, name) in [("qemu-log", "QEMU"), ("board-stm32f405", "STM32F405")] {
+    for (feature, name) in [
+        ("qemu-log", "QEMU"),
+        ("board-stm32f405", "STM32F405"),
+        ("bench-firmware", "bench"),
+        ("bench-empty", "empty bench"),
+    ] {
         let firmware_clippy = [
             "clippy",
             "-p",

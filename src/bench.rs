@@ -1,0 +1,29 @@
+//! The fixed set of states the bench evaluates (`cargo xtask bench`): the paper's four cases
+//! and states that reach every branch of the law (tail chase with four tied options, no valid
+//! tangent, the overshoot entry, far and near states, both turn directions).
+//!
+//! Each entry: pursuer (x, y, theta), evader (x, y, theta); metres, radians. Limits are the
+//! paper's (v_pm = 2, w_pm = 2, v_em = 1, w_em = 1), control period 10 ms.
+
+/// The paper's limits: v_pm, w_pm, v_em, w_em.
+pub const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];
+/// Control period of the bench, seconds.
+pub const DT: f32 = 0.01;
+
+const HALF_PI: f32 = core::f32::consts::FRAC_PI_2;
+
+/// The bench states.
+pub const STATES: [([f32; 3], [f32; 3]); 12] = [
+    ([0.0, 0.0, HALF_PI], [-3.0, -6.0, HALF_PI]),
+    ([0.0, 0.0, HALF_PI], [6.0, 3.0, HALF_PI]),
+    ([0.0, 0.0, HALF_PI], [0.0, -6.0, HALF_PI]),
+    ([0.0, 0.0, HALF_PI], [0.0, 6.0, 2.094_395_1]),
+    ([0.0, 0.0, 0.0], [20.0, 0.0, 0.0]),
+    ([0.0, 0.0, 0.0], [-1.1336, -0.3115, -2.9591]),
+    ([10.0, -4.0, 3.0], [-35.0, 22.0, -1.2]),
+    ([-120.0, 80.0, -2.5], [150.0, -60.0, 0.7]),
+    ([1.0, 1.0, 0.3], [2.5, 1.8, 2.9]),
+    ([0.0, 0.0, -3.1], [0.5, -40.0, 1.0]),
+    ([5.0, 5.0, 1.0], [4.0, 7.0, -2.0]),
+    ([-7.0, 3.0, 2.2], [9.0, 14.0, -0.4]),
+];

@@ -1,0 +1,343 @@
+//! `cargo xtask bench`: instructions per law evaluation on Cortex-M4F and Cortex-M0 (QEMU with
+//! `-icount`), flash of the law and of each image, the law's stack, host throughput. Prints a
+//! table and writes it to `docs/bench.md` (regenerated, never edited by hand).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use twocars::bench::{DT, LIMITS, STATES};
+use twocars::{Guidance, Law, Limits, Scalar, Variant, VehicleState};
+
+use crate::qemu::{self, root};
+
+/// One emulated CPU the bench runs on.
+#[derive(Clone, Copy)]
+struct Cpu {
+    name: &'static str,
+    target: &'static str,
+    machine: &'static [&'static str],
+    board_features: &'static str,
+    /// SysTick ticks per instruction under `-icount shift=6` (64 ns per instruction).
+    ticks_per_instruction: f64,
+}
+
+const M4F: Cpu = Cpu {
+    name: "Cortex-M4F (mps2-an386)",
+    target: "thumbv7em-none-eabihf",
+    machine: &["-M", "mps2-an386", "-cpu", "cortex-m4"],
+    board_features: "",
+    // SysTick on the 25 MHz processor clock: 64 ns x 25 MHz.
+    ticks_per_instruction: 1.6,
+};
+
+const M0: Cpu = Cpu {
+    name: "Cortex-M0 (micro:bit)",
+    target: "thumbv6m-none-eabi",
+    machine: &["-M", "microbit"],
+    board_features: ",board-microbit",
+    // SysTick on the 16 MHz processor clock: 64 ns x 16 MHz.
+    ticks_per_instruction: 1.024,
+};
+
+/// Per-state figures of one image.
+struct Measured {
+    ticks: Vec<f64>,
+    stack: Vec<u64>,
+    flash: u64,
+}
+
+fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let all_features = format!("{features}{}", cpu.board_features);
+    let status = Command::new(&cargo)
+        .current_dir(root())
+        .args([
+            "build",
+            "--release",
+            "--target",
+            cpu.target,
+            "--bin",
+            "twocars-bench",
+        ])
+        .args(["--features", &all_features])
+        .stdout(Stdio::null())
+        .status()
+        .map_err(|e| e.to_string())?;
+    if !status.success() {
+        return Err(format!(
+            "bench build for {} ({all_features}) failed",
+            cpu.name
+        ));
+    }
+    let elf: PathBuf = root()
+        .join("target")
+        .join(cpu.target)
+        .join("release")
+        .join("twocars-bench");
+    let flash = crate::size::of(&elf)?.flash();
+    let mut child = Command::new(qemu::qemu_binary()?)
+        .args(cpu.machine)
+        .args(["-display", "none", "-monitor", "none", "-serial", "none"])
+        .args(["-semihosting-config", "enable=on,target=native"])
+        .args(["-icount", "shift=6"])
+        .arg("-kernel")
+        .arg(&elf)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| e.to_string())?;
+    let deadline = Instant::now() + Duration::from_secs(120);
+    let status = loop {
+        if let Some(s) = child.try_wait().map_err(|e| e.to_string())? {
+            break s;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!("bench on {} timed out", cpu.name));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut out = String::new();
+    if let Some(mut stdout) = child.stdout.take() {
+        std::io::Read::read_to_string(&mut stdout, &mut out).map_err(|e| e.to_string())?;
+    }
+    if !status.success() {
+        return Err(format!("bench on {} exited with {status}", cpu.name));
+    }
+    let mut m = Measured {
+        ticks: Vec::new(),
+        stack: Vec::new(),
+        flash,
+    };
+    for line in out.lines() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        if let ["state", _, ticks, stack] = fields.as_slice() {
+            m.ticks
+                .push(ticks.parse().map_err(|_| format!("bad line {line}"))?);
+            m.stack
+                .push(stack.parse().map_err(|_| format!("bad line {line}"))?);
+        }
+    }
+    if m.ticks.len() != STATES.len() {
+        return Err(format!(
+            "bench on {}: {} of {} states reported",
+            cpu.name,
+            m.ticks.len(),
+            STATES.len()
+        ));
+    }
+    Ok(m)
+}
+
+/// Instructions per evaluation (mean, min, max), the law's stack and flash on one CPU.
+struct Row {
+    cpu: &'static str,
+    numeric: &'static str,
+    mean: f64,
+    min: f64,
+    max: f64,
+    stack: u64,
+    law_flash: u64,
+    image_flash: u64,
+}
+
+fn measure(cpu: Cpu, numeric: &'static str, features: &str) -> Result<Row, String> {
+    let law = build_and_run(cpu, features)?;
+    let empty = build_and_run(cpu, "bench-empty")?;
+    let overhead = empty.ticks.iter().sum::<f64>() / empty.ticks.len() as f64;
+    let instructions: Vec<f64> = law
+        .ticks
+        .iter()
+        .map(|t| (t - overhead) / cpu.ticks_per_instruction)
+        .collect();
+    let mean = instructions.iter().sum::<f64>() / instructions.len() as f64;
+    let min = instructions.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = instructions.iter().copied().fold(0.0, f64::max);
+    let base_stack = empty.stack.iter().copied().max().unwrap_or(0);
+    let stack = law
+        .stack
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(0)
+        .saturating_sub(base_stack);
+    Ok(Row {
+        cpu: cpu.name,
+        numeric,
+        mean,
+        min,
+        max,
+        stack,
+        law_flash: law.flash.saturating_sub(empty.flash),
+        image_flash: law.flash,
+    })
+}
+
+/// Largest relative error of the predicted value (upper) on the bench states vs the f64 law.
+fn value_error<S: Scalar>() -> f64 {
+    let mut worst: f64 = 0.0;
+    for (p, e) in STATES {
+        let run = |p: [f32; 3], e: [f32; 3]| -> Option<(Option<f64>, Option<f64>)> {
+            let [v_pm, w_pm, v_em, w_em] = LIMITS;
+            let l64 = Limits::<f64>::new(v_pm, w_pm, v_em, w_em).ok()?;
+            let l = Limits::<S>::new(v_pm, w_pm, v_em, w_em).ok()?;
+            let mut g64 = Guidance::new(Law::new(l64, Variant::Paper), DT).ok()?;
+            let mut g = Guidance::new(Law::new(l, Variant::Paper), DT).ok()?;
+            let a = g64.step(
+                &VehicleState::new(p[0], p[1], p[2]).ok()?,
+                &VehicleState::new(e[0], e[1], e[2]).ok()?,
+            );
+            let b = g.step(
+                &VehicleState::new(p[0], p[1], p[2]).ok()?,
+                &VehicleState::new(e[0], e[1], e[2]).ok()?,
+            );
+            Some((
+                a.report.and_then(|r| r.solution.upper),
+                b.report.and_then(|r| r.solution.upper).map(|v| v.to_f64()),
+            ))
+        };
+        if let Some((Some(a), Some(b))) = run(p, e) {
+            worst = worst.max((a - b).abs() / a.abs().max(1.0));
+        }
+    }
+    worst
+}
+
+/// Law evaluations and frame decodes per second on one host core.
+fn host_throughput() -> (f64, f64) {
+    let [v_pm, w_pm, v_em, w_em] = LIMITS;
+    let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).ok();
+    let states: Vec<_> = STATES
+        .iter()
+        .filter_map(|(p, e)| {
+            Some((
+                VehicleState::new(p[0], p[1], p[2]).ok()?,
+                VehicleState::new(e[0], e[1], e[2]).ok()?,
+            ))
+        })
+        .collect();
+    let mut evaluations = 0u64;
+    let start = Instant::now();
+    if let Some(limits) = limits {
+        let law = Law::new(limits, Variant::Paper);
+        while start.elapsed() < Duration::from_millis(500) {
+            for (p, e) in &states {
+                std::hint::black_box(law.evaluate(std::hint::black_box(p), e));
+                evaluations += 1;
+            }
+        }
+    }
+    let law_rate = evaluations as f64 / start.elapsed().as_secs_f64();
+    let frame = host_tests::link::state(1, &host_tests::session::paper_state(0, 0));
+    let mut decodes = 0u64;
+    let mut deframer = twocars::wire::Deframer::<{ twocars::wire::MAX_FRAME }>::new();
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_millis(500) {
+        for &b in &frame {
+            if let twocars::wire::Feed::Frame(f) = deframer.push(std::hint::black_box(b)) {
+                if let Ok(f) = twocars::wire::Frame::new_checked(f) {
+                    std::hint::black_box(twocars::message::StateMsg::parse(f.payload()).ok());
+                    decodes += 1;
+                }
+            }
+        }
+    }
+    (law_rate, decodes as f64 / start.elapsed().as_secs_f64())
+}
+
+/// Runs the bench; returns the exit code.
+pub fn run() -> i32 {
+    let rows = [
+        measure(M4F, "f32 (libm)", "bench-firmware"),
+        measure(M0, "f32 soft-float (libm)", "bench-firmware"),
+    ];
+    let mut md = String::new();
+    let _ = writeln!(md, "# Bench\n");
+    let _ = writeln!(
+        md,
+        "Regenerated by `cargo xtask bench`; do not edit by hand.\n"
+    );
+    let _ = writeln!(
+        md,
+        "Law: one `Guidance::step` (both roles: 2 x 2 circles, 4 valid tangents, 4 capture times, the \
+         matrix game, both sampled commands) at the paper's limits (v_pm = 2, w_pm = 2, v_em = 1, \
+         w_em = 1), dt = 10 ms, over the {} states of `src/bench.rs` (the paper's four cases, a tail \
+         chase, no valid tangent, the overshoot entry, near and far states).\n",
+        STATES.len()
+    );
+    let _ = writeln!(
+        md,
+        "Method: QEMU 7 with `-icount shift=6` (64 ns per instruction) and SysTick on the processor \
+         clock: 25 MHz on mps2-an386 (1.6 ticks per instruction), 16 MHz on micro:bit (1.024); one \
+         evaluation timed at a time; the call overhead (the same image with the law removed, \
+         `bench-empty`) subtracted. Resolution: one tick (0.6 instruction on M4F, 1 on M0). Stack: \
+         4 KiB painted below the caller, high-water mark after the call, minus the empty image's. \
+         Law flash: image minus the empty image.\n"
+    );
+    let _ = writeln!(md, "| CPU | numeric | instructions per evaluation: mean (min - max) | law stack | law flash | bench image flash |");
+    let _ = writeln!(md, "|---|---|---|---|---|---|");
+    let mut ok = true;
+    for row in &rows {
+        match row {
+            Ok(r) => {
+                let _ = writeln!(
+                    md,
+                    "| {} | {} | {:.0} ({:.0} - {:.0}) | {} B | {} B | {} B |",
+                    r.cpu, r.numeric, r.mean, r.min, r.max, r.stack, r.law_flash, r.image_flash
+                );
+            }
+            Err(e) => {
+                eprintln!("xtask bench: {e}");
+                ok = false;
+            }
+        }
+    }
+    let _ = writeln!(md);
+    let _ = writeln!(
+        md,
+        "Accuracy on the bench states: largest relative error of the predicted capture time vs the \
+         f64 path: f32 (libm) {:.1e}.\n",
+        value_error::<f32>()
+    );
+    let firmware = firmware_sizes();
+    let _ = writeln!(md, "{firmware}");
+    let (law_rate, decode_rate) = host_throughput();
+    let _ = writeln!(
+        md,
+        "Host, one core (this machine; optimised build): {:.2e} law evaluations per second, \
+         {:.2e} State frames decoded per second (deframe + CRC + parse).\n",
+        law_rate, decode_rate
+    );
+    let _ = writeln!(
+        md,
+        "Targets: <= 400 instructions per evaluation on M4F (f32), <= 1,500 on M0 (fixed point), \
+         law <= 3 KiB flash, stack <= 512 B, firmware <= 32 KiB flash."
+    );
+    print!("{md}");
+    if let Err(e) = std::fs::write(root().join("docs/bench.md"), &md) {
+        eprintln!("xtask bench: docs/bench.md: {e}");
+        ok = false;
+    }
+    i32::from(!ok)
+}
+
+fn firmware_sizes() -> String {
+    let mut s = String::from("| firmware image | flash | static RAM |\n|---|---|---|\n");
+    for board in qemu::Board::ALL {
+        match qemu::build_checked(board) {
+            Ok((elf, size)) => {
+                let name = elf
+                    .file_name()
+                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+                let _ = writeln!(s, "| {name} | {} B | {} B |", size.flash(), size.ram());
+            }
+            Err(e) => {
+                let _ = writeln!(s, "| {board:?} | build failed: {e} | |");
+            }
+        }
+    }
+    s
+}
