@@ -24,12 +24,21 @@ pub struct CaptureTime<S> {
     pub pursuer_arc: S,
     /// Heading angle the evader turns through to reach the tangent, radians in [0, 2 pi).
     pub evader_arc: S,
-    /// Time the pursuer spends on its circle, t_p = r_p alpha_p / v_pm, seconds.
-    pub pursuer_time: S,
-    /// Time the evader spends on its circle, t_e = r_e alpha_e / v_em, seconds.
-    pub evader_time: S,
     /// The overshoot case: t_p <= t_e and L - v_pm (t_e - t_p) < 0.
     pub overshoot: bool,
+}
+
+impl<S: Scalar> CaptureTime<S> {
+    /// Times the pursuer and the evader spend on their circles, t_p = r_p alpha_p / v_pm and
+    /// t_e = r_e alpha_e / v_em, seconds.
+    pub fn turn_times(&self, limits: &Limits<S>) -> (S, S) {
+        let p = &limits.pursuer;
+        let e = &limits.evader;
+        (
+            p.radius() * self.pursuer_arc / p.v_max(),
+            e.radius() * self.evader_arc / e.v_max(),
+        )
+    }
 }
 
 /// Algorithm 2: time to capture when both players turn through their arcs (radians) at full speed
@@ -43,28 +52,25 @@ pub fn capture_time<S: Scalar>(
 ) -> CaptureTime<S> {
     let p = &limits.pursuer;
     let e = &limits.evader;
-    let t_p = p.radius() * pursuer_arc / p.v_max();
-    let t_e = e.radius() * evader_arc / e.v_max();
+    let mut result = CaptureTime {
+        value: S::zero(),
+        pursuer_arc,
+        evader_arc,
+        overshoot: false,
+    };
+    let (t_p, t_e) = result.turn_times(limits);
     let closing_speed = p.v_max() - e.v_max();
-    let mut overshoot = false;
-    let value = if t_p > t_e {
+    result.value = if t_p > t_e {
         // The evader is on the tangent first and runs v_em (t_p - t_e) ahead along it.
         t_p + (tangent_length + e.v_max() * (t_p - t_e)) / closing_speed
     } else {
         // The pursuer is on the tangent first and closes v_pm (t_e - t_p) before the evader leaves.
         let gap = tangent_length - p.v_max() * (t_e - t_p);
-        overshoot = gap < S::zero();
-        match (overshoot, variant) {
+        result.overshoot = gap < S::zero();
+        match (result.overshoot, variant) {
             (true, Variant::Clamped) => t_e,
             _ => t_e + gap / closing_speed,
         }
     };
-    CaptureTime {
-        value,
-        pursuer_arc,
-        evader_arc,
-        pursuer_time: t_p,
-        evader_time: t_e,
-        overshoot,
-    }
+    result
 }

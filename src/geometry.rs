@@ -254,10 +254,6 @@ impl<S: Scalar> TurningCircle<S> {
 /// meets the evader circle, each in that circle's turning direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ValidTangent<S> {
-    /// Tangent point on the pursuer circle, metres.
-    pub pursuer_point: Point<S>,
-    /// Tangent point on the evader circle, metres.
-    pub evader_point: Point<S>,
     /// Heading of the tangent, radians in (-pi, pi], anticlockwise from +x.
     pub heading: S,
     /// Length from the pursuer's tangent point to the evader's, metres.
@@ -292,18 +288,30 @@ impl<S: Scalar> ValidTangent<S> {
         if length_sq < zero {
             return None;
         }
-        let d2 = length_sq + k * k;
-        if d2 <= zero {
+        if length_sq + k * k <= zero {
             return None;
         }
         let length = length_sq.sqrt();
-        let cos_psi = (length * dx + k * dy) / d2;
-        let sin_psi = (length * dy - k * dx) / d2;
+        // Direction (L D + k D_perp) / |D|^2; atan2 needs no normalisation.
+        let cos_psi = length * dx + k * dy;
+        let sin_psi = length * dy - k * dx;
         Some(ValidTangent {
-            pursuer_point: pursuer.point_with_heading(sin_psi, cos_psi),
-            evader_point: evader.point_with_heading(sin_psi, cos_psi),
             heading: S::atan2(sin_psi, cos_psi),
             length,
         })
+    }
+
+    /// The tangent points on the pursuer's and the evader's circle (the circles this tangent
+    /// was computed for), metres.
+    pub fn points(
+        &self,
+        pursuer: &TurningCircle<S>,
+        evader: &TurningCircle<S>,
+    ) -> (Point<S>, Point<S>) {
+        let (sin_psi, cos_psi) = self.heading.sin_cos();
+        (
+            pursuer.point_with_heading(sin_psi, cos_psi),
+            evader.point_with_heading(sin_psi, cos_psi),
+        )
     }
 }

@@ -42,13 +42,10 @@ pub struct PairOutcome<S> {
     pub capture: CaptureTime<S>,
 }
 
-/// Everything the law computed for a valid, uncaptured state.
+/// Everything the law computed for a valid, uncaptured state. (The circles are not kept: they
+/// follow from the states, [`TurningCircle::both`].)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GameReport<S> {
-    /// The pursuer's A and C circles.
-    pub pursuer_circles: [TurningCircle<S>; 2],
-    /// The evader's A and C circles.
-    pub evader_circles: [TurningCircle<S>; 2],
     /// Per pair `[pursuer circle][evader circle]` (A, C): `None` where no valid tangent exists.
     pub pairs: [[Option<PairOutcome<S>>; 2]; 2],
     /// The matrix of Table 1.
@@ -191,8 +188,6 @@ impl<S: Scalar> Law<S> {
         };
         let solution = matrix.solve_sampled(sampling.previous, sampling.tie_floor);
         let report = GameReport {
-            pursuer_circles,
-            evader_circles,
             pairs,
             matrix,
             solution,

@@ -129,7 +129,8 @@ fn case_four_keeps_the_literal_overshoot_entry_or_clamps_it() {
         .expect("report");
     let entry = clamped.pairs[1][0].expect("t_ca exists");
     assert!(entry.capture.overshoot);
-    assert_eq!(entry.capture.value, entry.capture.evader_time);
+    let limits = twocars::Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
+    assert_eq!(entry.capture.value, entry.capture.turn_times(&limits).1);
     assert!(entry.capture.value >= 0.0);
     // Clamping raises a row-C entry that was not the row's max, so the value stays 5.9778.
     assert!((upper::<f32>(&evaluate::<f32>(case, Variant::Clamped)) - 5.9778).abs() < TOLERANCE);

@@ -25,12 +25,15 @@ fn tangent_points_lie_on_their_circles_and_run_in_their_directions() {
             let Some(r) = law.evaluate(&p, &e).report else {
                 return Ok(());
             };
-            for (i, pc) in r.pursuer_circles.iter().enumerate() {
-                for (j, ec) in r.evader_circles.iter().enumerate() {
+            let pursuer_circles = twocars::TurningCircle::both(&p, &law.limits.pursuer);
+            let evader_circles = twocars::TurningCircle::both(&e, &law.limits.evader);
+            for (i, pc) in pursuer_circles.iter().enumerate() {
+                for (j, ec) in evader_circles.iter().enumerate() {
                     let Some(pair) = r.pairs[i][j] else { continue };
                     let t = pair.tangent;
                     let u = (t.heading.cos(), t.heading.sin());
-                    for (c, point) in [(pc, t.pursuer_point), (ec, t.evader_point)] {
+                    let (pursuer_point, evader_point) = t.points(pc, ec);
+                    for (c, point) in [(pc, pursuer_point), (ec, evader_point)] {
                         let radial = (
                             (point.x - c.centre().x) / c.radius,
                             (point.y - c.centre().y) / c.radius,
@@ -46,8 +49,8 @@ fn tangent_points_lie_on_their_circles_and_run_in_their_directions() {
                         );
                     }
                     let run = (
-                        t.evader_point.x - t.pursuer_point.x,
-                        t.evader_point.y - t.pursuer_point.y,
+                        evader_point.x - pursuer_point.x,
+                        evader_point.y - pursuer_point.y,
                     );
                     assert!((run.0.hypot(run.1) - t.length).abs() < 1e-9 * (1.0 + t.length));
                     assert!(
@@ -95,8 +98,9 @@ fn algorithm_two_equals_an_open_loop_simulation_of_both_paths() {
                         continue;
                     }
                     let t = c.value;
-                    let pp = open_loop(s32.pursuer, v_pm, w_pm, dp.sigma(), c.pursuer_time, t);
-                    let pe = open_loop(s32.evader, v_em, w_em, de.sigma(), c.evader_time, t);
+                    let (t_p, t_e) = c.turn_times(&law.limits);
+                    let pp = open_loop(s32.pursuer, v_pm, w_pm, dp.sigma(), t_p, t);
+                    let pe = open_loop(s32.evader, v_em, w_em, de.sigma(), t_e, t);
                     let gap = (pp.0 - pe.0).hypot(pp.1 - pe.1);
                     assert!(
                         gap < 1e-6 * (1.0 + t * v_pm),

@@ -1,5 +1,5 @@
 //! Bench firmware: times one full evaluation of the law (both roles, four tangents, the game,
-//! the sampled commands: `Guidance::step`) per bench state with SysTick on the processor clock,
+//! the sampled commands: `Guidance::step`, limits validated beforehand) per bench state with SysTick on the processor clock,
 //! under QEMU `-icount` so ticks count instructions; paints the stack to find the law's peak
 //! use. Prints `state <i> <ticks> <stack bytes>` lines over semihosting, then exits.
 //! With `bench-empty` the law is replaced by nothing: its ticks are the call overhead, its image
@@ -18,33 +18,36 @@ const PAINT: u32 = 0xA5A5_5A5A;
 /// Bytes of stack painted below the caller's frame.
 const PAINT_BYTES: usize = 4096;
 
+/// The law and one bench state, prepared outside the timed region.
+type Prepared = (
+    twocars::Guidance<f32>,
+    twocars::VehicleState<f32>,
+    twocars::VehicleState<f32>,
+);
+
+fn prepare(i: usize) -> Option<Prepared> {
+    let &(p, e) = STATES.get(i)?;
+    let [v_pm, w_pm, v_em, w_em] = twocars::bench::LIMITS;
+    let limits = twocars::Limits::<f32>::new(v_pm, w_pm, v_em, w_em).ok()?;
+    let law = twocars::Law::new(limits, twocars::Variant::Paper);
+    let guidance = twocars::Guidance::new(law, twocars::bench::DT).ok()?;
+    let p = twocars::VehicleState::new(p[0], p[1], p[2]).ok()?;
+    let e = twocars::VehicleState::new(e[0], e[1], e[2]).ok()?;
+    Some((guidance, p, e))
+}
+
+/// The timed region: one `Guidance::step` (nothing with `bench-empty`).
 #[inline(never)]
-fn evaluate(i: usize) -> f32 {
-    let Some(&(p, e)) = STATES.get(black_box(i)) else {
-        return 0.0;
-    };
+fn evaluate(prepared: &mut Prepared) -> f32 {
     #[cfg(feature = "bench-empty")]
     {
-        black_box((p, e));
+        black_box(prepared);
         0.0
     }
     #[cfg(not(feature = "bench-empty"))]
     {
-        let [v_pm, w_pm, v_em, w_em] = black_box(twocars::bench::LIMITS);
-        let Ok(limits) = twocars::Limits::<f32>::new(v_pm, w_pm, v_em, w_em) else {
-            return -1.0;
-        };
-        let law = twocars::Law::new(limits, twocars::Variant::Paper);
-        let Ok(mut guidance) = twocars::Guidance::new(law, twocars::bench::DT) else {
-            return -1.0;
-        };
-        let (Ok(p), Ok(e)) = (
-            twocars::VehicleState::new(p[0], p[1], p[2]),
-            twocars::VehicleState::new(e[0], e[1], e[2]),
-        ) else {
-            return -1.0;
-        };
-        let ev = guidance.step(&p, &e);
+        let (guidance, p, e) = prepared;
+        let ev = guidance.step(p, e);
         ev.command.pursuer + ev.command.evader
     }
 }
@@ -84,9 +87,13 @@ fn main() -> ! {
     cp.SYST.clear_current();
     cp.SYST.enable_counter();
     for i in 0..STATES.len() {
+        let Some(mut prepared) = prepare(black_box(i)) else {
+            hprintln!("state {} unusable", i);
+            continue;
+        };
         let bottom = paint();
         let start = cortex_m::peripheral::SYST::get_current();
-        let out = evaluate(i);
+        let out = evaluate(black_box(&mut prepared));
         let end = cortex_m::peripheral::SYST::get_current();
         black_box(out);
         let stack = used(bottom);

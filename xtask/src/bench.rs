@@ -251,8 +251,8 @@ fn host_throughput() -> (f64, f64) {
 /// Runs the bench; returns the exit code.
 pub fn run() -> i32 {
     let rows = [
-        measure(M4F, "f32 (libm)", "bench-firmware"),
-        measure(M0, "f32 soft-float (libm)", "bench-firmware"),
+        measure(M4F, "f32 (own polynomials + VSQRT)", "bench-firmware"),
+        measure(M0, "f32 soft-float (own polynomials)", "bench-firmware"),
     ];
     let mut md = String::new();
     let _ = writeln!(md, "# Bench\n");
@@ -299,7 +299,7 @@ pub fn run() -> i32 {
     let _ = writeln!(
         md,
         "Accuracy on the bench states: largest relative error of the predicted capture time vs the \
-         f64 path: f32 (libm) {:.1e}.\n",
+         f64 path: f32 (own polynomials + VSQRT) {:.1e}.\n",
         value_error::<f32>()
     );
     let firmware = firmware_sizes();

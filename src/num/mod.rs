@@ -3,8 +3,11 @@
 //! The law in [`crate::geometry`], [`crate::capture`], [`crate::game`] and [`crate::law`] is written
 //! once, over [`Scalar`]. A backend supplies arithmetic, the few transcendental functions the law
 //! needs (square root, sine and cosine, two-argument arctangent) and its envelope: the inputs it
-//! represents faithfully. Implemented here: `f32` (the accurate default, via `libm`) and `f64`
-//! (the reference-grade path the host tests compare against).
+//! represents faithfully. Implemented here: `f32` (the accurate default: our own polynomials and
+//! the FPU's square root, [`f32_math`]) and `f64` (the reference-grade path, via `libm`, that the
+//! host tests compare against).
+
+pub mod f32_math;
 
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -108,21 +111,17 @@ impl Scalar for f32 {
         f64::from(self)
     }
     fn sqrt(self) -> Self {
-        if self > 0.0 {
-            libm::sqrtf(self)
-        } else {
-            0.0
-        }
+        f32_math::sqrt(self)
     }
     fn sin_cos(self) -> (Self, Self) {
-        libm::sincosf(self)
+        f32_math::sin_cos(self)
     }
     fn atan2(y: Self, x: Self) -> Self {
-        libm::atan2f(y, x)
+        f32_math::atan2(y, x)
     }
     fn wrap_positive(self) -> Self {
         let tau = core::f32::consts::TAU;
-        let wrapped = self - tau * libm::floorf(self / tau);
+        let wrapped = self - tau * f32_math::floor(self * (1.0 / tau));
         // Rounding can land exactly on 2 pi (or a hair below 0); fold those back into [0, 2 pi).
         if wrapped >= tau || wrapped < 0.0 {
             0.0

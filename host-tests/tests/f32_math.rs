@@ -1,0 +1,74 @@
+//! The f32 backend's own functions against f64, over the law's envelope, with the bounds stated
+//! in `src/num/f32_math.rs`.
+
+use twocars::num::f32_math::{atan2, floor, sin_cos, sqrt};
+
+/// Evenly spaced f32 samples of [lo, hi].
+fn samples(lo: f32, hi: f32, n: usize) -> impl Iterator<Item = f32> {
+    (0..=n).map(move |i| lo + (hi - lo) * (i as f32 / n as f32))
+}
+
+fn worst_sin_cos(lo: f32, hi: f32) -> f64 {
+    samples(lo, hi, 400_000)
+        .map(|x| {
+            let (s, c) = sin_cos(x);
+            let x64 = f64::from(x);
+            (f64::from(s) - x64.sin())
+                .abs()
+                .max((f64::from(c) - x64.cos()).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn sin_cos_within_1e_7_over_the_envelope() {
+    let near = worst_sin_cos(-7.0, 7.0);
+    let far = worst_sin_cos(-1.0e4, 1.0e4);
+    println!("sin_cos: worst absolute error {near:.2e} on [-7, 7], {far:.2e} on [-1e4, 1e4]");
+    assert!(near <= 1e-7, "{near}");
+    assert!(far <= 1e-7, "{far}");
+}
+
+#[test]
+fn atan2_within_3e_7_in_every_direction() {
+    let mut worst: f64 = 0.0;
+    for i in 0..200_000 {
+        let angle = -std::f64::consts::PI + std::f64::consts::TAU * (i as f64 / 200_000.0);
+        for r in [1e-3f64, 1.0, 7.0, 1e4] {
+            let (x, y) = ((r * angle.cos()) as f32, (r * angle.sin()) as f32);
+            let want = f64::from(y).atan2(f64::from(x));
+            let got = f64::from(atan2(y, x));
+            let mut err = (got - want).abs();
+            if err > std::f64::consts::PI {
+                err = std::f64::consts::TAU - err; // -pi vs pi
+            }
+            worst = worst.max(err);
+        }
+    }
+    println!("atan2: worst absolute error {worst:.2e} rad");
+    assert!(worst <= 3e-7, "{worst}");
+    assert_eq!(atan2(0.0, 0.0), 0.0);
+    assert!((atan2(0.0, -1.0) - core::f32::consts::PI).abs() < 1e-7);
+    assert_eq!(atan2(0.0, 1.0), 0.0);
+}
+
+#[test]
+fn sqrt_is_within_one_ulp_and_zero_below_zero() {
+    for x in samples(0.0, 1.0e6, 100_000).chain(samples(0.0, 1.0, 10_000)) {
+        let want = f64::from(x).sqrt();
+        let got = f64::from(sqrt(x));
+        assert!(
+            (got - want).abs() <= want * 1.2e-7 + 1e-30,
+            "{x}: {got} vs {want}"
+        );
+    }
+    assert_eq!(sqrt(-1.0), 0.0);
+    assert_eq!(sqrt(f32::NAN), 0.0);
+}
+
+#[test]
+fn floor_matches_the_definition() {
+    for x in [-2.5f32, -2.0, -0.1, 0.0, 0.1, 1.0, 1.9, 1234.5, -1234.5] {
+        assert_eq!(floor(x), x.floor(), "{x}");
+    }
+}
