@@ -13,6 +13,9 @@ pub mod kind {
     pub const READ_COUNTERS: u8 = 0x03;
     /// Host -> unit: end the session (a board may stop; QEMU exits with code 0).
     pub const SHUTDOWN: u8 = 0x04;
+    /// Host -> unit: clear a latched watchdog (and the law's remembered choice); the
+    /// configuration stays.
+    pub const RESET: u8 = 0x05;
     /// Unit -> host: Configure accepted.
     pub const CONFIGURE_ACK: u8 = 0x81;
     /// Unit -> host: the command for a State (or the watchdog's safe command).
@@ -21,6 +24,8 @@ pub mod kind {
     pub const COUNTERS: u8 = 0x83;
     /// Unit -> host: Shutdown accepted; nothing follows.
     pub const SHUTDOWN_ACK: u8 = 0x84;
+    /// Unit -> host: Reset accepted.
+    pub const RESET_ACK: u8 = 0x85;
     /// Unit -> host: an input was refused.
     pub const ERROR: u8 = 0x8F;
 }

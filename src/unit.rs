@@ -84,8 +84,19 @@ pub struct Unit {
     deframer: Deframer<MAX_FRAME>,
     configured: Option<Configured>,
     counters: Counters,
-    last_state_at_ms: u32,
-    watchdog_armed: bool,
+    watchdog: Watchdog,
+}
+
+/// The stale-input watchdog. Latched: once input went stale, States get the safe command until
+/// a Configure or a Reset, so a unit never silently resumes after a gap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Watchdog {
+    /// No valid State since the last Configure or Reset.
+    Idle,
+    /// The last valid State arrived at device time `arrived_ms`, stamped `stamp_ms` by its sender.
+    Armed { arrived_ms: u32, stamp_ms: u32 },
+    /// Input went stale: the safe command until Configure or Reset.
+    Latched,
 }
 
 impl Default for Unit {
@@ -105,8 +116,7 @@ impl Unit {
                 stale: 0,
                 errors: [0; crate::wire::ERROR_KINDS],
             },
-            last_state_at_ms: 0,
-            watchdog_armed: false,
+            watchdog: Watchdog::Idle,
         }
     }
 
@@ -152,29 +162,27 @@ impl Unit {
         }
     }
 
-    /// Checks the watchdog at device time `now_ms`: once per silence longer than the configured
-    /// time, returns the safe command (zero turn rates) with status `stale_input`.
+    /// Checks the watchdog at device time `now_ms`: when no valid State arrived for longer than
+    /// the configured time, latches and returns (once) the safe command with status
+    /// `stale_input`.
     pub fn poll(&mut self, now_ms: u32) -> Option<Reply> {
         let configured = self.configured?;
-        if !self.watchdog_armed
-            || now_ms.wrapping_sub(self.last_state_at_ms) <= configured.watchdog_ms
-        {
-            return None;
+        match self.watchdog {
+            Watchdog::Armed { arrived_ms, .. }
+                if now_ms.wrapping_sub(arrived_ms) > configured.watchdog_ms =>
+            {
+                self.latch();
+                Reply::build(kind::COMMAND, 0, |w| {
+                    stale_command(configured.roles).emit(w)
+                })
+            }
+            _ => None,
         }
-        self.watchdog_armed = false;
+    }
+
+    fn latch(&mut self) {
+        self.watchdog = Watchdog::Latched;
         self.counters.stale = self.counters.stale.saturating_add(1);
-        let message = CommandMsg {
-            status: STATUS_STALE_INPUT,
-            roles: configured.roles,
-            pursuer_rate: 0.0,
-            evader_rate: 0.0,
-            row: NO_CIRCLE,
-            col: NO_CIRCLE,
-            predicted: f32::INFINITY,
-            upper: f32::INFINITY,
-            lower: f32::INFINITY,
-        };
-        Reply::build(kind::COMMAND, 0, |w| message.emit(w))
     }
 
     fn handle(
@@ -188,7 +196,7 @@ impl Unit {
             kind::CONFIGURE => {
                 let message = Configure::parse(frame.payload()).map_err(refuse)?;
                 self.configured = Some(configure(&message).map_err(refuse)?);
-                self.watchdog_armed = false;
+                self.watchdog = Watchdog::Idle;
                 Ok(Reply::build(kind::CONFIGURE_ACK, sequence, |_| Some(())))
             }
             kind::STATE => {
@@ -205,10 +213,30 @@ impl Unit {
                 };
                 let pursuer = state(message.pursuer)?;
                 let evader = state(message.evader)?;
+                let roles = configured.roles;
+                // Staleness by the sender's own timestamps: a gap longer than the watchdog time
+                // (or a timestamp going backwards, which wraps to a huge gap) latches.
+                let stale = match self.watchdog {
+                    Watchdog::Latched => true,
+                    Watchdog::Armed { stamp_ms, .. } => {
+                        message.time_ms.wrapping_sub(stamp_ms) > configured.watchdog_ms
+                    }
+                    Watchdog::Idle => false,
+                };
+                if stale {
+                    if self.watchdog != Watchdog::Latched {
+                        self.latch();
+                    }
+                    return Ok(Reply::build(kind::COMMAND, sequence, |w| {
+                        stale_command(roles).emit(w)
+                    }));
+                }
                 let evaluation = configured.guidance.step(&pursuer, &evader);
                 let reply = command_message(&evaluation, configured);
-                self.last_state_at_ms = now_ms;
-                self.watchdog_armed = true;
+                self.watchdog = Watchdog::Armed {
+                    arrived_ms: now_ms,
+                    stamp_ms: message.time_ms,
+                };
                 Ok(Reply::build(kind::COMMAND, sequence, |w| reply.emit(w)))
             }
             kind::READ_COUNTERS => {
@@ -217,6 +245,16 @@ impl Unit {
                 }
                 let counters = self.counters;
                 Ok(Reply::build(kind::COUNTERS, sequence, |w| counters.emit(w)))
+            }
+            kind::RESET => {
+                if !frame.payload().is_empty() {
+                    return Err(refuse(WireError::Oversized));
+                }
+                self.watchdog = Watchdog::Idle;
+                if let Some(c) = self.configured.as_mut() {
+                    c.guidance.reset();
+                }
+                Ok(Reply::build(kind::RESET_ACK, sequence, |_| Some(())))
             }
             kind::SHUTDOWN => {
                 if !frame.payload().is_empty() {
@@ -261,6 +299,21 @@ fn configure(message: &Configure) -> Result<Configured, WireError> {
         roles: message.roles,
         watchdog_ms,
     })
+}
+
+/// The safe command (zero turn rates) with status `stale_input`.
+fn stale_command(roles: u8) -> CommandMsg {
+    CommandMsg {
+        status: STATUS_STALE_INPUT,
+        roles,
+        pursuer_rate: 0.0,
+        evader_rate: 0.0,
+        row: NO_CIRCLE,
+        col: NO_CIRCLE,
+        predicted: f32::INFINITY,
+        upper: f32::INFINITY,
+        lower: f32::INFINITY,
+    }
 }
 
 fn command_message(evaluation: &Evaluation<f32>, configured: &Configured) -> CommandMsg {

@@ -17,6 +17,8 @@ pub enum Reply {
     Error(Option<u16>, ErrorMsg),
     /// Shutdown accepted (echoed sequence).
     ShutdownAck(u16),
+    /// Reset accepted (echoed sequence).
+    ResetAck(u16),
 }
 
 fn frame(
@@ -42,6 +44,11 @@ pub fn state(sequence: u16, m: &StateMsg) -> Vec<u8> {
 /// A ReadCounters frame.
 pub fn read_counters(sequence: u16) -> Vec<u8> {
     frame(kind::READ_COUNTERS, sequence, |_| Some(()))
+}
+
+/// A Reset frame.
+pub fn reset(sequence: u16) -> Vec<u8> {
+    frame(kind::RESET, sequence, |_| Some(()))
 }
 
 /// A Shutdown frame.
@@ -81,6 +88,7 @@ fn decode(bytes: &[u8]) -> Result<Reply, WireError> {
     match f.message_type() {
         kind::CONFIGURE_ACK => Ok(Reply::ConfigureAck(seq)),
         kind::SHUTDOWN_ACK => Ok(Reply::ShutdownAck(seq)),
+        kind::RESET_ACK => Ok(Reply::ResetAck(seq)),
         kind::COMMAND => Ok(Reply::Command(seq, CommandMsg::parse(f.payload())?)),
         kind::COUNTERS => Ok(Reply::Counters(seq, Counters::parse(f.payload())?)),
         kind::ERROR => {

@@ -100,8 +100,15 @@ fn a_role_not_computed_gets_zero_rate() {
     assert_eq!(c.pursuer_rate, 4.0);
 }
 
+fn command(replies: &[Reply]) -> twocars::message::CommandMsg {
+    match replies {
+        [Reply::Command(_, c)] => *c,
+        other => panic!("expected one Command, got {other:?}"),
+    }
+}
+
 #[test]
-fn the_watchdog_sends_the_safe_command_once_after_silence() {
+fn the_watchdog_sends_the_safe_command_once_after_silence_and_stays_latched() {
     let mut unit = Unit::new();
     assert!(unit.poll(10_000).is_none(), "unconfigured: silent");
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
@@ -112,14 +119,63 @@ fn the_watchdog_sends_the_safe_command_once_after_silence() {
     send(&mut unit, &link::state(2, &paper_state(0, 0)), 1000);
     assert!(unit.poll(1500).is_none(), "within 0.5 s");
     let reply = unit.poll(1501).expect("stale after 0.5 s");
-    let replies = ReplyDecoder::default().feed(reply.as_bytes());
-    let Ok(Reply::Command(_, c)) = replies[0] else {
-        panic!("{replies:?}")
-    };
+    let c = command(
+        &ReplyDecoder::default()
+            .feed(reply.as_bytes())
+            .into_iter()
+            .map(Result::unwrap)
+            .collect::<Vec<_>>(),
+    );
     assert_eq!(c.status, STATUS_STALE_INPUT);
     assert_eq!((c.pursuer_rate, c.evader_rate), (0.0, 0.0));
     assert!(unit.poll(5000).is_none(), "once per silence");
     assert_eq!(unit.counters().stale, 1);
-    send(&mut unit, &link::state(3, &paper_state(0, 0)), 6000);
-    assert!(unit.poll(6600).is_some(), "re-armed by a valid state");
+    // A fresh State does not silently resume: still the safe command.
+    let c = command(&send(
+        &mut unit,
+        &link::state(3, &paper_state(0, 600)),
+        6000,
+    ));
+    assert_eq!(c.status, STATUS_STALE_INPUT);
+    assert_eq!((c.pursuer_rate, c.evader_rate), (0.0, 0.0));
+    // An explicit Reset does.
+    assert_eq!(
+        send(&mut unit, &link::reset(4), 6001),
+        vec![Reply::ResetAck(4)]
+    );
+    let c = command(&send(
+        &mut unit,
+        &link::state(5, &paper_state(0, 610)),
+        6002,
+    ));
+    assert_eq!(c.status, 0);
+    assert_eq!(c.pursuer_rate, 4.0);
+}
+
+#[test]
+fn a_gap_in_the_senders_timestamps_latches_even_when_frames_keep_arriving() {
+    let mut unit = Unit::new();
+    send(&mut unit, &link::configure(1, &paper_configure()), 0);
+    assert_eq!(
+        command(&send(&mut unit, &link::state(2, &paper_state(0, 100)), 0)).status,
+        0
+    );
+    assert_eq!(
+        command(&send(&mut unit, &link::state(3, &paper_state(0, 500)), 10)).status,
+        0
+    );
+    // 0.6 s between the sender's stamps, although the frame came 10 ms later.
+    let c = command(&send(&mut unit, &link::state(4, &paper_state(0, 1100)), 20));
+    assert_eq!(c.status, STATUS_STALE_INPUT);
+    // A timestamp going backwards (a replayed State) latches too, after a Configure clears it.
+    send(&mut unit, &link::configure(5, &paper_configure()), 30);
+    assert_eq!(
+        command(&send(&mut unit, &link::state(6, &paper_state(0, 2000)), 40)).status,
+        0
+    );
+    assert_eq!(
+        command(&send(&mut unit, &link::state(7, &paper_state(0, 1990)), 50)).status,
+        STATUS_STALE_INPUT
+    );
+    assert_eq!(unit.counters().stale, 2);
 }

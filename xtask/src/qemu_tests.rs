@@ -122,13 +122,36 @@ fn watchdog(elf: &std::path::Path) -> Outcome {
             ))
         }
     }
-    let mut sequence = 3;
+    // Latched: a fresh State still gets the safe command; a Reset clears it.
+    q.send(&host_tests::link::state(3, &paper_state(0, 800)))?;
+    match q.reply()? {
+        Reply::Command(3, c) if c.status == STATUS_STALE_INPUT => {}
+        other => return Err(format!("expected the latched safe command, got {other:?}")),
+    }
+    q.send(&host_tests::link::reset(4))?;
+    match q.reply()? {
+        Reply::ResetAck(4) => {}
+        other => return Err(format!("expected the Reset acknowledgement, got {other:?}")),
+    }
+    q.send(&host_tests::link::state(5, &paper_state(0, 810)))?;
+    match q.reply()? {
+        Reply::Command(5, c) if c.status == 0 && c.pursuer_rate == 4.0 => {}
+        other => {
+            return Err(format!(
+                "expected the law's command after Reset, got {other:?}"
+            ))
+        }
+    }
+    let mut sequence = 5;
     let counters = firmware_loop::counters(&mut q, &mut sequence)?;
     if counters.stale != 1 {
         return Err(format!("stale counter {}", counters.stale));
     }
     firmware_loop::shutdown(q, &mut sequence)?;
-    Ok("safe command with status stale_input after 0.5 s of silence".to_string())
+    Ok(
+        "safe command with status stale_input after 0.5 s of silence, latched until Reset"
+            .to_string(),
+    )
 }
 
 /// Runs the QEMU tests; returns (passed, failed).
@@ -147,7 +170,10 @@ pub fn run() -> (u64, u64) {
             scripted_session,
         ),
         ("qemu::closed_loop_matches_the_host_simulation", closed_loop),
-        ("qemu::watchdog_sends_the_safe_command", watchdog),
+        (
+            "qemu::watchdog_latches_the_safe_command_until_reset",
+            watchdog,
+        ),
     ];
     let (mut passed, mut failed) = (0, 0);
     for (name, test) in tests {
