@@ -81,9 +81,12 @@ impl<S: Scalar> VehicleLimits<S> {
     }
 }
 
-/// Largest speed (m/s) and curvature (1/m) the law accepts, and the largest turning radius (m):
-/// beyond them products and quotients of the law leave every backend's range.
+/// Largest speed (m/s) and curvature (1/m) the law accepts, the largest turning radius (m) and
+/// the smallest speed (m/s): beyond them products and quotients of the law leave every backend's
+/// range (a subnormal evader speed made a capture time inf - inf = NaN; found by fuzzing).
 pub const MAX_SPEED: f32 = 1.0e4;
+/// See [`MAX_SPEED`].
+pub const MIN_SPEED: f32 = 1.0e-3;
 /// See [`MAX_SPEED`].
 pub const MAX_CURVATURE: f32 = 1.0e4;
 /// See [`MAX_SPEED`].
@@ -104,8 +107,8 @@ impl<S: Scalar> Limits<S> {
     ///
     /// # Errors
     /// `NonFiniteInput` for NaN or infinity, `InvalidLimits` unless v_pm > v_em > 0 and
-    /// w_pm > w_em > 0, `OutOfRange` for speeds above [`MAX_SPEED`], curvatures above
-    /// [`MAX_CURVATURE`] or radii above [`MAX_RADIUS`].
+    /// w_pm > w_em > 0, `OutOfRange` for speeds above [`MAX_SPEED`] or below [`MIN_SPEED`],
+    /// curvatures above [`MAX_CURVATURE`] or radii above [`MAX_RADIUS`].
     pub fn new(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<Self, Status> {
         let all = [v_pm, w_pm, v_em, w_em];
         if all.iter().any(|v| !v.is_finite()) {
@@ -114,7 +117,7 @@ impl<S: Scalar> Limits<S> {
         if !(v_pm > v_em && v_em > 0.0 && w_pm > w_em && w_em > 0.0) {
             return Err(Status::InvalidLimits);
         }
-        if v_pm > MAX_SPEED || w_pm > MAX_CURVATURE || 1.0 / w_em > MAX_RADIUS {
+        if v_pm > MAX_SPEED || v_em < MIN_SPEED || w_pm > MAX_CURVATURE || 1.0 / w_em > MAX_RADIUS {
             return Err(Status::OutOfRange);
         }
         let vehicle = |v: f32, w: f32| VehicleLimits {

@@ -8,6 +8,8 @@
 //! host tests compare against).
 
 pub mod f32_math;
+#[cfg(feature = "micromath")]
+pub mod micro;
 
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};

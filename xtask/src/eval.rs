@@ -2,6 +2,7 @@
 
 use crate::csv::{narrow, number, optional, parse_fields, run_door};
 use crate::options::{Numeric, Options};
+use twocars::num::micro::Micro;
 use twocars::{evaluate_observation, Evaluation, Observation, Scalar, Status};
 
 /// Input header of `eval`.
@@ -61,6 +62,7 @@ pub fn run(options: &Options) -> i32 {
         match options.numeric {
             Numeric::F32 => eval_line::<f32>(line, options),
             Numeric::F64 => eval_line::<f64>(line, options),
+            Numeric::Micromath => eval_line::<Micro>(line, options),
         }
     })
 }

@@ -4,6 +4,7 @@ mod bench;
 mod csv;
 mod eval;
 mod firmware_loop;
+mod fuzz;
 mod options;
 mod qemu;
 mod qemu_tests;
@@ -22,6 +23,7 @@ cargo xtask <command> [options]
           [--limits v,w,v,w] [--pursuer x,y,th --evader x,y,th] [--host-only]
   build   build a firmware image and print its flash and RAM  [--board qemu|stm32f405|all]
   bench   instructions per law evaluation (M4F, M0), flash, stack, host throughput -> docs/bench.md
+  fuzz    the libFuzzer targets from their seed corpora  [--seconds S | --runs N] [--write-seeds] [target..]
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
   sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper]
@@ -48,6 +50,7 @@ fn main() -> ExitCode {
         ("run", Ok((options, rest))) => run::run(&options, &rest),
         ("test", Ok(_)) => test::run(),
         ("bench", Ok(_)) => bench::run(),
+        ("fuzz", Ok((_, rest))) => fuzz::command(&rest),
         ("build", Ok((_, rest))) => qemu::build_command(&rest),
         (other, Ok(_)) => {
             eprintln!("xtask: unknown command `{other}`\n{HELP}");

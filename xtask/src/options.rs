@@ -9,6 +9,8 @@ pub enum Numeric {
     F32,
     /// The f64 reference-grade path of the same generic law.
     F64,
+    /// f32 with micromath's approximations (error reported, no bound).
+    Micromath,
 }
 
 /// Options of `eval` and `sim`.
@@ -51,7 +53,8 @@ pub fn parse(args: &[String]) -> Result<(Options, Vec<String>), String> {
                 options.numeric = match value()?.as_str() {
                     "f32" => Numeric::F32,
                     "f64" => Numeric::F64,
-                    v @ ("micromath" | "fixed") => {
+                    "micromath" => Numeric::Micromath,
+                    v @ "fixed" => {
                         return Err(format!(
                             "--numeric {v}: this backend has not landed yet (issue 6)"
                         ))

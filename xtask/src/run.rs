@@ -202,6 +202,7 @@ pub fn run(options: &Options, args: &[String]) -> i32 {
         ok &= match options.numeric {
             Numeric::F32 => show_matrix::<f32>(&o, case, options),
             Numeric::F64 => show_matrix::<f64>(&o, case, options),
+            Numeric::Micromath => show_matrix::<twocars::num::micro::Micro>(&o, case, options),
         };
         let host = crate::sim::run_one(&params(&o, case), options, false);
         println!(

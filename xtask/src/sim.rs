@@ -26,6 +26,7 @@ pub fn run_one(p: &SimParams, options: &Options, record: bool) -> SimResult {
     match options.numeric {
         Numeric::F32 => simulate::<f32>(p, options.variant, record),
         Numeric::F64 => simulate::<f64>(p, options.variant, record),
+        Numeric::Micromath => simulate::<twocars::num::micro::Micro>(p, options.variant, record),
     }
 }
 

@@ -176,6 +176,41 @@ pub fn run() -> i32 {
         ok = f == 0;
     }
     if ok {
+        println!("== xtask test: fuzz smoke run, 10 s per target from the seed corpora");
+        if !crate::fuzz::ensure_cargo_fuzz() {
+            eprintln!("== xtask test: cargo-fuzz is not available");
+            failed += 1;
+            ok = false;
+        }
+        for target in crate::fuzz::TARGETS {
+            if !ok {
+                break;
+            }
+            match crate::fuzz::run_target(target, crate::fuzz::Budget::Seconds(10)) {
+                Ok(r) if !r.failed && r.executions > 0 => {
+                    println!(
+                        "test fuzz::{target} ... ok ({} executions, corpus {})",
+                        r.executions, r.corpus
+                    );
+                    passed += 1;
+                }
+                Ok(r) => {
+                    println!(
+                        "test fuzz::{target} ... FAILED ({} executions)",
+                        r.executions
+                    );
+                    failed += 1;
+                    ok = false;
+                }
+                Err(e) => {
+                    println!("test fuzz::{target} ... FAILED: {e}");
+                    failed += 1;
+                    ok = false;
+                }
+            }
+        }
+    }
+    if ok {
         println!("== xtask test: all steps passed");
     }
     // The closing line CI reads.

@@ -1,0 +1,70 @@
+//! The whole unit, bytes in -> bytes out: after an optional valid Configure (first input byte
+//! odd), arbitrary bytes; every reply must itself be a valid frame of a known type whose payload
+//! parses, every command finite and within +-v_max w_max, and never `ok` for a refused input.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use twocars::message::{kind, CommandMsg, Configure, Counters, ErrorMsg};
+use twocars::unit::Unit;
+use twocars::wire::{encode_frame, Deframer, Feed, Frame, MAX_ENCODED, MAX_FRAME};
+
+const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];
+
+fn check_reply(bytes: &[u8]) {
+    assert_eq!(bytes.last(), Some(&0), "a reply ends with its delimiter");
+    let mut deframer = Deframer::<MAX_FRAME>::new();
+    let mut frames = 0;
+    for &b in bytes {
+        match deframer.push(b) {
+            Feed::Pending => {}
+            Feed::Error(e) => panic!("reply does not deframe: {e:?}"),
+            Feed::Frame(f) => {
+                frames += 1;
+                let frame = Frame::new_checked(f).expect("reply frame passes its own checks");
+                let p = frame.payload();
+                match frame.message_type() {
+                    kind::COMMAND => {
+                        let c = CommandMsg::parse(p).expect("command parses");
+                        for (rate, max) in [(c.pursuer_rate, 4.0f32), (c.evader_rate, 1.0)] {
+                            assert!(rate.is_finite() && rate.abs() <= max * (1.0 + 1e-6), "rate {rate}");
+                        }
+                        assert!(!c.predicted.is_nan() && !c.upper.is_nan() && !c.lower.is_nan());
+                    }
+                    kind::ERROR => {
+                        ErrorMsg::parse(p).expect("error parses");
+                    }
+                    kind::COUNTERS => {
+                        Counters::parse(p).expect("counters parse");
+                    }
+                    kind::CONFIGURE_ACK | kind::SHUTDOWN_ACK | kind::RESET_ACK => assert!(p.is_empty()),
+                    other => panic!("unknown reply type {other:#x}"),
+                }
+            }
+        }
+    }
+    assert_eq!(frames, 1, "one frame per reply");
+}
+
+fuzz_target!(|data: &[u8]| {
+    let mut unit = Unit::new();
+    let mut now = 0u32;
+    if data.first().is_some_and(|b| b & 1 == 1) {
+        let c = Configure { limits: LIMITS, dt: 0.01, watchdog: 0.5, roles: 3, variant: 0, policy: 0 };
+        let mut out = [0u8; MAX_ENCODED];
+        let n = encode_frame(kind::CONFIGURE, 1, |w| c.emit(w), &mut out).expect("fits");
+        for &b in &out[..n] {
+            if let Some(r) = unit.receive(b, now) {
+                check_reply(r.as_bytes());
+            }
+        }
+    }
+    for &b in data.iter().skip(1) {
+        now = now.wrapping_add(u32::from(b & 0x0F));
+        if let Some(r) = unit.receive(b, now) {
+            check_reply(r.as_bytes());
+        }
+        if let Some(r) = unit.poll(now) {
+            check_reply(r.as_bytes());
+        }
+    }
+});

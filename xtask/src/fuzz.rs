@@ -1,0 +1,219 @@
+//! `cargo xtask fuzz`: the libFuzzer targets in `fuzz/` (frame decoder, unit step, law), each
+//! started from its committed seed corpus (`fuzz/seeds/<target>`), with a time or run budget;
+//! prints executions, corpus size and failures per target. `cargo xtask test` runs a short
+//! smoke run of each; the long run is recorded in `docs/reliability.md`.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+use crate::qemu::root;
+
+/// The fuzz targets.
+pub const TARGETS: [&str; 3] = ["frame_decoder", "unit_step", "law"];
+
+/// Budget of one run.
+#[derive(Clone, Copy, Debug)]
+pub enum Budget {
+    /// Wall-clock seconds per target.
+    Seconds(u64),
+    /// Executions per target.
+    Runs(u64),
+}
+
+/// Outcome of one target's run.
+#[derive(Debug)]
+pub struct FuzzRun {
+    /// Target name.
+    pub target: &'static str,
+    /// Executions reported by libFuzzer.
+    pub executions: u64,
+    /// Corpus entries at the end.
+    pub corpus: u64,
+    /// Whether the target failed (a crash, panic or timeout).
+    pub failed: bool,
+}
+
+fn cargo_fuzz_available() -> bool {
+    Command::new("cargo")
+        .args(["fuzz", "--version"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// Installs cargo-fuzz when missing; false if that fails.
+pub fn ensure_cargo_fuzz() -> bool {
+    if cargo_fuzz_available() {
+        return true;
+    }
+    eprintln!("xtask: installing cargo-fuzz (cargo install cargo-fuzz --locked)");
+    let ok = Command::new("cargo")
+        .args(["install", "cargo-fuzz", "--version", "0.13.2", "--locked"])
+        .status()
+        .is_ok_and(|s| s.success());
+    ok && cargo_fuzz_available()
+}
+
+fn seeds(target: &str) -> Vec<Vec<u8>> {
+    use host_tests::link;
+    use host_tests::session::{paper_configure, paper_state, script};
+    let mut out = Vec::new();
+    match target {
+        "frame_decoder" | "unit_step" => {
+            // unit_step reads its first byte as "configure first" when odd.
+            let prefix: &[u8] = if target == "unit_step" { &[1] } else { &[] };
+            for step in script() {
+                out.push([prefix, &step.bytes].concat());
+            }
+            let mut session = prefix.to_vec();
+            session.extend(link::configure(1, &paper_configure()));
+            for (i, t) in [0u32, 10, 20, 900].into_iter().enumerate() {
+                session.extend(link::state(2 + i as u16, &paper_state(i, t)));
+            }
+            session.extend(link::reset(9));
+            session.extend(link::read_counters(10));
+            out.push(session);
+        }
+        _ => {
+            for case in 0..4 {
+                let s = paper_state(case, 0);
+                let mut bytes = Vec::new();
+                for v in [2.0f32, 2.0, 1.0, 1.0]
+                    .iter()
+                    .chain(&s.pursuer)
+                    .chain(&s.evader)
+                    .chain(&[0.01f32])
+                {
+                    bytes.extend(v.to_bits().to_le_bytes());
+                }
+                out.push(bytes);
+            }
+        }
+    }
+    out
+}
+
+/// Writes the seed corpora (`cargo xtask fuzz --write-seeds`).
+pub fn write_seeds() -> Result<(), String> {
+    for target in TARGETS {
+        let dir = root().join("fuzz/seeds").join(target);
+        std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+        for (i, bytes) in seeds(target).iter().enumerate() {
+            std::fs::write(dir.join(format!("seed-{i:02}")), bytes).map_err(|e| e.to_string())?;
+        }
+    }
+    Ok(())
+}
+
+/// Runs one target with `budget`.
+pub fn run_target(target: &'static str, budget: Budget) -> Result<FuzzRun, String> {
+    let fuzz = root().join("fuzz");
+    let corpus = fuzz.join("corpus").join(target);
+    std::fs::create_dir_all(&corpus).map_err(|e| e.to_string())?;
+    let limit = match budget {
+        Budget::Seconds(s) => format!("-max_total_time={s}"),
+        Budget::Runs(n) => format!("-runs={n}"),
+    };
+    let output = Command::new("cargo")
+        .current_dir(&fuzz)
+        .args(["fuzz", "run", "-s", "none", "-O", target])
+        .arg(&corpus)
+        .arg(fuzz.join("seeds").join(target))
+        .args(["--", &limit, "-print_final_stats=1"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .output()
+        .map_err(|e| format!("cargo fuzz: {e}"))?;
+    let log = String::from_utf8_lossy(&output.stderr);
+    let stat = |name: &str| -> u64 {
+        log.lines()
+            .filter_map(|l| l.strip_prefix(name))
+            .filter_map(|v| v.trim().trim_start_matches(':').trim().parse().ok())
+            .next_back()
+            .unwrap_or(0)
+    };
+    let executions = stat("stat::number_of_executed_units");
+    let failed = !output.status.success();
+    if failed {
+        let tail: Vec<&str> = log.lines().rev().take(30).collect();
+        eprintln!("{}", tail.into_iter().rev().collect::<Vec<_>>().join("\n"));
+    }
+    Ok(FuzzRun {
+        target,
+        executions,
+        corpus: count_files(&corpus),
+        failed,
+    })
+}
+
+fn count_files(dir: &Path) -> u64 {
+    std::fs::read_dir(dir).map_or(0, |d| d.filter_map(Result::ok).count() as u64)
+}
+
+/// `cargo xtask fuzz [--seconds S | --runs N] [--write-seeds] [target...]`.
+pub fn command(args: &[String]) -> i32 {
+    let mut budget = Budget::Seconds(60);
+    let mut targets: Vec<&'static str> = Vec::new();
+    let mut it = args.iter();
+    while let Some(arg) = it.next() {
+        match arg.as_str() {
+            "--seconds" | "--runs" => {
+                let Some(n) = it.next().and_then(|v| v.parse::<u64>().ok()) else {
+                    eprintln!("xtask fuzz: {arg} needs a number");
+                    return 2;
+                };
+                budget = if arg == "--runs" {
+                    Budget::Runs(n)
+                } else {
+                    Budget::Seconds(n)
+                };
+            }
+            "--write-seeds" => {
+                return match write_seeds() {
+                    Ok(()) => 0,
+                    Err(e) => {
+                        eprintln!("xtask fuzz: {e}");
+                        1
+                    }
+                }
+            }
+            name => match TARGETS.iter().find(|t| **t == name) {
+                Some(t) => targets.push(t),
+                None => {
+                    eprintln!("xtask fuzz: unknown target {name} (expected {TARGETS:?})");
+                    return 2;
+                }
+            },
+        }
+    }
+    if targets.is_empty() {
+        targets = TARGETS.to_vec();
+    }
+    if !ensure_cargo_fuzz() {
+        eprintln!("xtask fuzz: cargo-fuzz is not available");
+        return 1;
+    }
+    let mut ok = true;
+    println!("| target | budget | executions | corpus | failures |");
+    println!("|---|---|---|---|---|");
+    for target in targets {
+        match run_target(target, budget) {
+            Ok(r) => {
+                println!(
+                    "| {} | {budget:?} | {} | {} | {} |",
+                    r.target,
+                    r.executions,
+                    r.corpus,
+                    u8::from(r.failed)
+                );
+                ok &= !r.failed;
+            }
+            Err(e) => {
+                eprintln!("xtask fuzz: {e}");
+                ok = false;
+            }
+        }
+    }
+    i32::from(!ok)
+}
