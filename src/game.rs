@@ -127,11 +127,9 @@ impl<S: Scalar> MatrixGame<S> {
         let mixed = match (saddle, aa, ac, ca, cc) {
             (false, Some(a), Some(b), Some(c), Some(d)) => {
                 let denominator = a + d - b - c;
-                if denominator.abs() > S::zero() {
-                    Some((a * d - b * c) / denominator)
-                } else {
-                    None
-                }
+                let value = (a * d - b * c) / denominator;
+                // Where the products leave a fixed-point range the mixed value is not reported.
+                (denominator.abs() > S::zero() && value.is_valid()).then_some(value)
             }
             _ => None,
         };

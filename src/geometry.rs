@@ -92,14 +92,56 @@ pub const MAX_CURVATURE: f32 = 1.0e4;
 /// See [`MAX_SPEED`].
 pub const MAX_RADIUS: f32 = 1.0e4;
 
+/// The size of the law's units. SI backends (f32, f64) compute in metres and seconds; a
+/// normalised backend ([`Scalar::NORMALISED`], fixed point) in units of the pursuer's turning
+/// radius r_p and of r_p / v_pm seconds, so one number range covers every vehicle scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Units {
+    /// One law length unit, metres.
+    pub metres: f32,
+    /// One law speed unit, m/s.
+    pub metres_per_second: f32,
+}
+
+impl Units {
+    /// Metres and seconds.
+    pub const SI: Units = Units {
+        metres: 1.0,
+        metres_per_second: 1.0,
+    };
+
+    /// A law time, in seconds.
+    pub fn seconds<S: Scalar>(&self, t: S) -> f64 {
+        t.to_f64() * f64::from(self.metres) / f64::from(self.metres_per_second)
+    }
+
+    /// A law curvature, in 1/m.
+    pub fn curvature<S: Scalar>(&self, w: S) -> f64 {
+        w.to_f64() / f64::from(self.metres)
+    }
+
+    /// A law length, in metres.
+    pub fn length<S: Scalar>(&self, l: S) -> f64 {
+        l.to_f64() * f64::from(self.metres)
+    }
+
+    /// A duration in seconds, in law time units.
+    pub fn time_from_seconds(&self, seconds: f32) -> f32 {
+        seconds * self.metres_per_second / self.metres
+    }
+}
+
 /// Limits of both players, validated once against the paper's Assumption 1
-/// (v_pm > v_em > 0 and w_pm > w_em > 0), so the law never sees impossible limits.
+/// (v_pm > v_em > 0 and w_pm > w_em > 0), so the law never sees impossible limits. Stored in
+/// the law's units ([`Units`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits<S> {
     /// The pursuer's limits.
     pub pursuer: VehicleLimits<S>,
     /// The evader's limits.
     pub evader: VehicleLimits<S>,
+    /// The law's units for these limits on this backend.
+    pub units: Units,
 }
 
 impl<S: Scalar> Limits<S> {
@@ -108,7 +150,8 @@ impl<S: Scalar> Limits<S> {
     /// # Errors
     /// `NonFiniteInput` for NaN or infinity, `InvalidLimits` unless v_pm > v_em > 0 and
     /// w_pm > w_em > 0, `OutOfRange` for speeds above [`MAX_SPEED`] or below [`MIN_SPEED`],
-    /// curvatures above [`MAX_CURVATURE`] or radii above [`MAX_RADIUS`].
+    /// curvatures above [`MAX_CURVATURE`], radii above [`MAX_RADIUS`], or ratios outside the
+    /// backend's envelope (`S::MAX_RADIUS_RATIO`, `S::MIN_SPEED_RATIO`, `S::MAX_SPEED_RATIO`).
     pub fn new(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<Self, Status> {
         let all = [v_pm, w_pm, v_em, w_em];
         if all.iter().any(|v| !v.is_finite()) {
@@ -120,15 +163,67 @@ impl<S: Scalar> Limits<S> {
         if v_pm > MAX_SPEED || v_em < MIN_SPEED || w_pm > MAX_CURVATURE || 1.0 / w_em > MAX_RADIUS {
             return Err(Status::OutOfRange);
         }
+        let speed_ratio = v_em / v_pm;
+        if w_pm / w_em > S::MAX_RADIUS_RATIO
+            || speed_ratio < S::MIN_SPEED_RATIO
+            || speed_ratio > S::MAX_SPEED_RATIO
+        {
+            return Err(Status::OutOfRange);
+        }
+        let units = if S::NORMALISED {
+            Units {
+                metres: 1.0 / w_pm,
+                metres_per_second: v_pm,
+            }
+        } else {
+            Units::SI
+        };
         let vehicle = |v: f32, w: f32| VehicleLimits {
-            v_max: S::from_f32(v),
-            w_max: S::from_f32(w),
-            radius: S::one() / S::from_f32(w),
+            v_max: S::from_f32(v / units.metres_per_second),
+            w_max: S::from_f32(w * units.metres),
+            radius: S::one() / S::from_f32(w * units.metres),
         };
         Ok(Limits {
             pursuer: vehicle(v_pm, w_pm),
             evader: vehicle(v_em, w_em),
+            units,
         })
+    }
+
+    /// Both vehicles' states in the law's frame, from positions in metres and headings in
+    /// radians anticlockwise from +x. SI backends take them as they are; a normalised backend
+    /// takes positions relative to the pursuer in units of r_p, and headings reduced to
+    /// [-pi, pi].
+    ///
+    /// # Errors
+    /// `NonFiniteInput` for NaN or infinity; `OutOfRange` outside the f32 envelope
+    /// (|x|, |y| <= 1e6 m, |theta| <= 1e4 rad) or the backend's (`S::MAX_COORDINATE` in the
+    /// law's frame).
+    pub fn states(
+        &self,
+        pursuer: [f32; 3],
+        evader: [f32; 3],
+    ) -> Result<(VehicleState<S>, VehicleState<S>), Status> {
+        let [x_p, y_p, theta_p] = pursuer;
+        let [x_e, y_e, theta_e] = evader;
+        if !S::NORMALISED {
+            return Ok((
+                VehicleState::new(x_p, y_p, theta_p)?,
+                VehicleState::new(x_e, y_e, theta_e)?,
+            ));
+        }
+        // The metres envelope first, so that the differences below stay finite.
+        VehicleState::<f32>::new(x_p, y_p, theta_p)?;
+        VehicleState::<f32>::new(x_e, y_e, theta_e)?;
+        let m = self.units.metres;
+        let reduce = |theta: f32| {
+            let turns = crate::num::f32_math::floor(theta * (0.5 / core::f32::consts::PI) + 0.5);
+            theta - turns * core::f32::consts::TAU
+        };
+        Ok((
+            VehicleState::new(0.0, 0.0, reduce(theta_p))?,
+            VehicleState::new((x_e - x_p) / m, (y_e - y_p) / m, reduce(theta_e))?,
+        ))
     }
 
     /// The theorem's distance threshold 2 r_e + 2 pi r_e v_pm / v_em, metres: at or above it the
@@ -151,7 +246,8 @@ pub struct VehicleState<S> {
 }
 
 impl<S: Scalar> VehicleState<S> {
-    /// Validates and converts a state given in metres and radians.
+    /// Validates and converts a state given in the law's frame: metres and radians on SI
+    /// backends (for any backend, [`Limits::states`] converts from metres).
     ///
     /// # Errors
     /// `NonFiniteInput` for NaN or infinity; `OutOfRange` outside the backend's envelope

@@ -6,7 +6,7 @@
 use crate::capture::{capture_time, CaptureTime, Variant};
 use crate::game::{GameSolution, MatrixGame};
 use crate::geometry::{
-    Direction, Limits, TurningCircle, ValidTangent, VehicleLimits, VehicleState,
+    Direction, Limits, TurningCircle, Units, ValidTangent, VehicleLimits, VehicleState,
 };
 use crate::num::Scalar;
 use crate::status::Status;
@@ -84,14 +84,29 @@ pub struct Evaluation<S> {
     pub report: Option<GameReport<S>>,
     /// The command: the law's for `Ok`, the documented safe command otherwise.
     pub command: Command<S>,
+    /// The units of every time, length and curvature above ([`Units::SI`] unless the backend
+    /// is normalised).
+    pub units: Units,
 }
 
 impl<S: Scalar> Evaluation<S> {
-    fn safe(status: Status) -> Self {
+    /// This evaluation, or `OutOfRange` with the safe command if its command left the backend's
+    /// range.
+    pub fn checked(self) -> Self {
+        if self.command.pursuer.is_valid() && self.command.evader.is_valid() {
+            self
+        } else {
+            Evaluation::safe(Status::OutOfRange)
+        }
+    }
+
+    /// The safe command (straight ahead) with a status that says why.
+    pub fn safe(status: Status) -> Self {
         Evaluation {
             status,
             report: None,
             command: Command::straight(),
+            units: Units::SI,
         }
     }
 }
@@ -186,6 +201,15 @@ impl<S: Scalar> Law<S> {
         let matrix = MatrixGame {
             entries: pairs.map(|row| row.map(|p| p.map(|p| p.capture.value))),
         };
+        // A backend whose arithmetic left its range (fixed point) says so instead of guessing.
+        if pairs
+            .iter()
+            .flatten()
+            .flatten()
+            .any(|p| !p.capture.value.is_valid())
+        {
+            return Evaluation::safe(Status::OutOfRange);
+        }
         let solution = matrix.solve_sampled(sampling.previous, sampling.tie_floor);
         let report = GameReport {
             pairs,
@@ -198,7 +222,9 @@ impl<S: Scalar> Law<S> {
                 status: Status::NoValidTangent,
                 report: Some(report),
                 command,
-            };
+                units: self.limits.units,
+            }
+            .checked();
         }
         Evaluation {
             status: Status::Ok,
@@ -207,6 +233,7 @@ impl<S: Scalar> Law<S> {
                 pursuer: solution.row.sigma::<S>() * p_lim.w_max(),
                 evader: solution.col.sigma::<S>() * e_lim.w_max(),
             },
+            units: self.limits.units,
         }
     }
 }
@@ -299,8 +326,7 @@ pub fn validate<S: Scalar>(observation: &Observation) -> Result<Scene<S>, Status
         return Err(Status::NonFiniteInput);
     }
     let limits = Limits::new(v_pm, w_pm, v_em, w_em)?;
-    let pursuer = VehicleState::new(x_p, y_p, theta_p)?;
-    let evader = VehicleState::new(x_e, y_e, theta_e)?;
+    let (pursuer, evader) = limits.states([x_p, y_p, theta_p], [x_e, y_e, theta_e])?;
     Ok(Scene {
         limits,
         pursuer,

@@ -31,14 +31,19 @@ impl<S: Scalar> Guidance<S> {
     /// Guidance with control period `dt` seconds.
     ///
     /// # Errors
-    /// [`InvalidPeriod`] unless 0 < dt <= 1e3 s and finite.
+    /// [`InvalidPeriod`] unless 0 < dt <= 1e3 s and finite, and representable in the law's
+    /// units on this backend.
     pub fn new(law: Law<S>, dt: f32) -> Result<Self, InvalidPeriod> {
         if !(dt.is_finite() && dt > 0.0 && dt <= 1.0e3) {
             return Err(InvalidPeriod);
         }
+        let dt = S::from_f32(law.limits.units.time_from_seconds(dt));
+        if !(dt.is_valid() && dt > S::zero()) {
+            return Err(InvalidPeriod);
+        }
         Ok(Guidance {
             law,
-            dt: S::from_f32(dt),
+            dt,
             previous: None,
         })
     }
@@ -93,6 +98,6 @@ impl<S: Scalar> Guidance<S> {
             (Status::NoValidTangent, _) => fallback_command(pursuer, evader, &limits, dt),
             _ => Command::straight(),
         };
-        evaluation
+        evaluation.checked()
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! Capture is the first time the distance falls to `eps`, interpolated within its step.
 
-use twocars::{Direction, Guidance, Law, Observation, Scalar, Status, Variant, VehicleState};
+use twocars::{Direction, Guidance, Law, Observation, Scalar, Status, Variant};
 
 /// Number of sub-samples per step used to find the capture instant and the minimum distance.
 const SUBSAMPLES: usize = 16;
@@ -100,10 +100,6 @@ fn wrap_pi(theta: f64) -> f64 {
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-fn to_state<S: Scalar>(s: [f64; 3]) -> Result<VehicleState<S>, Status> {
-    VehicleState::new(s[0] as f32, s[1] as f32, s[2] as f32)
 }
 
 /// Per-player sign-flip counter.
@@ -250,11 +246,12 @@ pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -
         evader: params.evader.map(|v| v as f32),
     };
     let initial = twocars::evaluate_observation::<S>(&observation, variant);
+    let units = initial.units;
     let (predicted, predicted_lower) = initial.report.map_or((f64::INFINITY, f64::INFINITY), |r| {
         let s = r.solution;
         (
-            s.upper.map_or(f64::INFINITY, |v| v.to_f64()),
-            s.lower.map_or(f64::INFINITY, |v| v.to_f64()),
+            s.upper.map_or(f64::INFINITY, |v| units.seconds(v)),
+            s.lower.map_or(f64::INFINITY, |v| units.seconds(v)),
         )
     });
     let scene = match (initial.status, twocars::law::validate::<S>(&observation)) {
@@ -286,16 +283,17 @@ pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -
         ..*params
     };
     let result = closed_loop(&params, record, |_, p, e| {
-        let command = match (to_state::<S>(p), to_state::<S>(e)) {
-            (Ok(ps), Ok(es)) => {
+        let narrow = |s: [f64; 3]| s.map(|v| v as f32);
+        let command = match scene.limits.states(narrow(p), narrow(e)) {
+            Ok((ps, es)) => {
                 let ev = guidance.step(&ps, &es);
                 StepCommand {
-                    pursuer: ev.command.pursuer.to_f64(),
-                    evader: ev.command.evader.to_f64(),
+                    pursuer: units.curvature(ev.command.pursuer),
+                    evader: units.curvature(ev.command.evader),
                     choice: ev.report.map(|r| (r.solution.row, r.solution.col)),
                 }
             }
-            _ => StepCommand {
+            Err(_) => StepCommand {
                 pursuer: 0.0,
                 evader: 0.0,
                 choice: None,

@@ -211,3 +211,68 @@ fn subnormal_speeds_and_non_finite_fields_are_refused() {
         &[Status::NonFiniteInput],
     );
 }
+
+/// The fixed-point backend's envelope: inside it the law plays; outside it `out_of_range` with
+/// the safe command, never a wrapped or saturated value.
+#[test]
+fn fixed_point_reports_inputs_outside_its_envelope() {
+    use twocars::num::fixed::Fixed;
+    let fixed = |limits: [f32; 4], p: [f32; 3], e: [f32; 3]| {
+        let observation = Observation {
+            limits,
+            pursuer: p,
+            evader: e,
+        };
+        let ev = evaluate_observation::<Fixed>(&observation, Variant::Paper);
+        let units = ev.units;
+        let (wp, we) = (
+            units.curvature(ev.command.pursuer),
+            units.curvature(ev.command.evader),
+        );
+        assert!(wp.is_finite() && wp.abs() <= f64::from(limits[1]) * (1.0 + 1e-6));
+        assert!(we.is_finite() && we.abs() <= f64::from(limits[3]) * (1.0 + 1e-6));
+        if !PLAYED.contains(&ev.status) {
+            assert_eq!((wp, we), (0.0, 0.0), "{:?}", ev.status);
+        }
+        ev.status
+    };
+    let origin = [1.0e5, -1.0e5, 0.3];
+    let at = |dx: f32, dy: f32| [origin[0] + dx, origin[1] + dy, -1.0];
+    // r_p = 0.5 m: 200 r_p = 100 m on each axis, wherever the pursuer is.
+    assert_eq!(fixed(PAPER, origin, at(99.0, -99.0)), Status::Ok);
+    assert_eq!(fixed(PAPER, origin, at(101.0, 0.0)), Status::OutOfRange);
+    assert_eq!(fixed(PAPER, origin, at(0.0, -101.0)), Status::OutOfRange);
+    // A fixed-wing scale: r_p = 150 m, 20 km apart.
+    let wing = [25.0, 1.0 / 150.0, 15.0, 1.0 / 400.0];
+    assert_eq!(
+        fixed(wing, [0.0, 0.0, 0.0], [2.0e4, 1.5e4, 2.0]),
+        Status::Ok
+    );
+    // Ratios: r_e / r_p <= 16, 1/16 <= v_em / v_pm <= 15/16.
+    assert_eq!(
+        fixed([2.0, 2.0, 1.0, 0.1], origin, at(5.0, 5.0)),
+        Status::OutOfRange
+    );
+    assert!(PLAYED.contains(&fixed([2.0, 2.0, 1.0, 0.2], origin, at(5.0, 5.0))));
+    let barely = [1.0 + 1e-6, 2.0, 1.0, 1.0];
+    assert_eq!(fixed(barely, origin, at(5.0, 5.0)), Status::OutOfRange);
+    assert_eq!(
+        fixed([20.0, 2.0, 1.0, 1.0], origin, at(5.0, 5.0)),
+        Status::OutOfRange
+    );
+    // Any heading: multiples of 2 pi inside the f32 envelope play as their reduced angle.
+    let turns = 1000.0 * TAU;
+    let reduced = fixed(PAPER, [0.0, 0.0, 0.3], [3.0, 4.0, -1.0]);
+    assert_eq!(reduced, Status::Ok);
+    assert_eq!(
+        fixed(PAPER, [0.0, 0.0, 0.3 + turns], [3.0, 4.0, -1.0 - turns]),
+        Status::Ok
+    );
+    assert_eq!(
+        fixed(PAPER, [0.0, 0.0, 2.0e4], [3.0, 4.0, 0.0]),
+        Status::OutOfRange
+    );
+    // Coincident vehicles, on each other's circles, heading +-pi.
+    assert_eq!(fixed(PAPER, origin, origin), Status::Captured);
+    assert!(PLAYED.contains(&fixed(PAPER, [0.0, 0.0, PI], [0.0, 1.0, -PI])));
+}

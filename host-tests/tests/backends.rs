@@ -4,24 +4,29 @@
 
 mod common;
 
-use common::{scene, seeded_runner, Scene};
+use common::{paper_scene, scene, seeded_runner, Scene};
+use proptest::strategy::Strategy;
 use std::cell::RefCell;
+use twocars::num::fixed::Fixed;
 use twocars::num::micro::Micro;
-use twocars::{Scalar, Status};
+use twocars::{Scalar, Status, Units};
 
 const STATES: u32 = 20_000;
 
 struct Errors {
+    /// Relative value errors |got - want| / max(|want|, 1 s).
     values: Vec<f64>,
+    /// Absolute value errors, seconds.
+    seconds: Vec<f64>,
     compared: usize,
     disagreements_clear: usize,
 }
 
-fn solve<S: Scalar>(s: &Scene) -> Option<twocars::GameReport<S>> {
-    let (law, p, e) = s.law::<S>();
-    let ev = law.evaluate(&p, &e);
+/// The game on backend `S`, with the units its values are in; `None` unless the status is `ok`.
+fn solve<S: Scalar>(s: &Scene) -> Option<(twocars::GameReport<S>, Units)> {
+    let ev = twocars::evaluate_observation::<S>(&s.observation(), twocars::Variant::Paper);
     (ev.status == Status::Ok).then_some(())?;
-    ev.report
+    Some((ev.report?, ev.units))
 }
 
 /// Whether an arc of the f64 path lies within `margin` of 0 or 2 pi: there a backend's angle
@@ -44,15 +49,21 @@ fn gap(values: [Option<f64>; 2]) -> f64 {
 
 /// `clear_gap`: rows whose worst values are apart by more than this fraction must be chosen the
 /// same way as by the f64 path, on states with no arc within `wrap_margin` of 0 or 2 pi.
-fn measure<S: Scalar>(clear_gap: f64, wrap_margin: f64) -> Errors {
+fn measure<S: Scalar>(
+    scenes: impl Strategy<Value = Scene>,
+    clear_gap: f64,
+    wrap_margin: f64,
+) -> Errors {
     let errors = RefCell::new(Errors {
         values: Vec::new(),
+        seconds: Vec::new(),
         compared: 0,
         disagreements_clear: 0,
     });
     seeded_runner(STATES)
-        .run(&scene(100.0), |s| {
-            let (Some(reference), Some(ours)) = (solve::<f64>(&s), solve::<S>(&s)) else {
+        .run(&scenes, |s| {
+            let (Some((reference, _)), Some((ours, units))) = (solve::<f64>(&s), solve::<S>(&s))
+            else {
                 return Ok(());
             };
             if near_wrap(&reference, wrap_margin) {
@@ -64,8 +75,9 @@ fn measure<S: Scalar>(clear_gap: f64, wrap_margin: f64) -> Errors {
             let (Some(want), Some(got)) = (reference.upper, ours.upper) else {
                 return Ok(());
             };
-            e.values
-                .push((got.to_f64() - want).abs() / want.abs().max(1.0));
+            let error = (units.seconds(got) - want).abs();
+            e.values.push(error / want.abs().max(1.0));
+            e.seconds.push(error);
             let rows = m.entries.map(|r| r[0].zip(r[1]).map(|(a, b)| a.max(b)));
             if gap(rows) > clear_gap && ours.row != reference.row {
                 e.disagreements_clear += 1;
@@ -75,6 +87,7 @@ fn measure<S: Scalar>(clear_gap: f64, wrap_margin: f64) -> Errors {
         .unwrap();
     let mut e = errors.into_inner();
     e.values.sort_by(f64::total_cmp);
+    e.seconds.sort_by(f64::total_cmp);
     e
 }
 
@@ -87,12 +100,15 @@ fn quantile(v: &[f64], q: f64) -> f64 {
 fn report(name: &str, e: &Errors, clear_gap: f64) {
     println!(
         "{name}: {} states; relative value error median {:.1e}, 90% {:.1e}, 99% {:.1e}, max {:.1e}; \
+         absolute median {:.1e} s, max {:.1e} s; \
          pursuer circle differs from f64 where rows are > {clear_gap} apart: {}",
         e.compared,
         quantile(&e.values, 0.5),
         quantile(&e.values, 0.9),
         quantile(&e.values, 0.99),
         quantile(&e.values, 1.0),
+        quantile(&e.seconds, 0.5),
+        quantile(&e.seconds, 1.0),
         e.disagreements_clear
     );
 }
@@ -100,7 +116,7 @@ fn report(name: &str, e: &Errors, clear_gap: f64) {
 #[test]
 fn f32_matches_f64_to_1e_4_and_chooses_the_same_circles() {
     // Tolerance: ten times the 1e-4 relative value bound.
-    let e = measure::<f32>(1e-3, 1e-4);
+    let e = measure::<f32>(scene(100.0), 1e-3, 1e-4);
     report("f32", &e, 1e-3);
     assert!(quantile(&e.values, 1.0) <= 1e-4);
     assert_eq!(e.disagreements_clear, 0);
@@ -112,7 +128,7 @@ fn micromath_errors_are_measured_and_clear_choices_agree() {
     // a choice must agree where the rows are more than twice that apart (away from the arc wrap,
     // where its 3e-3 rad atan2 error can mean a full turn), and the median error stays at the
     // percent level its functions imply.
-    let e = measure::<Micro>(0.3, 1e-2);
+    let e = measure::<Micro>(scene(100.0), 0.3, 1e-2);
     report("micromath", &e, 0.3);
     assert_eq!(e.disagreements_clear, 0);
     assert!(
@@ -120,4 +136,27 @@ fn micromath_errors_are_measured_and_clear_choices_agree() {
         "median {}",
         quantile(&e.values, 0.5)
     );
+}
+
+#[test]
+fn fixed_point_is_within_1e_2_s_at_the_paper_scale_and_chooses_the_same_circles() {
+    // The paper's limits (r_p = 0.5 m, so 40 m is 80 to 160 pursuer radii): the value within
+    // 1e-2 s of f64; the pursuer's circle the same wherever its rows are more than 1e-3 apart
+    // (angles carry ~3e-4 rad of error: states with an arc within 2e-3 of the wrap are left out).
+    let e = measure::<Fixed>(paper_scene(40.0), 1e-3, 2e-3);
+    report("fixed (paper limits)", &e, 1e-3);
+    assert!(e.compared > STATES as usize / 2, "{} compared", e.compared);
+    assert!(quantile(&e.seconds, 1.0) <= 1e-2);
+    assert_eq!(e.disagreements_clear, 0);
+}
+
+#[test]
+fn fixed_point_at_random_limits_inside_its_envelope() {
+    // Random limits: states beyond 200 r_p or ratios outside the envelope are `out_of_range` and
+    // not compared. Relative error within 1e-3 of the value.
+    let e = measure::<Fixed>(scene(20.0), 1e-3, 2e-3);
+    report("fixed (random limits)", &e, 1e-3);
+    assert!(e.compared > STATES as usize / 4, "{} compared", e.compared);
+    assert!(quantile(&e.values, 1.0) <= 1e-3);
+    assert_eq!(e.disagreements_clear, 0);
 }

@@ -21,21 +21,46 @@ fn evaluate<S: Scalar>(case: &Case, variant: Variant) -> Evaluation<S> {
 fn upper<S: Scalar>(e: &Evaluation<S>) -> f64 {
     e.report
         .and_then(|r| r.solution.upper)
-        .map_or(f64::INFINITY, |v| v.to_f64())
+        .map_or(f64::INFINITY, |v| e.units.seconds(v))
 }
 
 fn check_values<S: Scalar>() {
+    check_values_within::<S>(TOLERANCE);
+}
+
+/// The four upper values within `tolerance` seconds, with the f32 law's choices of circles.
+fn check_values_within<S: Scalar>(tolerance: f64) {
     for case in paper_cases() {
         let e = evaluate::<S>(&case, Variant::Paper);
         assert_eq!(e.status, Status::Ok, "{}", case.name);
         let got = upper(&e);
+        println!(
+            "{}: upper {got:.4} s, f64 {:.4} s",
+            case.name, case.expected_value
+        );
         assert!(
-            (got - case.expected_value).abs() < TOLERANCE,
+            (got - case.expected_value).abs() < tolerance,
             "{}: upper {got} vs {}",
             case.name,
             case.expected_value
         );
+        let choice = |e: &Evaluation<S>| e.report.map(|r| (r.solution.row, r.solution.col));
+        let f32_choice = evaluate::<f32>(&case, Variant::Paper)
+            .report
+            .map(|r| (r.solution.row, r.solution.col));
+        assert_eq!(choice(&e), f32_choice, "{}", case.name);
     }
+}
+
+#[test]
+fn fixed_point_law_reproduces_the_four_paper_values() {
+    check_values::<twocars::num::fixed::Fixed>();
+}
+
+#[test]
+fn micromath_law_makes_the_paper_choices_with_its_cruder_values() {
+    // No bound is promised for micromath: its values sit 0.07 to 0.25 s off on these cases.
+    check_values_within::<twocars::num::micro::Micro>(0.5);
 }
 
 #[test]

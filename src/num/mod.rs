@@ -4,10 +4,12 @@
 //! once, over [`Scalar`]. A backend supplies arithmetic, the few transcendental functions the law
 //! needs (square root, sine and cosine, two-argument arctangent) and its envelope: the inputs it
 //! represents faithfully. Implemented here: `f32` (the accurate default: our own polynomials and
-//! the FPU's square root, [`f32_math`]) and `f64` (the reference-grade path, via `libm`, that the
-//! host tests compare against).
+//! the FPU's square root, [`f32_math`]), `f64` (the reference-grade path, via `libm`, that the
+//! host tests compare against), [`fixed::Fixed`] (Q17.14 for cores without an FPU, normalised)
+//! and, with the `micromath` feature, `micro::Micro` (micromath's approximations).
 
 pub mod f32_math;
+pub mod fixed;
 #[cfg(feature = "micromath")]
 pub mod micro;
 
@@ -27,7 +29,8 @@ pub trait Scalar:
     + Div<Output = Self>
     + Neg<Output = Self>
 {
-    /// Largest |x|, |y| (metres) this backend accepts; beyond it the law reports `out_of_range`.
+    /// Largest |x|, |y| this backend accepts in the law's frame (metres; pursuer radii from the
+    /// pursuer if [`Scalar::NORMALISED`]); beyond it the law reports `out_of_range`.
     const MAX_COORDINATE: f32;
     /// Largest |theta| (radians) this backend accepts; beyond it the law reports `out_of_range`.
     const MAX_HEADING: f32;
@@ -37,6 +40,17 @@ pub trait Scalar:
     /// Smallest arc (radians) this backend resolves: an arc within it of 2 pi counts as 0, so a
     /// vehicle on its tangent is not sent round a full circle by rounding.
     const ARC_RESOLUTION: f32;
+    /// Whether the law runs normalised on this backend: lengths in units of the pursuer's turning
+    /// radius, times in units of r_p / v_pm, positions relative to the pursuer
+    /// ([`crate::Limits::states`]), so that a narrow number range covers every vehicle scale.
+    const NORMALISED: bool = false;
+    /// Largest r_e / r_p (= w_pm / w_em) this backend accepts; beyond it `out_of_range`.
+    const MAX_RADIUS_RATIO: f32 = f32::INFINITY;
+    /// Smallest v_em / v_pm this backend accepts; below it `out_of_range`.
+    const MIN_SPEED_RATIO: f32 = 0.0;
+    /// Largest v_em / v_pm this backend accepts (the closing speed's floor); above it
+    /// `out_of_range`.
+    const MAX_SPEED_RATIO: f32 = 1.0;
 
     /// Converts from `f32`; the caller has checked the value is finite and inside the envelope.
     fn from_f32(value: f32) -> Self;
@@ -44,6 +58,11 @@ pub trait Scalar:
     fn to_f32(self) -> f32;
     /// Converts to `f64` (for reports on the host).
     fn to_f64(self) -> f64;
+    /// Whether the value is a number: false only where a backend's arithmetic left its range
+    /// (fixed point's invalid value), which the law reports as `out_of_range`.
+    fn is_valid(self) -> bool {
+        true
+    }
     /// Square root of a non-negative value; 0 for negative input.
     fn sqrt(self) -> Self;
     /// `(sin(angle), cos(angle))` of an angle in radians.

@@ -1,8 +1,7 @@
 //! `cargo xtask eval`: the law on CSV rows from stdin (format in docs/contract.md).
 
 use crate::csv::{narrow, number, optional, parse_fields, run_door};
-use crate::options::{Numeric, Options};
-use twocars::num::micro::Micro;
+use crate::options::{with_numeric, Options};
 use twocars::{evaluate_observation, Evaluation, Observation, Scalar, Status};
 
 /// Input header of `eval`.
@@ -23,12 +22,13 @@ pub fn observation(f: &[f64; 10]) -> Observation {
 /// One output row for an evaluation.
 pub fn row<S: Scalar>(evaluation: &Evaluation<S>) -> String {
     let status = evaluation.status.name();
-    let w_p = number(evaluation.command.pursuer.to_f64());
-    let w_e = number(evaluation.command.evader.to_f64());
+    let units = evaluation.units;
+    let w_p = number(units.curvature(evaluation.command.pursuer));
+    let w_e = number(units.curvature(evaluation.command.evader));
     match (&evaluation.report, evaluation.status) {
         (Some(report), _) => {
             let m = report.matrix.entries;
-            let v = |x: Option<S>| optional(x.map(|x| x.to_f64()));
+            let v = |x: Option<S>| optional(x.map(|x| units.seconds(x)));
             format!(
                 "{status},{},{},{},{},{},{},{},{},{w_p},{w_e}",
                 report.solution.row.letter(),
@@ -58,11 +58,10 @@ fn eval_line<S: Scalar>(line: &str, options: &Options) -> String {
 
 /// Runs the door: returns the /// Runs the door: returns the process exit code.
 pub fn run(options: &Options) -> i32 {
-    run_door("eval", INPUT_HEADER, OUTPUT_HEADER, |line| {
-        match options.numeric {
-            Numeric::F32 => eval_line::<f32>(line, options),
-            Numeric::F64 => eval_line::<f64>(line, options),
-            Numeric::Micromath => eval_line::<Micro>(line, options),
-        }
-    })
+    run_door(
+        "eval",
+        INPUT_HEADER,
+        OUTPUT_HEADER,
+        |line| with_numeric!(options.numeric, S => eval_line::<S>(line, options)),
+    )
 }

@@ -11,7 +11,34 @@ pub enum Numeric {
     F64,
     /// f32 with micromath's approximations (error reported, no bound).
     Micromath,
+    /// Q17.14 fixed point, normalised by the pursuer's radius (envelope in `twocars::num::fixed`).
+    Fixed,
 }
+
+/// Evaluates `$body` with the type name `$S` bound to the backend `$numeric` selects.
+macro_rules! with_numeric {
+    ($numeric:expr, $S:ident => $body:expr) => {
+        match $numeric {
+            $crate::options::Numeric::F32 => {
+                type $S = f32;
+                $body
+            }
+            $crate::options::Numeric::F64 => {
+                type $S = f64;
+                $body
+            }
+            $crate::options::Numeric::Micromath => {
+                type $S = twocars::num::micro::Micro;
+                $body
+            }
+            $crate::options::Numeric::Fixed => {
+                type $S = twocars::num::fixed::Fixed;
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_numeric;
 
 /// Options of `eval` and `sim`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,11 +81,7 @@ pub fn parse(args: &[String]) -> Result<(Options, Vec<String>), String> {
                     "f32" => Numeric::F32,
                     "f64" => Numeric::F64,
                     "micromath" => Numeric::Micromath,
-                    v @ "fixed" => {
-                        return Err(format!(
-                            "--numeric {v}: this backend has not landed yet (issue 6)"
-                        ))
-                    }
+                    "fixed" => Numeric::Fixed,
                     v => {
                         return Err(format!(
                             "--numeric {v}: expected f32, micromath, fixed or f64"

@@ -9,7 +9,7 @@ use twocars::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::{evaluate_observation, Observation, Scalar};
 
 use crate::firmware_loop;
-use crate::options::{Numeric, Options};
+use crate::options::{with_numeric, Options};
 use crate::qemu::{self, Board, Qemu};
 
 /// Capture distance, metres.
@@ -128,7 +128,8 @@ fn show_matrix<S: Scalar>(o: &RunOptions, case: &Case, options: &Options) -> boo
     let Some(report) = evaluation.report else {
         return case.expected_value.is_nan();
     };
-    let f = |v: Option<S>| v.map_or("inf".to_string(), |v| format!("{:9.4}", v.to_f64()));
+    let units = evaluation.units;
+    let f = |v: Option<S>| v.map_or("inf".to_string(), |v| format!("{:9.4}", units.seconds(v)));
     let m = report.matrix.entries;
     println!("             evader A   evader C");
     println!("  pursuer A {}  {}", f(m[0][0]), f(m[0][1]));
@@ -143,10 +144,10 @@ fn show_matrix<S: Scalar>(o: &RunOptions, case: &Case, options: &Options) -> boo
         s.saddle,
         s.mixed.map_or(String::new(), |v| format!(
             ", mixed value {:.4} s",
-            v.to_f64()
+            units.seconds(v)
         )),
     );
-    let predicted = s.upper.map_or(f64::INFINITY, |v| v.to_f64());
+    let predicted = s.upper.map_or(f64::INFINITY, |v| units.seconds(v));
     if case.expected_value.is_nan() {
         println!("  predicted capture time {predicted:.4} s");
         true
@@ -199,11 +200,7 @@ pub fn run(options: &Options, args: &[String]) -> i32 {
     }
     let mut sequence = 0u16;
     for case in &o.cases {
-        ok &= match options.numeric {
-            Numeric::F32 => show_matrix::<f32>(&o, case, options),
-            Numeric::F64 => show_matrix::<f64>(&o, case, options),
-            Numeric::Micromath => show_matrix::<twocars::num::micro::Micro>(&o, case, options),
-        };
+        ok &= with_numeric!(options.numeric, S => show_matrix::<S>(&o, case, options));
         let host = crate::sim::run_one(&params(&o, case), options, false);
         println!(
             "  host simulation (dt = {} s): {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); {} switches, {} sign flips",

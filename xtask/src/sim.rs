@@ -1,7 +1,7 @@
 //! `cargo xtask sim`: closed loop on the host, CSV rows from stdin (format in docs/contract.md).
 
 use crate::csv::{number, parse_fields, run_door};
-use crate::options::{Numeric, Options};
+use crate::options::{with_numeric, Options};
 use host_tests::sim::{simulate, SimParams, SimResult};
 
 /// Input header of `sim`.
@@ -23,11 +23,7 @@ pub fn params(f: &[f64; 13]) -> SimParams {
 
 /// Runs one set of parameters on the chosen backend.
 pub fn run_one(p: &SimParams, options: &Options, record: bool) -> SimResult {
-    match options.numeric {
-        Numeric::F32 => simulate::<f32>(p, options.variant, record),
-        Numeric::F64 => simulate::<f64>(p, options.variant, record),
-        Numeric::Micromath => simulate::<twocars::num::micro::Micro>(p, options.variant, record),
-    }
+    with_numeric!(options.numeric, S => simulate::<S>(p, options.variant, record))
 }
 
 /// One output row.

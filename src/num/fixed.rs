@@ -1,0 +1,290 @@
+//! The fixed-point backend for Cortex-M cores without an FPU (M0/M0+): Q17.14 numbers in an `i32`.
+//!
+//! The law runs *normalised* on this backend ([`Scalar::NORMALISED`]): lengths in units of the
+//! pursuer's turning radius r_p, times in units of r_p / v_pm, positions relative to the pursuer
+//! (see [`crate::Limits::states`]). One representation then covers every vehicle scale. Its
+//! envelope (checked on input, `out_of_range` outside):
+//! - the evader within 200 r_p of the pursuer on each axis;
+//! - r_e / r_p = w_pm / w_em <= 16 and 1/16 <= v_em / v_pm <= 15/16;
+//!
+//! inside it every intermediate of the law stays below 2^17 in magnitude (the largest, |D|^2 and
+//! capture times, stay below 10^5). Arithmetic never wraps or saturates silently: a result out
+//! of range, or a division by zero, gives the *invalid* value, which every later operation
+//! propagates and the law reports as `out_of_range` with the safe command.
+//!
+//! Resolution 2^-14 = 6.1e-5 (r_p, radians, r_p / v_pm). Error bounds, checked against f64 by
+//! `cargo test -p host-tests --test fixed_math`:
+//! - [`Scalar::sin_cos`]: absolute error <= 2e-4 (quarter-wave reduction, Taylor polynomials to
+//!   degree 7 in Q15);
+//! - [`Scalar::atan2`]: absolute error <= 3e-4 rad (octant reduction, the degree-9 odd polynomial
+//!   of Abramowitz and Stegun 4.4.49, |error| <= 1e-5 on [-1, 1]);
+//! - [`Scalar::sqrt`]: error <= 2^-14 + 2^-15 relative (bitwise integer square root on 32 bits).
+
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+use super::Scalar;
+
+/// Fractional bits.
+const FRAC: u32 = 14;
+/// 1.0 in Q14.
+const ONE: i32 = 1 << FRAC;
+/// The invalid value: the result of an overflow or a division by zero, propagated by every
+/// operation.
+const INVALID: i32 = i32::MIN;
+/// pi / 2 in Q30, for the quadrant reduction of sine and cosine.
+const FRAC_PI_2_Q30: i64 = 1_686_629_713;
+/// pi / 4, pi / 2, pi and 2 pi in Q14.
+const FRAC_PI_4_Q14: i32 = 12_868;
+const FRAC_PI_2_Q14: i32 = 25_736;
+const PI_Q14: i32 = 51_472;
+const TAU_Q14: i32 = 102_944;
+/// pi / 2 and pi in Q15 (the internal precision of the polynomials).
+const FRAC_PI_2_Q15: i32 = 51_472;
+const PI_Q15: i32 = 102_944;
+
+/// A Q17.14 fixed-point number: `raw / 2^14`, or invalid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Default)]
+pub struct Fixed(i32);
+
+impl Fixed {
+    /// The number `raw / 2^14`; `i32::MIN` is the invalid value.
+    pub const fn from_raw(raw: i32) -> Self {
+        Fixed(raw)
+    }
+
+    /// The raw Q17.14 integer.
+    pub const fn raw(self) -> i32 {
+        self.0
+    }
+
+    /// Whether this is the invalid value (an overflow or a division by zero upstream).
+    pub const fn is_invalid(self) -> bool {
+        self.0 == INVALID
+    }
+
+    fn from_wide(v: i64) -> Self {
+        match i32::try_from(v) {
+            Ok(raw) => Fixed(raw),
+            Err(_) => Fixed(INVALID),
+        }
+    }
+}
+
+impl Add for Fixed {
+    type Output = Fixed;
+    fn add(self, rhs: Fixed) -> Fixed {
+        if self.is_invalid() || rhs.is_invalid() {
+            return Fixed(INVALID);
+        }
+        Fixed(self.0.checked_add(rhs.0).unwrap_or(INVALID))
+    }
+}
+
+impl Sub for Fixed {
+    type Output = Fixed;
+    fn sub(self, rhs: Fixed) -> Fixed {
+        if self.is_invalid() || rhs.is_invalid() {
+            return Fixed(INVALID);
+        }
+        Fixed(self.0.checked_sub(rhs.0).unwrap_or(INVALID))
+    }
+}
+
+impl Neg for Fixed {
+    type Output = Fixed;
+    fn neg(self) -> Fixed {
+        // -i32::MIN does not exist: the invalid value stays invalid.
+        Fixed(self.0.checked_neg().unwrap_or(INVALID))
+    }
+}
+
+impl Mul for Fixed {
+    type Output = Fixed;
+    fn mul(self, rhs: Fixed) -> Fixed {
+        if self.is_invalid() || rhs.is_invalid() {
+            return Fixed(INVALID);
+        }
+        let product = i64::from(self.0) * i64::from(rhs.0);
+        Fixed::from_wide((product + (1 << (FRAC - 1))) >> FRAC)
+    }
+}
+
+impl Div for Fixed {
+    type Output = Fixed;
+    fn div(self, rhs: Fixed) -> Fixed {
+        if self.is_invalid() || rhs.is_invalid() || rhs.0 == 0 {
+            return Fixed(INVALID);
+        }
+        // The dividend fits 46 bits; i64 division cannot overflow for a non-zero divisor.
+        let quotient = (i64::from(self.0) << FRAC).checked_div(i64::from(rhs.0));
+        quotient.map_or(Fixed(INVALID), Fixed::from_wide)
+    }
+}
+
+/// Product of two Q15 numbers whose product fits an `i32`, rounded.
+fn mul_q15(a: i32, b: i32) -> i32 {
+    a.wrapping_mul(b).wrapping_add(1 << 14) >> 15
+}
+
+/// sin and cos of r in [-pi/4, pi/4], both in Q15 (r in Q15).
+fn sin_cos_reduced_q15(r: i32) -> (i32, i32) {
+    // Taylor coefficients in Q15: 1/6, 1/120, 1/5040 and 1/2, 1/24, 1/720.
+    let z = mul_q15(r, r);
+    let sin = mul_q15(
+        r,
+        32_768 - mul_q15(z, 5_461 - mul_q15(z, 273 - mul_q15(z, 7))),
+    );
+    let cos = 32_768 - mul_q15(z, 16_384 - mul_q15(z, 1_365 - mul_q15(z, 46)));
+    (sin, cos)
+}
+
+/// Q15 to Q14, rounded.
+fn q15_to_q14(v: i32) -> i32 {
+    (v + 1) >> 1
+}
+
+/// atan(t) for t in [0, 1], t and the result in Q15 (Abramowitz and Stegun 4.4.49).
+fn atan_unit_q15(t: i32) -> i32 {
+    let z = mul_q15(t, t);
+    let p = 32_764
+        - mul_q15(
+            z,
+            10_823 - mul_q15(z, 5_903 - mul_q15(z, 2_790 - mul_q15(z, 683))),
+        );
+    mul_q15(t, p)
+}
+
+/// Largest integer whose square is at most n.
+fn isqrt(n: u32) -> u32 {
+    let mut remainder = n;
+    let mut root = 0u32;
+    let mut bit = 1u32 << 30;
+    while bit > n {
+        bit >>= 2;
+    }
+    while bit != 0 {
+        if remainder >= root + bit {
+            remainder -= root + bit;
+            root = (root >> 1) + bit;
+        } else {
+            root >>= 1;
+        }
+        bit >>= 2;
+    }
+    root
+}
+
+impl Scalar for Fixed {
+    /// In units of the pursuer's turning radius, relative to the pursuer.
+    const MAX_COORDINATE: f32 = 200.0;
+    const MAX_HEADING: f32 = 1.0e4;
+    const TIE_BAND: f32 = 1.0e-4;
+    // Angles carry ~3e-4 rad of error: an arc within 1e-3 of 0 or 2 pi is the tangent.
+    const ARC_RESOLUTION: f32 = 1.0e-3;
+    const NORMALISED: bool = true;
+    const MAX_RADIUS_RATIO: f32 = 16.0;
+    const MIN_SPEED_RATIO: f32 = 1.0 / 16.0;
+    const MAX_SPEED_RATIO: f32 = 15.0 / 16.0;
+
+    fn from_f32(value: f32) -> Self {
+        let scaled = value * ONE as f32;
+        // Beyond +-2^31 (and for NaN) there is no Q17.14 number: invalid, never saturated.
+        if scaled.is_nan() || scaled.abs() >= 2_147_483_520.0 {
+            return Fixed(INVALID);
+        }
+        let half = if scaled < 0.0 { -0.5 } else { 0.5 };
+        // In range (checked above): the cast is exact after rounding.
+        Fixed((scaled + half) as i32)
+    }
+    fn to_f32(self) -> f32 {
+        if self.is_invalid() {
+            return f32::NAN;
+        }
+        self.0 as f32 / ONE as f32
+    }
+    fn to_f64(self) -> f64 {
+        if self.is_invalid() {
+            return f64::NAN;
+        }
+        f64::from(self.0) / f64::from(ONE)
+    }
+    fn is_valid(self) -> bool {
+        !self.is_invalid()
+    }
+    fn pi() -> Self {
+        Fixed(PI_Q14)
+    }
+    fn tau() -> Self {
+        Fixed(TAU_Q14)
+    }
+    fn sqrt(self) -> Self {
+        if self.is_invalid() {
+            return self;
+        }
+        let Ok(a) = u32::try_from(self.0) else {
+            return Fixed(0);
+        };
+        if a == 0 {
+            return Fixed(0);
+        }
+        // sqrt(raw / 2^14) * 2^14 = sqrt(raw * 2^14): shift raw left by an even s <= 14 that
+        // keeps it in 32 bits, and the root left by the remaining (14 - s) / 2.
+        let shift = a.leading_zeros().min(FRAC) & !1;
+        let root = isqrt(a << shift) << ((FRAC - shift) / 2);
+        Fixed::from_wide(i64::from(root))
+    }
+    fn sin_cos(self) -> (Self, Self) {
+        if self.is_invalid() {
+            return (self, self);
+        }
+        // k = round(x / (pi/2)); r = x - k pi/2 with pi/2 in Q30, so large angles keep their
+        // accuracy.
+        let x = i64::from(self.0);
+        let k = (x + i64::from(FRAC_PI_4_Q14)).div_euclid(i64::from(FRAC_PI_2_Q14));
+        let r_q15 = ((x << 16) - k * FRAC_PI_2_Q30) >> 15;
+        // |r| <= pi/4 (+ rounding): fits comfortably in Q15.
+        let Ok(r) = i32::try_from(r_q15) else {
+            return (Fixed(INVALID), Fixed(INVALID));
+        };
+        let (s, c) = sin_cos_reduced_q15(r);
+        let (s, c) = (Fixed(q15_to_q14(s)), Fixed(q15_to_q14(c)));
+        match k.rem_euclid(4) {
+            0 => (s, c),
+            1 => (c, -s),
+            2 => (-s, -c),
+            _ => (-c, s),
+        }
+    }
+    fn atan2(y: Self, x: Self) -> Self {
+        if y.is_invalid() || x.is_invalid() {
+            return Fixed(INVALID);
+        }
+        let (ax, ay) = (x.0.unsigned_abs(), y.0.unsigned_abs());
+        if ax == 0 && ay == 0 {
+            return Fixed(0);
+        }
+        let (mut low, mut high) = if ay <= ax { (ay, ax) } else { (ax, ay) };
+        // Bring the larger below 2^17 so that low << 15 fits 32 bits; the ratio keeps 15 bits.
+        let bits = 32 - high.leading_zeros();
+        if bits > 17 {
+            low >>= bits - 17;
+            high >>= bits - 17;
+        }
+        let t = (low << 15).checked_div(high).unwrap_or(0);
+        let atan = atan_unit_q15(i32::try_from(t).unwrap_or(1 << 15));
+        let a = if ay <= ax { atan } else { FRAC_PI_2_Q15 - atan };
+        let a = if x.0 < 0 { PI_Q15 - a } else { a };
+        let a = q15_to_q14(a);
+        if y.0 < 0 {
+            Fixed(-a)
+        } else {
+            Fixed(a)
+        }
+    }
+    fn wrap_positive(self) -> Self {
+        if self.is_invalid() {
+            return self;
+        }
+        Fixed(self.0.rem_euclid(TAU_Q14))
+    }
+}
