@@ -3,7 +3,8 @@
 //! tangent, the overshoot entry, far and near states, both turn directions).
 //!
 //! Each entry: pursuer (x, y, theta), evader (x, y, theta); metres, radians. Limits are the
-//! paper's (v_pm = 2, w_pm = 2, v_em = 1, w_em = 1), control period 10 ms.
+//! paper's (v_pm = 2, w_pm = 2, v_em = 1, w_em = 1), control period 10 ms. Every state lies
+//! inside every backend's envelope (fixed point: within 200 r_p = 100 m on each axis).
 
 /// The paper's limits: v_pm, w_pm, v_em, w_em.
 pub const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];
@@ -21,7 +22,7 @@ pub const STATES: [([f32; 3], [f32; 3]); 12] = [
     ([0.0, 0.0, 0.0], [20.0, 0.0, 0.0]),
     ([0.0, 0.0, 0.0], [-1.1336, -0.3115, -2.9591]),
     ([10.0, -4.0, 3.0], [-35.0, 22.0, -1.2]),
-    ([-120.0, 80.0, -2.5], [150.0, -60.0, 0.7]),
+    ([-60.0, 40.0, -2.5], [30.0, -45.0, 0.7]),
     ([1.0, 1.0, 0.3], [2.5, 1.8, 2.9]),
     ([0.0, 0.0, -3.1], [0.5, -40.0, 1.0]),
     ([5.0, 5.0, 1.0], [4.0, 7.0, -2.0]),

@@ -178,10 +178,14 @@ impl<S: Scalar> Limits<S> {
         } else {
             Units::SI
         };
-        let vehicle = |v: f32, w: f32| VehicleLimits {
-            v_max: S::from_f32(v / units.metres_per_second),
-            w_max: S::from_f32(w * units.metres),
-            radius: S::one() / S::from_f32(w * units.metres),
+        // Curvature rounded toward zero, so that +-w_max commands stay within the true limit.
+        let vehicle = |v: f32, w: f32| {
+            let w_max = S::from_f32_toward_zero(w * units.metres);
+            VehicleLimits {
+                v_max: S::from_f32(v / units.metres_per_second),
+                w_max,
+                radius: S::one() / w_max,
+            }
         };
         Ok(Limits {
             pursuer: vehicle(v_pm, w_pm),

@@ -90,13 +90,11 @@ pub struct Evaluation<S> {
 }
 
 impl<S: Scalar> Evaluation<S> {
-    /// This evaluation, or `OutOfRange` with the safe command if its command left the backend's
-    /// range.
-    pub fn checked(self) -> Self {
-        if self.command.pursuer.is_valid() && self.command.evader.is_valid() {
-            self
-        } else {
-            Evaluation::safe(Status::OutOfRange)
+    /// Turns this evaluation into `OutOfRange` with the safe command if its command left the
+    /// backend's range (never for f32 and f64).
+    pub fn check_command(&mut self) {
+        if !(self.command.pursuer.is_valid() && self.command.evader.is_valid()) {
+            *self = Evaluation::safe(Status::OutOfRange);
         }
     }
 
@@ -218,13 +216,14 @@ impl<S: Scalar> Law<S> {
         };
         if solution.upper.is_none() {
             let command = fallback_command(pursuer, evader, &self.limits, None);
-            return Evaluation {
+            let mut evaluation = Evaluation {
                 status: Status::NoValidTangent,
                 report: Some(report),
                 command,
                 units: self.limits.units,
-            }
-            .checked();
+            };
+            evaluation.check_command();
+            return evaluation;
         }
         Evaluation {
             status: Status::Ok,

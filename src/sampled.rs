@@ -98,6 +98,7 @@ impl<S: Scalar> Guidance<S> {
             (Status::NoValidTangent, _) => fallback_command(pursuer, evader, &limits, dt),
             _ => Command::straight(),
         };
-        evaluation.checked()
+        evaluation.check_command();
+        evaluation
     }
 }

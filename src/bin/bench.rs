@@ -1,9 +1,11 @@
 //! Bench firmware: times one full evaluation of the law (both roles, four tangents, the game,
 //! the sampled commands: `Guidance::step`, limits validated beforehand) per bench state with SysTick on the processor clock,
 //! under QEMU `-icount` so ticks count instructions; paints the stack to find the law's peak
-//! use. Prints `state <i> <ticks> <stack bytes>` lines over semihosting, then exits.
+//! use. Prints `state <i> <ticks> <stack bytes> <upper> <w_p> <w_e>` lines over semihosting (the
+//! last three as f32 bit patterns in hex, in seconds and 1/m: what the host compares), then exits.
 //! With `bench-empty` the law is replaced by nothing: its ticks are the call overhead, its image
-//! the baseline of the law's flash.
+//! the baseline of the law's flash. The numeric backend: f32, or `Fixed` with `bench-fixed`, or
+//! micromath with `bench-micromath`.
 #![no_std]
 #![no_main]
 
@@ -18,38 +20,61 @@ const PAINT: u32 = 0xA5A5_5A5A;
 /// Bytes of stack painted below the caller's frame.
 const PAINT_BYTES: usize = 4096;
 
+#[cfg(feature = "bench-fixed")]
+type Number = twocars::num::fixed::Fixed;
+#[cfg(all(feature = "bench-micromath", not(feature = "bench-fixed")))]
+type Number = twocars::num::micro::Micro;
+#[cfg(not(any(feature = "bench-fixed", feature = "bench-micromath")))]
+type Number = f32;
+
 /// The law and one bench state, prepared outside the timed region.
 type Prepared = (
-    twocars::Guidance<f32>,
-    twocars::VehicleState<f32>,
-    twocars::VehicleState<f32>,
+    twocars::Guidance<Number>,
+    twocars::VehicleState<Number>,
+    twocars::VehicleState<Number>,
 );
 
 fn prepare(i: usize) -> Option<Prepared> {
     let &(p, e) = STATES.get(i)?;
     let [v_pm, w_pm, v_em, w_em] = twocars::bench::LIMITS;
-    let limits = twocars::Limits::<f32>::new(v_pm, w_pm, v_em, w_em).ok()?;
+    let limits = twocars::Limits::<Number>::new(v_pm, w_pm, v_em, w_em).ok()?;
+    let (p, e) = limits.states(p, e).ok()?;
     let law = twocars::Law::new(limits, twocars::Variant::Paper);
     let guidance = twocars::Guidance::new(law, twocars::bench::DT).ok()?;
-    let p = twocars::VehicleState::new(p[0], p[1], p[2]).ok()?;
-    let e = twocars::VehicleState::new(e[0], e[1], e[2]).ok()?;
     Some((guidance, p, e))
 }
 
 /// The timed region: one `Guidance::step` (nothing with `bench-empty`).
 #[inline(never)]
-fn evaluate(prepared: &mut Prepared) -> f32 {
+fn evaluate(prepared: &mut Prepared) -> Option<twocars::Evaluation<Number>> {
     #[cfg(feature = "bench-empty")]
     {
         black_box(prepared);
-        0.0
+        None
     }
     #[cfg(not(feature = "bench-empty"))]
     {
         let (guidance, p, e) = prepared;
-        let ev = guidance.step(p, e);
-        ev.command.pursuer + ev.command.evader
+        Some(guidance.step(p, e))
     }
+}
+
+/// Upper value (s) and both commands (1/m) as f32 bit patterns; zeros without an evaluation.
+fn outputs(evaluation: Option<twocars::Evaluation<Number>>) -> [u32; 3] {
+    let Some(ev) = evaluation else {
+        return [0; 3];
+    };
+    let units = ev.units;
+    let upper = ev
+        .report
+        .and_then(|r| r.solution.upper)
+        .map_or(f64::INFINITY, |v| units.seconds(v));
+    [
+        upper,
+        units.curvature(ev.command.pursuer),
+        units.curvature(ev.command.evader),
+    ]
+    .map(|v| (v as f32).to_bits())
 }
 
 fn paint() -> usize {
@@ -95,11 +120,19 @@ fn main() -> ! {
         let start = cortex_m::peripheral::SYST::get_current();
         let out = evaluate(black_box(&mut prepared));
         let end = cortex_m::peripheral::SYST::get_current();
-        black_box(out);
         let stack = used(bottom);
         // SysTick counts down, 24 bits.
         let ticks = start.wrapping_sub(end) & 0x00FF_FFFF;
-        hprintln!("state {} {} {}", i, ticks, stack);
+        let [upper, w_p, w_e] = outputs(black_box(out));
+        hprintln!(
+            "state {} {} {} {:08x} {:08x} {:08x}",
+            i,
+            ticks,
+            stack,
+            upper,
+            w_p,
+            w_e
+        );
     }
     exit(EXIT_SUCCESS);
     loop {

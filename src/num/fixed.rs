@@ -31,8 +31,9 @@ const ONE: i32 = 1 << FRAC;
 /// The invalid value: the result of an overflow or a division by zero, propagated by every
 /// operation.
 const INVALID: i32 = i32::MIN;
-/// pi / 2 in Q30, for the quadrant reduction of sine and cosine.
-const FRAC_PI_2_Q30: i64 = 1_686_629_713;
+/// pi / 2 in Q30 minus its Q14 value shifted to Q30: the correction that keeps the quadrant
+/// reduction of large angles accurate with 32-bit arithmetic only.
+const FRAC_PI_2_Q30_REST: i32 = 1_686_629_713 - (FRAC_PI_2_Q14 << 16);
 /// pi / 4, pi / 2, pi and 2 pi in Q14.
 const FRAC_PI_4_Q14: i32 = 12_868;
 const FRAC_PI_2_Q14: i32 = 25_736;
@@ -72,6 +73,7 @@ impl Fixed {
 
 impl Add for Fixed {
     type Output = Fixed;
+    #[inline]
     fn add(self, rhs: Fixed) -> Fixed {
         if self.is_invalid() || rhs.is_invalid() {
             return Fixed(INVALID);
@@ -82,6 +84,7 @@ impl Add for Fixed {
 
 impl Sub for Fixed {
     type Output = Fixed;
+    #[inline]
     fn sub(self, rhs: Fixed) -> Fixed {
         if self.is_invalid() || rhs.is_invalid() {
             return Fixed(INVALID);
@@ -92,6 +95,7 @@ impl Sub for Fixed {
 
 impl Neg for Fixed {
     type Output = Fixed;
+    #[inline]
     fn neg(self) -> Fixed {
         // -i32::MIN does not exist: the invalid value stays invalid.
         Fixed(self.0.checked_neg().unwrap_or(INVALID))
@@ -100,9 +104,28 @@ impl Neg for Fixed {
 
 impl Mul for Fixed {
     type Output = Fixed;
+    #[inline]
     fn mul(self, rhs: Fixed) -> Fixed {
         if self.is_invalid() || rhs.is_invalid() {
             return Fixed(INVALID);
+        }
+        // The common case, a length or time (below 2^14) times a sine, speed or radius (below
+        // 8): two 32-bit products (one MULS each on a Cortex-M0, where a 64-bit product is a
+        // library call), |a| b = (|a| >> 14) b 2^14 + (|a| mod 2^14) b, rounded half away from 0.
+        let (ua, ub) = (self.0.unsigned_abs(), rhs.0.unsigned_abs());
+        let (large, small) = if ua >= ub { (ua, ub) } else { (ub, ua) };
+        if large < 1 << 28 && small < 1 << 17 {
+            let high = (large >> FRAC) * small;
+            let low = ((large & (ONE as u32 - 1)) * small + (1 << (FRAC - 1))) >> FRAC;
+            let magnitude = i32::try_from(high + low).unwrap_or(INVALID);
+            if magnitude == INVALID {
+                return Fixed(INVALID);
+            }
+            return Fixed(if (self.0 < 0) == (rhs.0 < 0) {
+                magnitude
+            } else {
+                -magnitude
+            });
         }
         let product = i64::from(self.0) * i64::from(rhs.0);
         Fixed::from_wide((product + (1 << (FRAC - 1))) >> FRAC)
@@ -111,9 +134,14 @@ impl Mul for Fixed {
 
 impl Div for Fixed {
     type Output = Fixed;
+    #[inline]
     fn div(self, rhs: Fixed) -> Fixed {
         if self.is_invalid() || rhs.is_invalid() || rhs.0 == 0 {
             return Fixed(INVALID);
+        }
+        // A dividend below 2^17 in magnitude shifts within 32 bits: a 32-bit division.
+        if self.0.unsigned_abs() < 1 << 17 {
+            return Fixed((self.0 << FRAC).checked_div(rhs.0).unwrap_or(INVALID));
         }
         // The dividend fits 46 bits; i64 division cannot overflow for a non-zero divisor.
         let quotient = (i64::from(self.0) << FRAC).checked_div(i64::from(rhs.0));
@@ -196,6 +224,14 @@ impl Scalar for Fixed {
         // In range (checked above): the cast is exact after rounding.
         Fixed((scaled + half) as i32)
     }
+    fn from_f32_toward_zero(value: f32) -> Self {
+        let scaled = value * ONE as f32;
+        if scaled.is_nan() || scaled.abs() >= 2_147_483_520.0 {
+            return Fixed(INVALID);
+        }
+        // In range (checked above): the cast truncates toward zero.
+        Fixed(scaled as i32)
+    }
     fn to_f32(self) -> f32 {
         if self.is_invalid() {
             return f32::NAN;
@@ -237,15 +273,13 @@ impl Scalar for Fixed {
         if self.is_invalid() {
             return (self, self);
         }
-        // k = round(x / (pi/2)); r = x - k pi/2 with pi/2 in Q30, so large angles keep their
-        // accuracy.
-        let x = i64::from(self.0);
-        let k = (x + i64::from(FRAC_PI_4_Q14)).div_euclid(i64::from(FRAC_PI_2_Q14));
-        let r_q15 = ((x << 16) - k * FRAC_PI_2_Q30) >> 15;
-        // |r| <= pi/4 (+ rounding): fits comfortably in Q15.
-        let Ok(r) = i32::try_from(r_q15) else {
+        // k = round(x / (pi/2)); r = x - k pi/2 with pi/2 to Q30 (its Q14 part plus the rest),
+        // so large angles keep their accuracy; all in 32 bits (|k| < 2^17).
+        let Some(shifted) = self.0.checked_add(FRAC_PI_4_Q14) else {
             return (Fixed(INVALID), Fixed(INVALID));
         };
+        let k = shifted.div_euclid(FRAC_PI_2_Q14);
+        let r = ((self.0 - k * FRAC_PI_2_Q14) << 1) - ((k * FRAC_PI_2_Q30_REST) >> 15);
         let (s, c) = sin_cos_reduced_q15(r);
         let (s, c) = (Fixed(q15_to_q14(s)), Fixed(q15_to_q14(c)));
         match k.rem_euclid(4) {

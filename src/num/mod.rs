@@ -54,6 +54,11 @@ pub trait Scalar:
 
     /// Converts from `f32`; the caller has checked the value is finite and inside the envelope.
     fn from_f32(value: f32) -> Self;
+    /// Converts from `f32`, rounding toward zero where the backend rounds at all: a limit never
+    /// grows in conversion (a commanded curvature stays within the true w_max).
+    fn from_f32_toward_zero(value: f32) -> Self {
+        Self::from_f32(value)
+    }
     /// Converts to `f32` (for reports and the wire).
     fn to_f32(self) -> f32;
     /// Converts to `f64` (for reports on the host).

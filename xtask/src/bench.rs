@@ -8,13 +8,15 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use twocars::bench::{DT, LIMITS, STATES};
+use twocars::num::fixed::Fixed;
+use twocars::num::micro::Micro;
 use twocars::{Guidance, Law, Limits, Scalar, Variant, VehicleState};
 
 use crate::qemu::{self, root};
 
 /// One emulated CPU the bench runs on.
 #[derive(Clone, Copy)]
-struct Cpu {
+pub struct Cpu {
     name: &'static str,
     target: &'static str,
     machine: &'static [&'static str],
@@ -23,7 +25,7 @@ struct Cpu {
     ticks_per_instruction: f64,
 }
 
-const M4F: Cpu = Cpu {
+pub const M4F: Cpu = Cpu {
     name: "Cortex-M4F (mps2-an386)",
     target: "thumbv7em-none-eabihf",
     machine: &["-M", "mps2-an386", "-cpu", "cortex-m4"],
@@ -32,7 +34,7 @@ const M4F: Cpu = Cpu {
     ticks_per_instruction: 1.6,
 };
 
-const M0: Cpu = Cpu {
+pub const M0: Cpu = Cpu {
     name: "Cortex-M0 (micro:bit)",
     target: "thumbv6m-none-eabi",
     machine: &["-M", "microbit"],
@@ -42,13 +44,20 @@ const M0: Cpu = Cpu {
 };
 
 /// Per-state figures of one image.
-struct Measured {
-    ticks: Vec<f64>,
-    stack: Vec<u64>,
-    flash: u64,
+pub struct Measured {
+    /// SysTick ticks of each evaluation.
+    pub ticks: Vec<f64>,
+    /// Stack high-water mark of each evaluation, bytes.
+    pub stack: Vec<u64>,
+    /// Upper value (s) and the commands w_p, w_e (1/m) of each state, as the image computed them.
+    pub outputs: Vec<[f32; 3]>,
+    /// Flash of the image, bytes.
+    pub flash: u64,
 }
 
-fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
+/// Builds the bench image with `features` for `cpu`, runs it in QEMU with `-icount` and reads
+/// its per-state lines.
+pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let all_features = format!("{features}{}", cpu.board_features);
     let status = Command::new(&cargo)
@@ -110,15 +119,20 @@ fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
     let mut m = Measured {
         ticks: Vec::new(),
         stack: Vec::new(),
+        outputs: Vec::new(),
         flash,
     };
     for line in out.lines() {
         let fields: Vec<&str> = line.split_whitespace().collect();
-        if let ["state", _, ticks, stack] = fields.as_slice() {
-            m.ticks
-                .push(ticks.parse().map_err(|_| format!("bad line {line}"))?);
-            m.stack
-                .push(stack.parse().map_err(|_| format!("bad line {line}"))?);
+        if let ["state", _, ticks, stack, values @ ..] = fields.as_slice() {
+            let bad = || format!("bad line {line}");
+            m.ticks.push(ticks.parse().map_err(|_| bad())?);
+            m.stack.push(stack.parse().map_err(|_| bad())?);
+            let mut output = [0.0f32; 3];
+            for (o, v) in output.iter_mut().zip(values) {
+                *o = f32::from_bits(u32::from_str_radix(v, 16).map_err(|_| bad())?);
+            }
+            m.outputs.push(output);
         }
     }
     if m.ticks.len() != STATES.len() {
@@ -176,34 +190,37 @@ fn measure(cpu: Cpu, numeric: &'static str, features: &str) -> Result<Row, Strin
     })
 }
 
+/// Upper value (s) and commands w_p, w_e (1/m) of one `Guidance::step` on backend `S` per bench
+/// state, on the host: what the bench image computes on the target.
+pub fn host_outputs<S: Scalar>() -> Vec<Option<[f64; 3]>> {
+    let [v_pm, w_pm, v_em, w_em] = LIMITS;
+    STATES
+        .iter()
+        .map(|&(p, e)| {
+            let limits = Limits::<S>::new(v_pm, w_pm, v_em, w_em).ok()?;
+            let (p, e) = limits.states(p, e).ok()?;
+            let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), DT).ok()?;
+            let ev = guidance.step(&p, &e);
+            let units = ev.units;
+            let upper = ev.report.and_then(|r| r.solution.upper);
+            Some([
+                upper.map_or(f64::INFINITY, |v| units.seconds(v)),
+                units.curvature(ev.command.pursuer),
+                units.curvature(ev.command.evader),
+            ])
+        })
+        .collect()
+}
+
 /// Largest relative error of the predicted value (upper) on the bench states vs the f64 law.
 fn value_error<S: Scalar>() -> f64 {
-    let mut worst: f64 = 0.0;
-    for (p, e) in STATES {
-        let run = |p: [f32; 3], e: [f32; 3]| -> Option<(Option<f64>, Option<f64>)> {
-            let [v_pm, w_pm, v_em, w_em] = LIMITS;
-            let l64 = Limits::<f64>::new(v_pm, w_pm, v_em, w_em).ok()?;
-            let l = Limits::<S>::new(v_pm, w_pm, v_em, w_em).ok()?;
-            let mut g64 = Guidance::new(Law::new(l64, Variant::Paper), DT).ok()?;
-            let mut g = Guidance::new(Law::new(l, Variant::Paper), DT).ok()?;
-            let a = g64.step(
-                &VehicleState::new(p[0], p[1], p[2]).ok()?,
-                &VehicleState::new(e[0], e[1], e[2]).ok()?,
-            );
-            let b = g.step(
-                &VehicleState::new(p[0], p[1], p[2]).ok()?,
-                &VehicleState::new(e[0], e[1], e[2]).ok()?,
-            );
-            Some((
-                a.report.and_then(|r| r.solution.upper),
-                b.report.and_then(|r| r.solution.upper).map(|v| v.to_f64()),
-            ))
-        };
-        if let Some((Some(a), Some(b))) = run(p, e) {
-            worst = worst.max((a - b).abs() / a.abs().max(1.0));
-        }
-    }
-    worst
+    host_outputs::<f64>()
+        .iter()
+        .zip(host_outputs::<S>())
+        .filter_map(|(a, b)| Some((a.as_ref()?[0], b?[0])))
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .map(|(a, b)| (a - b).abs() / a.abs().max(1.0))
+        .fold(0.0, f64::max)
 }
 
 /// Law evaluations and frame decodes per second on one host core.
@@ -252,6 +269,8 @@ fn host_throughput() -> (f64, f64) {
 pub fn run() -> i32 {
     let rows = [
         measure(M4F, "f32 (own polynomials + VSQRT)", "bench-firmware"),
+        measure(M4F, "micromath (f32)", "bench-micromath"),
+        measure(M0, "fixed point (Q17.14)", "bench-fixed"),
         measure(M0, "f32 soft-float (own polynomials)", "bench-firmware"),
     ];
     let mut md = String::new();
@@ -299,8 +318,10 @@ pub fn run() -> i32 {
     let _ = writeln!(
         md,
         "Accuracy on the bench states: largest relative error of the predicted capture time vs the \
-         f64 path: f32 (own polynomials + VSQRT) {:.1e}.\n",
-        value_error::<f32>()
+         f64 path: f32 (own polynomials + VSQRT) {:.1e}, micromath {:.1e}, fixed point {:.1e}.\n",
+        value_error::<f32>(),
+        value_error::<Micro>(),
+        value_error::<Fixed>()
     );
     let firmware = firmware_sizes();
     let _ = writeln!(md, "{firmware}");

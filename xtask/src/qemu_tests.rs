@@ -154,6 +154,43 @@ fn watchdog(elf: &std::path::Path) -> Outcome {
     )
 }
 
+/// The fixed-point law on a Cortex-M0 (QEMU micro:bit, the bench image): every bench state's
+/// value and commands equal to the host's fixed-point law bit for bit (integer arithmetic), and
+/// the paper's four values (the first four bench states) within 1e-3 s.
+fn fixed_point_on_cortex_m0() -> Outcome {
+    let m0 = crate::bench::build_and_run(crate::bench::M0, "bench-fixed")?;
+    let host = crate::bench::host_outputs::<twocars::num::fixed::Fixed>();
+    if m0.outputs.len() != host.len() {
+        return Err(format!(
+            "{} of {} states reported",
+            m0.outputs.len(),
+            host.len()
+        ));
+    }
+    for (i, (got, want)) in m0.outputs.iter().zip(&host).enumerate() {
+        let want = want.ok_or(format!("state {i}: the host could not evaluate it"))?;
+        if got.map(f32::to_bits) != want.map(|v| (v as f32).to_bits()) {
+            return Err(format!("state {i}: Cortex-M0 {got:?}, host {want:?}"));
+        }
+    }
+    let mut values = Vec::new();
+    for (case, got) in paper_cases().iter().zip(&m0.outputs) {
+        let value = f64::from(got[0]);
+        if (value - case.expected_value).abs() > 1e-3 {
+            return Err(format!(
+                "{}: {value:.4} s on the M0, paper {:.4} s",
+                case.name, case.expected_value
+            ));
+        }
+        values.push(format!("{} {value:.4} s", case.name));
+    }
+    Ok(format!(
+        "{} states equal to the host bit for bit; {}",
+        host.len(),
+        values.join(", ")
+    ))
+}
+
 /// Runs the QEMU tests; returns (passed, failed).
 pub fn run() -> (u64, u64) {
     println!("== xtask test: firmware in QEMU (mps2-an386)");
@@ -186,6 +223,18 @@ pub fn run() -> (u64, u64) {
                 println!("test {name} ... FAILED: {e}");
                 failed += 1;
             }
+        }
+    }
+    println!("== xtask test: fixed-point law in QEMU (micro:bit, Cortex-M0)");
+    let name = "qemu::fixed_point_law_on_cortex_m0_equals_the_host_and_the_paper";
+    match fixed_point_on_cortex_m0() {
+        Ok(detail) => {
+            println!("test {name} ... ok ({detail})");
+            passed += 1;
+        }
+        Err(e) => {
+            println!("test {name} ... FAILED: {e}");
+            failed += 1;
         }
     }
     (passed, failed)
