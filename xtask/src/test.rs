@@ -116,6 +116,8 @@ pub fn run() -> i32 {
         ("board-stm32f405", "STM32F405"),
         ("bench-firmware", "bench"),
         ("bench-empty", "empty bench"),
+        ("bench-fixed", "fixed-point bench"),
+        ("bench-micromath", "micromath bench"),
     ] {
         let firmware_clippy = [
             "clippy",
