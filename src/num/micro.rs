@@ -76,12 +76,7 @@ impl Scalar for Micro {
         Micro(F32Ext::atan2(y.0, x.0))
     }
     fn wrap_positive(self) -> Self {
-        let tau = core::f32::consts::TAU;
-        let wrapped = self.0 - tau * super::f32_math::floor(self.0 * (1.0 / tau));
-        if wrapped >= tau || wrapped < 0.0 {
-            Micro(0.0)
-        } else {
-            Micro(wrapped)
-        }
+        // Plain f32 arithmetic: the f32 backend's reduction.
+        Micro(self.0.wrap_positive())
     }
 }

@@ -213,21 +213,7 @@ pub fn run() -> (u64, u64) {
         ),
     ];
     let (mut passed, mut failed) = (0, 0);
-    for (name, test) in tests {
-        match test(&elf) {
-            Ok(detail) => {
-                println!("test {name} ... ok ({detail})");
-                passed += 1;
-            }
-            Err(e) => {
-                println!("test {name} ... FAILED: {e}");
-                failed += 1;
-            }
-        }
-    }
-    println!("== xtask test: fixed-point law in QEMU (micro:bit, Cortex-M0)");
-    let name = "qemu::fixed_point_law_on_cortex_m0_equals_the_host_and_the_paper";
-    match fixed_point_on_cortex_m0() {
+    let mut record = |name: &str, outcome: Outcome| match outcome {
         Ok(detail) => {
             println!("test {name} ... ok ({detail})");
             passed += 1;
@@ -236,6 +222,14 @@ pub fn run() -> (u64, u64) {
             println!("test {name} ... FAILED: {e}");
             failed += 1;
         }
+    };
+    for (name, test) in tests {
+        record(name, test(&elf));
     }
+    println!("== xtask test: fixed-point law in QEMU (micro:bit, Cortex-M0)");
+    record(
+        "qemu::fixed_point_law_on_cortex_m0_equals_the_host_and_the_paper",
+        fixed_point_on_cortex_m0(),
+    );
     (passed, failed)
 }
