@@ -4,7 +4,7 @@
 //! Commands are curvatures in 1/m (theta_dot = v w); a turn rate in rad/s is v_max w.
 
 use crate::capture::{capture_time, CaptureTime, Variant};
-use crate::game::{GameSolution, MatrixGame};
+use crate::game::{ties_within, GameSolution, MatrixGame};
 use crate::geometry::{
     Direction, Limits, TurningCircle, Units, ValidTangent, VehicleLimits, VehicleState,
 };
@@ -57,15 +57,33 @@ pub struct GameReport<S> {
 impl<S: Scalar> GameReport<S> {
     /// The pair the two players chose, if it has a valid tangent.
     pub fn chosen_pair(&self) -> Option<&PairOutcome<S>> {
+        self.pair(self.solution.row, self.solution.col)
+    }
+
+    /// The pair of a pursuer circle and an evader circle, if it has a valid tangent.
+    pub fn pair(&self, pursuer: Direction, evader: Direction) -> Option<&PairOutcome<S>> {
         let [a_row, c_row] = &self.pairs;
-        let [a, c] = match self.solution.row {
+        let [a, c] = match pursuer {
             Direction::Anticlockwise => a_row,
             Direction::Clockwise => c_row,
         };
-        match self.solution.col {
+        match evader {
             Direction::Anticlockwise => a.as_ref(),
             Direction::Clockwise => c.as_ref(),
         }
+    }
+
+    /// Whether the game's prediction holds: a saddle (upper and lower within the tie band or
+    /// within `floor` seconds) whose chosen pair captures after the evader reaches its tangent
+    /// (not Algorithm 2's overshoot case, whose literal value is not a time the players can
+    /// realise). Below the theorem's threshold the near-field policy replaces the pursuer's
+    /// command where this is false.
+    pub fn trusted(&self, floor: S) -> bool {
+        let saddle = match (self.solution.upper, self.solution.lower) {
+            (Some(upper), Some(lower)) => ties_within(upper, lower, floor),
+            _ => false,
+        };
+        saddle && self.chosen_pair().is_some_and(|p| !p.capture.overshoot)
     }
 
     /// Predicted capture time, seconds: the upper value, the pursuer's min-max guarantee
@@ -129,8 +147,9 @@ pub struct Sampling<S> {
     pub evader_arc_tolerance: S,
     /// A stateful caller's previous (pursuer, evader) circles, kept where options tie.
     pub previous: Option<(Direction, Direction)>,
-    /// Absolute tie floor, seconds: a sampled caller's control period (0 for the instantaneous
-    /// law, whose ties are the relative band alone).
+    /// Absolute tie floor, seconds: for a sampled caller the capture-time equivalent of one
+    /// period's travel, dt v_pm / (v_pm - v_em) (0 for the instantaneous law, whose ties are the
+    /// relative band alone).
     pub tie_floor: S,
 }
 

@@ -44,5 +44,5 @@ pub use geometry::{
 };
 pub use law::{evaluate_observation, Command, Evaluation, GameReport, Law, Observation};
 pub use num::Scalar;
-pub use sampled::Guidance;
+pub use sampled::{Guidance, Policy};
 pub use status::Status;

@@ -6,20 +6,34 @@
 //! over one period: w = sigma min(w_max, alpha / (v_max dt)); w = 0 once on the tangent. An alpha
 //! within one period's turn of 2 pi (alpha > 2 pi - v_max w_max dt) counts as 0. Where options tie,
 //! the previous choice is kept, so a tail chase on a common line stays straight. Options count as
-//! tied within the law's relative band or within one control period dt of each other: a sampled
-//! controller cannot act on a shorter difference in capture time.
+//! tied within the law's relative band or within the capture-time equivalent of one period's
+//! travel, dt v_pm / (v_pm - v_em): a sampled controller knows where the pursuer is along its path
+//! only to within v_pm dt, which on a chase closing at v_pm - v_em is that much capture time.
 
-use crate::geometry::{Direction, VehicleLimits, VehicleState};
-use crate::law::{fallback_command, steer, Command, Evaluation, Law, Sampling};
+use crate::geometry::{Direction, Limits, TurningCircle, VehicleLimits, VehicleState};
+use crate::law::{bearing, fallback_command, steer, Command, Evaluation, Law, Sampling};
 use crate::num::Scalar;
 use crate::status::Status;
 
-/// A stateful caller of the law (firmware, host simulator): the law, the control period, and the
-/// previous choice of circles.
+/// Which feedback a [`Guidance`] applies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Policy {
+    /// The paper's law everywhere (the default).
+    #[default]
+    Paper,
+    /// The paper's law while the players are at least the theorem's threshold apart
+    /// ([`crate::Limits::theorem_threshold`]); below it the pursuer pursues (module docs).
+    NearField,
+}
+
+/// A stateful caller of the law (firmware, host simulator): the law, the control period, the
+/// policy and the previous choice of circles.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Guidance<S> {
     law: Law<S>,
+    policy: Policy,
     dt: S,
+    tie_floor: S,
     previous: Option<(Direction, Direction)>,
 }
 
@@ -38,14 +52,24 @@ impl<S: Scalar> Guidance<S> {
             return Err(InvalidPeriod);
         }
         let dt = S::from_f32(law.limits.units.time_from_seconds(dt));
-        if !(dt.is_valid() && dt > S::zero()) {
+        let pursuer_speed = law.limits.pursuer.v_max();
+        let tie_floor = dt * pursuer_speed / (pursuer_speed - law.limits.evader.v_max());
+        if !(dt.is_valid() && dt > S::zero() && tie_floor.is_valid()) {
             return Err(InvalidPeriod);
         }
         Ok(Guidance {
             law,
+            policy: Policy::Paper,
             dt,
+            tie_floor,
             previous: None,
         })
+    }
+
+    /// The same guidance with `policy`.
+    #[must_use]
+    pub fn with_policy(self, policy: Policy) -> Self {
+        Guidance { policy, ..self }
     }
 
     /// The law this guidance evaluates.
@@ -69,7 +93,7 @@ impl<S: Scalar> Guidance<S> {
             pursuer_arc_tolerance: self.arc_tolerance(&limits.pursuer),
             evader_arc_tolerance: self.arc_tolerance(&limits.evader),
             previous: self.previous,
-            tie_floor: self.dt,
+            tie_floor: self.tie_floor,
         };
         let mut evaluation = self.law.evaluate_sampled(pursuer, evader, &sampling);
         let dt = Some(self.dt);
@@ -98,7 +122,40 @@ impl<S: Scalar> Guidance<S> {
             (Status::NoValidTangent, _) => fallback_command(pursuer, evader, &limits, dt),
             _ => Command::straight(),
         };
+        let near = self.policy == Policy::NearField
+            && matches!(evaluation.status, Status::Ok | Status::NoValidTangent)
+            && pursuer.position().distance(evader.position()) < limits.theorem_threshold();
+        if near && !evaluation.report.is_some_and(|r| r.trusted(self.tie_floor)) {
+            evaluation.command.pursuer = lead_pursuit(pursuer, evader, &limits, self.dt);
+        }
         evaluation.check_command();
         evaluation
+    }
+}
+
+/// The near-field pursuer where the law's game is not to be trusted: it turns toward a lead point
+/// ahead of the evader, at most what one period needs, unless the evader is inside the pursuer's
+/// turning circle on that side, where turning cannot bring it ahead: then it goes straight to
+/// open the distance. The lead point is where the evader would be, holding its course, after half
+/// the time the pursuer needs to reach the evader's present position (a full lead overshoots an
+/// evader that turns). A bearing within half a period's turn counts as on course: straight.
+fn lead_pursuit<S: Scalar>(
+    pursuer: &VehicleState<S>,
+    evader: &VehicleState<S>,
+    limits: &Limits<S>,
+    dt: S,
+) -> S {
+    let p = &limits.pursuer;
+    let distance = pursuer.position().distance(evader.position());
+    let lead = limits.evader.v_max() * distance / (p.v_max() + p.v_max());
+    let (sin, cos) = evader.theta.sin_cos();
+    let to_go = bearing(pursuer, evader.x + lead * cos, evader.y + lead * sin);
+    let [a, c] = TurningCircle::both(pursuer, p);
+    let side = if to_go >= S::zero() { a } else { c };
+    let on_course = to_go.abs() + to_go.abs() <= p.max_turn_rate() * dt;
+    if on_course || side.centre().distance(evader.position()) < side.radius {
+        S::zero()
+    } else {
+        steer(to_go, p, Some(dt))
     }
 }

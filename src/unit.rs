@@ -11,7 +11,7 @@ use crate::law::{Evaluation, Law};
 use crate::message::{
     kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg, NO_CIRCLE, ROLE_EVADER, ROLE_PURSUER,
 };
-use crate::sampled::Guidance;
+use crate::sampled::{Guidance, Policy};
 use crate::status::Status;
 use crate::wire::{encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME};
 
@@ -282,16 +282,19 @@ fn configure(message: &Configure) -> Result<Configured, WireError> {
         1 => Variant::Clamped,
         _ => return Err(WireError::InvalidConfig),
     };
+    let policy = match message.policy {
+        0 => Policy::Paper,
+        1 => Policy::NearField,
+        _ => return Err(WireError::InvalidConfig),
+    };
     let roles_valid = message.roles != 0 && message.roles & !(ROLE_PURSUER | ROLE_EVADER) == 0;
     let watchdog = message.watchdog;
-    if !roles_valid
-        || message.policy != 0
-        || !(watchdog.is_finite() && watchdog > 0.0 && watchdog <= MAX_WATCHDOG_S)
-    {
+    if !(roles_valid && watchdog.is_finite() && watchdog > 0.0 && watchdog <= MAX_WATCHDOG_S) {
         return Err(WireError::InvalidConfig);
     }
     let guidance = Guidance::new(Law::new(limits, variant), message.dt)
-        .map_err(|_| WireError::InvalidConfig)?;
+        .map_err(|_| WireError::InvalidConfig)?
+        .with_policy(policy);
     // In range by the check above: at most 3.6e6 ms.
     let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
     Ok(Configured {

@@ -3,7 +3,7 @@
 //!
 //! Capture is the first time the distance falls to `eps`, interpolated within its step.
 
-use twocars::{Direction, Guidance, Law, Observation, Scalar, Status, Variant};
+use twocars::{Direction, Guidance, Law, Observation, Policy, Scalar, Status, Variant};
 
 /// Number of sub-samples per step used to find the capture instant and the minimum distance.
 const SUBSAMPLES: usize = 16;
@@ -68,8 +68,28 @@ pub struct SimResult {
     /// Steps, summed over both players, whose w has the opposite sign to that player's last w
     /// with |w| > 1e-6 w_max.
     pub sign_flips: u64,
+    /// The sign flips counted while the players were closer than the theorem's threshold
+    /// 2 r_e + 2 pi r_e v_pm / v_em (the near field).
+    pub near_field_sign_flips: u64,
     /// Both trajectories, one (t, pursuer, evader) per step, if recording was asked for.
     pub trajectory: Vec<(f64, [f64; 3], [f64; 3])>,
+}
+
+impl SimResult {
+    /// A result with `status`, nothing simulated yet: times infinite, no switches or flips.
+    pub fn empty(status: SimStatus, d_min: f64) -> Self {
+        SimResult {
+            status,
+            t_capture: f64::INFINITY,
+            predicted: f64::INFINITY,
+            predicted_lower: f64::INFINITY,
+            d_min,
+            switches: 0,
+            sign_flips: 0,
+            near_field_sign_flips: 0,
+            trajectory: Vec::new(),
+        }
+    }
 }
 
 /// Exact Dubins motion for `t` seconds at speed `v` (m/s) and curvature `w` (1/m).
@@ -102,21 +122,31 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
+/// The theorem's distance threshold 2 r_e + 2 pi r_e v_pm / v_em, metres, for limits
+/// (v_pm, w_pm, v_em, w_em).
+pub fn theorem_threshold(limits: [f64; 4]) -> f64 {
+    let [v_pm, _, v_em, w_em] = limits;
+    let r_e = 1.0 / w_em;
+    2.0 * r_e + std::f64::consts::TAU * r_e * v_pm / v_em
+}
+
 /// Per-player sign-flip counter.
 #[derive(Default)]
 struct SignFlips {
     last: [f64; 2],
     count: u64,
+    near_field: u64,
 }
 
 impl SignFlips {
-    fn record(&mut self, player: usize, w: f64, w_max: f64) {
+    fn record(&mut self, player: usize, w: f64, w_max: f64, near_field: bool) {
         let Some(last) = self.last.get_mut(player) else {
             return;
         };
         if w.abs() > 1e-6 * w_max {
             if *last != 0.0 && last.signum() != w.signum() {
                 self.count += 1;
+                self.near_field += u64::from(near_field);
             }
             *last = w;
         }
@@ -152,16 +182,8 @@ pub fn closed_loop<E>(
     record: bool,
     mut controller: impl FnMut(f64, [f64; 3], [f64; 3]) -> Result<StepCommand, E>,
 ) -> Result<SimResult, E> {
-    let mut result = SimResult {
-        status: SimStatus::Timeout,
-        t_capture: f64::INFINITY,
-        predicted: f64::INFINITY,
-        predicted_lower: f64::INFINITY,
-        d_min: distance(params.pursuer, params.evader),
-        switches: 0,
-        sign_flips: 0,
-        trajectory: Vec::new(),
-    };
+    let mut result = SimResult::empty(SimStatus::Timeout, distance(params.pursuer, params.evader));
+    let threshold = theorem_threshold(params.limits);
     let SimParams { dt, t_max, eps, .. } = *params;
     let [v_pm, w_pm, v_em, w_em] = params.limits;
     let (mut p, mut e) = (params.pursuer, params.evader);
@@ -180,8 +202,9 @@ pub fn closed_loop<E>(
             }
             previous = Some(choice);
         }
-        flips.record(0, command.pursuer, w_pm);
-        flips.record(1, command.evader, w_em);
+        let near_field = distance(p, e) < threshold;
+        flips.record(0, command.pursuer, w_pm, near_field);
+        flips.record(1, command.evader, w_em, near_field);
         // Find the first sub-sample at or below eps; bisect the crossing within it.
         let at = |tau: f64| {
             (
@@ -212,6 +235,7 @@ pub fn closed_loop<E>(
                 result.status = SimStatus::Captured;
                 result.t_capture = t0 + hi;
                 result.sign_flips = flips.count;
+                result.near_field_sign_flips = flips.near_field;
                 result.d_min = result.d_min.min(eps);
                 return Ok(result);
             }
@@ -222,21 +246,21 @@ pub fn closed_loop<E>(
         e = [ne[0], ne[1], wrap_pi(ne[2])];
     }
     result.sign_flips = flips.count;
+    result.near_field_sign_flips = flips.near_field;
     Ok(result)
 }
 
-/// Runs the closed loop with the paper's law on backend `S`.
-pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -> SimResult {
-    let idle = SimResult {
-        status: SimStatus::InvalidSimParams,
-        t_capture: f64::INFINITY,
-        predicted: f64::INFINITY,
-        predicted_lower: f64::INFINITY,
-        d_min: distance(params.pursuer, params.evader),
-        switches: 0,
-        sign_flips: 0,
-        trajectory: Vec::new(),
-    };
+/// Runs the closed loop with the law on backend `S`, read with `variant`, under `policy`.
+pub fn simulate<S: Scalar>(
+    params: &SimParams,
+    variant: Variant,
+    policy: Policy,
+    record: bool,
+) -> SimResult {
+    let idle = SimResult::empty(
+        SimStatus::InvalidSimParams,
+        distance(params.pursuer, params.evader),
+    );
     if !valid_params(params) {
         return idle;
     }
@@ -274,9 +298,10 @@ pub fn simulate<S: Scalar>(params: &SimParams, variant: Variant, record: bool) -
             }
         }
     };
-    let Ok(mut guidance) = Guidance::new(Law::new(scene.limits, variant), params.dt as f32) else {
+    let Ok(guidance) = Guidance::new(Law::new(scene.limits, variant), params.dt as f32) else {
         return idle;
     };
+    let mut guidance = guidance.with_policy(policy);
     // The vehicles move with the limits the law was given (f32), so both see the same car.
     let params = SimParams {
         limits: observation.limits.map(f64::from),

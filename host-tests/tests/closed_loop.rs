@@ -5,9 +5,10 @@ mod common;
 
 use common::{paper_scene, scene, seeded_runner, Scene};
 use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
-use host_tests::sim::{simulate, SimParams, SimResult, SimStatus};
+use host_tests::sim::{simulate, theorem_threshold, SimParams, SimResult, SimStatus};
 use proptest::strategy::Strategy;
-use twocars::Variant;
+use std::f64::consts::PI;
+use twocars::{Policy, Variant};
 
 const DT: f64 = 0.001;
 const EPS: f64 = 0.01;
@@ -32,15 +33,9 @@ fn params(s: &Scene, dt: f64) -> SimParams {
     }
 }
 
-fn threshold(limits: [f64; 4]) -> f64 {
-    let [v_pm, _, v_em, w_em] = limits;
-    let r_e = 1.0 / w_em;
-    2.0 * r_e + 2.0 * std::f64::consts::PI * r_e * v_pm / v_em
-}
-
 fn above_threshold(s: &Scene) -> bool {
     let d0 = (s.pursuer[0] - s.evader[0]).hypot(s.pursuer[1] - s.evader[1]);
-    d0 >= threshold(s.limits)
+    d0 >= theorem_threshold(s.limits)
 }
 
 /// Capture time to eps, plus the time the pursuer needs to close the last eps (at v_pm - v_em on
@@ -70,7 +65,7 @@ fn above_the_threshold_at_the_paper_limits_capture_matches_the_prediction() {
     let far = paper_scene(40.0).prop_filter("above threshold", above_threshold);
     seeded_runner(64)
         .run(&far, |s| {
-            let r = simulate::<f32>(&params(&s, DT), Variant::Paper, false);
+            let r = simulate::<f32>(&params(&s, DT), Variant::Paper, Policy::Paper, false);
             check_capture_matches_prediction(&r, s.limits);
             assert!(
                 r.sign_flips <= MAX_SIGN_FLIPS,
@@ -82,36 +77,116 @@ fn above_the_threshold_at_the_paper_limits_capture_matches_the_prediction() {
         .unwrap();
 }
 
-/// At random limits the capture time matches too. Sign flips are printed, not bounded: slow
-/// closing chases (v_pm / v_em near 1.1, captures after 10^2 to 10^3 s) dither in their last
-/// seconds (see the closing note of issue 4).
+fn quantiles(mut values: Vec<u64>) -> (u64, u64, u64) {
+    values.sort_unstable();
+    let at = |q: f64| {
+        values
+            .get(((values.len().max(1) - 1) as f64 * q) as usize)
+            .copied()
+            .unwrap_or(0)
+    };
+    (at(0.5), at(0.9), at(1.0))
+}
+
+/// At random limits the capture time matches too, and while the players are at least the
+/// theorem's threshold apart the command does not chatter. Over whole runs the sign flips are
+/// printed, not bounded: slow-closing chases (v_pm / v_em near 1.1) dither in their last
+/// centimetres, in the near field (see docs/closed-loop.md).
 #[test]
 fn above_the_threshold_at_random_limits_capture_matches_the_prediction() {
     let far = scene(60.0).prop_filter("above threshold", above_threshold);
     let flips = std::cell::RefCell::new(Vec::new());
     seeded_runner(64)
         .run(&far, |s| {
-            let r = simulate::<f32>(&params(&s, DT), Variant::Paper, false);
+            let r = simulate::<f32>(&params(&s, DT), Variant::Paper, Policy::Paper, false);
             check_capture_matches_prediction(&r, s.limits);
-            flips.borrow_mut().push(r.sign_flips);
+            let far_flips = r.sign_flips - r.near_field_sign_flips;
+            assert!(
+                far_flips <= MAX_SIGN_FLIPS,
+                "{far_flips} sign flips above the threshold"
+            );
+            flips.borrow_mut().push((r.sign_flips, far_flips));
             Ok(())
         })
         .unwrap();
-    let mut flips = flips.into_inner();
-    flips.sort_unstable();
-    let at = |q: f64| {
-        flips
-            .get(((flips.len() - 1) as f64 * q) as usize)
-            .copied()
-            .unwrap_or(0)
-    };
+    let flips = flips.into_inner();
+    let (median, p90, max) = quantiles(flips.iter().map(|f| f.0).collect());
+    let (_, _, far_max) = quantiles(flips.iter().map(|f| f.1).collect());
     println!(
-        "random limits, {} runs: sign flips median {}, 90th percentile {}, max {}",
-        flips.len(),
-        at(0.5),
-        at(0.9),
-        at(1.0)
+        "random limits, {} runs: sign flips per run median {median}, 90th percentile {p90}, max {max}; \
+         above the threshold max {far_max}",
+        flips.len()
     );
+}
+
+/// The near-field policy equals the paper's law above the threshold: runs that start there
+/// capture no later with it (it only changes the pursuer once the players are closer).
+#[test]
+fn the_near_field_policy_does_not_lengthen_runs_from_above_the_threshold() {
+    let far = scene(60.0).prop_filter("above threshold", above_threshold);
+    seeded_runner(32)
+        .run(&far, |s| {
+            let p = params(&s, DT);
+            let paper = simulate::<f32>(&p, Variant::Paper, Policy::Paper, false);
+            let near = simulate::<f32>(&p, Variant::Paper, Policy::NearField, false);
+            assert_eq!(near.status, SimStatus::Captured, "{near:?}");
+            assert!(
+                near.t_capture <= paper.t_capture + FEW_DT,
+                "near-field {} vs paper {}",
+                near.t_capture,
+                paper.t_capture
+            );
+            Ok(())
+        })
+        .unwrap();
+}
+
+/// Below the threshold, at the paper's limits and initial distances 2 to 6.5 m, the near-field
+/// policy shortens the mean capture time and the worst lateness past the law's own prediction,
+/// and does not chatter.
+#[test]
+fn below_the_threshold_the_near_field_policy_shortens_the_worst_capture() {
+    let near = (2.0f64..6.5, -PI..PI, -PI..PI, -PI..PI);
+    let runs = std::cell::RefCell::new(Vec::new());
+    seeded_runner(200)
+        .run(&near, |(d0, bearing, theta_p, theta_e)| {
+            let p = SimParams {
+                limits: PAPER_LIMITS,
+                pursuer: [0.0, 0.0, theta_p],
+                evader: [d0 * bearing.cos(), d0 * bearing.sin(), theta_e],
+                dt: 0.01,
+                t_max: 30.0,
+                eps: EPS,
+            };
+            let paper = simulate::<f32>(&p, Variant::Paper, Policy::Paper, false);
+            let ours = simulate::<f32>(&p, Variant::Paper, Policy::NearField, false);
+            assert_eq!(ours.status, SimStatus::Captured, "{p:?}");
+            runs.borrow_mut().push((paper, ours));
+            Ok(())
+        })
+        .unwrap();
+    let runs = runs.into_inner();
+    // Worst lateness: capture time past the law's own prediction at t = 0.
+    let late = |r: &SimResult| r.t_capture - r.predicted;
+    let worst = |pick: fn(&(SimResult, SimResult)) -> &SimResult| {
+        runs.iter().map(|r| late(pick(r))).fold(f64::MIN, f64::max)
+    };
+    let mean = |pick: fn(&(SimResult, SimResult)) -> &SimResult| {
+        runs.iter().map(|r| pick(r).t_capture).sum::<f64>() / runs.len() as f64
+    };
+    let (paper_late, ours_late) = (worst(|r| &r.0), worst(|r| &r.1));
+    let (paper_mean, ours_mean) = (mean(|r| &r.0), mean(|r| &r.1));
+    let (_, _, ours_flips) = quantiles(runs.iter().map(|r| r.1.sign_flips).collect());
+    let (_, _, paper_flips) = quantiles(runs.iter().map(|r| r.0.sign_flips).collect());
+    println!(
+        "near field, {} runs: mean capture paper {paper_mean:.3} s, near-field {ours_mean:.3} s; \
+         worst lateness past the prediction paper {paper_late:.3} s, near-field {ours_late:.3} s; \
+         max sign flips paper {paper_flips}, near-field {ours_flips}",
+        runs.len()
+    );
+    assert!(ours_late < paper_late);
+    assert!(ours_mean < paper_mean);
+    assert!(ours_flips <= MAX_SIGN_FLIPS, "{ours_flips} sign flips");
 }
 
 #[test]
@@ -123,7 +198,7 @@ fn the_paper_cases_capture_as_predicted_without_chattering() {
                 pursuer: case.pursuer,
                 evader: case.evader,
             };
-            let r = simulate::<f32>(&params(&s, dt), Variant::Paper, false);
+            let r = simulate::<f32>(&params(&s, dt), Variant::Paper, Policy::Paper, false);
             assert_eq!(r.status, SimStatus::Captured, "{}", case.name);
             let closed = r.t_capture + EPS / (PAPER_LIMITS[0] - PAPER_LIMITS[2]);
             assert!(
@@ -170,6 +245,7 @@ fn invalid_parameters_and_initial_statuses_are_reported() {
                 ..params(&s, 0.01)
             },
             Variant::Paper,
+            Policy::Paper,
             false,
         );
         assert_eq!(r.status, SimStatus::InvalidSimParams, "{dt} {t_max} {eps}");
@@ -178,7 +254,7 @@ fn invalid_parameters_and_initial_statuses_are_reported() {
         limits: [1.0, 2.0, 2.0, 1.0],
         ..s
     };
-    let r = simulate::<f32>(&params(&bad, 0.01), Variant::Paper, false);
+    let r = simulate::<f32>(&params(&bad, 0.01), Variant::Paper, Policy::Paper, false);
     assert_eq!(r.status.name(), "invalid_limits");
     let far = Scene {
         evader: [40.0, 0.0, 0.0],
@@ -190,6 +266,7 @@ fn invalid_parameters_and_initial_statuses_are_reported() {
             ..params(&far, 0.01)
         },
         Variant::Paper,
+        Policy::Paper,
         false,
     );
     assert_eq!(r.status, SimStatus::Timeout);

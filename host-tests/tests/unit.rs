@@ -179,3 +179,56 @@ fn a_gap_in_the_senders_timestamps_latches_even_when_frames_keep_arriving() {
     );
     assert_eq!(unit.counters().stale, 2);
 }
+
+#[test]
+fn the_configure_message_selects_the_policy() {
+    let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
+    let guidance = |policy| {
+        Guidance::new(Law::new(limits, Variant::Paper), 0.01)
+            .unwrap()
+            .with_policy(policy)
+    };
+    // A near-field state (1 m apart, well below the threshold of 14.57 m) where the two
+    // policies command the pursuer differently: its game is not a saddle.
+    let state = (0..360)
+        .map(|k| {
+            let theta_e = k as f32 * core::f32::consts::TAU / 360.0;
+            twocars::message::StateMsg {
+                time_ms: 0,
+                pursuer: [0.0, 0.0, 0.0],
+                evader: [0.6, 0.8, theta_e],
+            }
+        })
+        .find(|s| {
+            let p = VehicleState::new(s.pursuer[0], s.pursuer[1], s.pursuer[2]).unwrap();
+            let e = VehicleState::new(s.evader[0], s.evader[1], s.evader[2]).unwrap();
+            let paper = guidance(twocars::Policy::Paper).step(&p, &e).command;
+            let near = guidance(twocars::Policy::NearField).step(&p, &e).command;
+            paper.pursuer != near.pursuer
+        })
+        .expect("a state where the policies differ");
+    let p = VehicleState::new(state.pursuer[0], state.pursuer[1], state.pursuer[2]).unwrap();
+    let e = VehicleState::new(state.evader[0], state.evader[1], state.evader[2]).unwrap();
+    for (byte, policy) in [(0, twocars::Policy::Paper), (1, twocars::Policy::NearField)] {
+        let mut unit = Unit::new();
+        let config = twocars::message::Configure {
+            policy: byte,
+            ..paper_configure()
+        };
+        send(&mut unit, &link::configure(1, &config), 0);
+        let c = command(&send(&mut unit, &link::state(2, &state), 0));
+        let want = guidance(policy).step(&p, &e).command;
+        assert_eq!(c.pursuer_rate.to_bits(), (2.0 * want.pursuer).to_bits());
+        assert_eq!(c.evader_rate.to_bits(), want.evader.to_bits());
+    }
+    let mut unit = Unit::new();
+    let config = twocars::message::Configure {
+        policy: 2,
+        ..paper_configure()
+    };
+    let replies = send(&mut unit, &link::configure(1, &config), 0);
+    assert!(
+        matches!(replies[..], [Reply::Error(Some(1), e)] if WireError::from_code(e.code) == Some(WireError::InvalidConfig)),
+        "{replies:?}"
+    );
+}

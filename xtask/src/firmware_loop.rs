@@ -59,16 +59,7 @@ pub fn run_case(
     let mut host = Guidance::new(Law::new(limits, Variant::Paper), params.dt as f32)
         .map_err(|_| "invalid dt".to_string())?;
     let mut run = FirmwareRun {
-        result: SimResult {
-            status: host_tests::sim::SimStatus::Timeout,
-            t_capture: f64::INFINITY,
-            predicted: f64::INFINITY,
-            predicted_lower: f64::INFINITY,
-            d_min: f64::INFINITY,
-            switches: 0,
-            sign_flips: 0,
-            trajectory: Vec::new(),
-        },
+        result: SimResult::empty(host_tests::sim::SimStatus::Timeout, f64::INFINITY),
         predicted: f64::NAN,
         states_sent: 0,
         commands_received: 0,

@@ -26,7 +26,7 @@ cargo xtask <command> [options]
   fuzz    the libFuzzer targets from their seed corpora  [--seconds S | --runs N] [--write-seeds] [target..]
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
-  sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper]
+  sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper|near-field]
 ";
 
 fn main() -> ExitCode {

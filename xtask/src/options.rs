@@ -1,6 +1,6 @@
 //! Options shared by the doors: `--variant`, `--numeric`, `--policy`.
 
-use twocars::Variant;
+use twocars::{Policy, Variant};
 
 /// Numeric backend of the law.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,6 +47,8 @@ pub struct Options {
     pub variant: Variant,
     /// Numeric backend.
     pub numeric: Numeric,
+    /// The paper's law everywhere, or ours below the theorem's threshold.
+    pub policy: Policy,
 }
 
 /// Parses `--variant`, `--numeric` and `--policy`; other arguments are returned for the command.
@@ -54,6 +56,7 @@ pub fn parse(args: &[String]) -> Result<(Options, Vec<String>), String> {
     let mut options = Options {
         variant: Variant::Paper,
         numeric: Numeric::F32,
+        policy: Policy::Paper,
     };
     let mut rest = Vec::new();
     let mut it = args.iter();
@@ -89,15 +92,13 @@ pub fn parse(args: &[String]) -> Result<(Options, Vec<String>), String> {
                     }
                 }
             }
-            "--policy" => match value()?.as_str() {
-                "paper" => {}
-                v @ "near-field" => {
-                    return Err(format!(
-                        "--policy {v}: this policy has not landed yet (issue 9)"
-                    ))
+            "--policy" => {
+                options.policy = match value()?.as_str() {
+                    "paper" => Policy::Paper,
+                    "near-field" => Policy::NearField,
+                    v => return Err(format!("--policy {v}: expected paper or near-field")),
                 }
-                v => return Err(format!("--policy {v}: expected paper or near-field")),
-            },
+            }
             _ => rest.push(arg.clone()),
         }
     }

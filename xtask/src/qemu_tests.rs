@@ -10,7 +10,7 @@ use host_tests::session::{paper_configure, paper_state, script};
 use host_tests::sim::{simulate, SimParams};
 use twocars::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::unit::{Unit, STATUS_STALE_INPUT};
-use twocars::Variant;
+use twocars::{Policy, Variant};
 
 use crate::firmware_loop;
 use crate::qemu::{self, Board, Qemu};
@@ -87,7 +87,7 @@ fn closed_loop(elf: &std::path::Path) -> Outcome {
         };
         let fw =
             firmware_loop::run_case(&mut q, &mut sequence, &params, ROLE_PURSUER | ROLE_EVADER)?;
-        let host = simulate::<f32>(&params, Variant::Paper, false);
+        let host = simulate::<f32>(&params, Variant::Paper, Policy::Paper, false);
         let diff = fw.result.t_capture - host.t_capture;
         // Stated tolerance: one control period (the same f32 code runs on both sides).
         if fw.result.status != host.status || diff.abs() > params.dt || fw.errors_received > 0 {

@@ -23,7 +23,7 @@ pub fn params(f: &[f64; 13]) -> SimParams {
 
 /// Runs one set of parameters on the chosen backend.
 pub fn run_one(p: &SimParams, options: &Options, record: bool) -> SimResult {
-    with_numeric!(options.numeric, S => simulate::<S>(p, options.variant, record))
+    with_numeric!(options.numeric, S => simulate::<S>(p, options.variant, options.policy, record))
 }
 
 /// One output row.
