@@ -35,6 +35,15 @@ pub struct Guidance<S> {
     dt: S,
     tie_floor: S,
     previous: Option<(Direction, Direction)>,
+    near_field: NearFieldMemory<S>,
+}
+
+/// What the near-field policy remembers: the law's last upper value (seconds) and whether the
+/// pursuer has left the law for lead pursuit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct NearFieldMemory<S> {
+    last_upper: Option<S>,
+    pursuing: bool,
 }
 
 /// Why a control period is not usable.
@@ -63,6 +72,10 @@ impl<S: Scalar> Guidance<S> {
             dt,
             tie_floor,
             previous: None,
+            near_field: NearFieldMemory {
+                last_upper: None,
+                pursuing: false,
+            },
         })
     }
 
@@ -80,6 +93,10 @@ impl<S: Scalar> Guidance<S> {
     /// Forgets the previous choice (a new engagement).
     pub fn reset(&mut self) {
         self.previous = None;
+        self.near_field = NearFieldMemory {
+            last_upper: None,
+            pursuing: false,
+        };
     }
 
     fn arc_tolerance(&self, limits: &VehicleLimits<S>) -> S {
@@ -125,18 +142,44 @@ impl<S: Scalar> Guidance<S> {
         let near = self.policy == Policy::NearField
             && matches!(evaluation.status, Status::Ok | Status::NoValidTangent)
             && pursuer.position().distance(evader.position()) < limits.theorem_threshold();
-        if near && !evaluation.report.is_some_and(|r| r.trusted(self.tie_floor)) {
-            evaluation.command.pursuer = lead_pursuit(pursuer, evader, &limits, self.dt);
+        if near {
+            if self.near_field_lost(&evaluation) {
+                self.near_field.pursuing = true;
+            }
+            if self.near_field.pursuing {
+                evaluation.command.pursuer = lead_pursuit(pursuer, evader, &limits, self.dt);
+            }
+        } else {
+            self.near_field = NearFieldMemory {
+                last_upper: None,
+                pursuing: false,
+            };
         }
         evaluation.check_command();
         evaluation
     }
 }
 
+impl<S: Scalar> Guidance<S> {
+    /// Whether, in the near field, the law has lost its own prediction: on the first near-field
+    /// period its game is not trusted ([`crate::GameReport::trusted`]); later, its upper value
+    /// rose instead of falling by dt (beyond the tie floor). Records the upper value.
+    fn near_field_lost(&mut self, evaluation: &Evaluation<S>) -> bool {
+        let upper = evaluation.report.and_then(|r| r.solution.upper);
+        let lost = match (self.near_field.last_upper, upper) {
+            (_, None) => true,
+            (None, Some(_)) => !evaluation.report.is_some_and(|r| r.trusted(self.tie_floor)),
+            (Some(last), Some(now)) => now > last - self.dt + self.tie_floor,
+        };
+        self.near_field.last_upper = upper;
+        lost
+    }
+}
+
 /// The near-field pursuer where the law's game is not to be trusted: it turns toward a lead point
 /// ahead of the evader, at most what one period needs, unless the evader is inside the pursuer's
-/// turning circle on that side, where turning cannot bring it ahead: then it goes straight to
-/// open the distance. The lead point is where the evader would be, holding its course, after half
+/// turning circle on that side and more than one period's turn off the nose, where turning cannot
+/// bring it ahead: then it goes straight to open the distance. The lead point is where the evader would be, holding its course, after half
 /// the time the pursuer needs to reach the evader's present position (a full lead overshoots an
 /// evader that turns). A bearing within half a period's turn counts as on course: straight.
 fn lead_pursuit<S: Scalar>(
@@ -152,8 +195,13 @@ fn lead_pursuit<S: Scalar>(
     let to_go = bearing(pursuer, evader.x + lead * cos, evader.y + lead * sin);
     let [a, c] = TurningCircle::both(pursuer, p);
     let side = if to_go >= S::zero() { a } else { c };
-    let on_course = to_go.abs() + to_go.abs() <= p.max_turn_rate() * dt;
-    if on_course || side.centre().distance(evader.position()) < side.radius {
+    let period_turn = p.max_turn_rate() * dt;
+    // Within a few periods' travel a heading error is a miss distance: aim exactly there.
+    let close = distance < S::from_f32(4.0) * p.v_max() * dt;
+    let on_course = !close && to_go.abs() + to_go.abs() <= period_turn;
+    let out_of_reach =
+        to_go.abs() > period_turn && side.centre().distance(evader.position()) < side.radius;
+    if on_course || out_of_reach {
         S::zero()
     } else {
         steer(to_go, p, Some(dt))

@@ -8,6 +8,7 @@ mod fuzz;
 mod options;
 mod qemu;
 mod qemu_tests;
+mod report;
 mod run;
 mod sim;
 mod size;
@@ -27,6 +28,8 @@ cargo xtask <command> [options]
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
   sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper|near-field]
+  report  closed-loop Monte Carlo, both policies, split at the theorem's threshold  [--runs N] [--seed S] [--dt S]
+  plot    SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatter
 ";
 
 fn main() -> ExitCode {
@@ -51,6 +54,7 @@ fn main() -> ExitCode {
         ("test", Ok(_)) => test::run(),
         ("bench", Ok(_)) => bench::run(),
         ("fuzz", Ok((_, rest))) => fuzz::command(&rest),
+        ("report", Ok((_, rest))) => report::command(&rest),
         ("build", Ok((_, rest))) => qemu::build_command(&rest),
         (other, Ok(_)) => {
             eprintln!("xtask: unknown command `{other}`\n{HELP}");
