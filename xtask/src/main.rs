@@ -6,6 +6,7 @@ mod eval;
 mod firmware_loop;
 mod fuzz;
 mod options;
+mod plot;
 mod qemu;
 mod qemu_tests;
 mod report;
@@ -55,6 +56,7 @@ fn main() -> ExitCode {
         ("bench", Ok(_)) => bench::run(),
         ("fuzz", Ok((_, rest))) => fuzz::command(&rest),
         ("report", Ok((_, rest))) => report::command(&rest),
+        ("plot", Ok(_)) => plot::command(),
         ("build", Ok((_, rest))) => qemu::build_command(&rest),
         (other, Ok(_)) => {
             eprintln!("xtask: unknown command `{other}`\n{HELP}");

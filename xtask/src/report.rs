@@ -310,3 +310,25 @@ pub fn command(args: &[String]) -> i32 {
     );
     0
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_monte_carlo_is_seeded_and_covers_both_regimes() {
+        let a = monte_carlo(24, 7, 0.01);
+        let b = monte_carlo(24, 7, 0.01);
+        assert_eq!(a.len(), 24);
+        assert!(a.iter().any(|r| r.regime == Regime::Far));
+        assert!(a.iter().any(|r| r.regime == Regime::Near));
+        for (x, y) in a.iter().zip(&b) {
+            assert_eq!(x.paper.t_capture.to_bits(), y.paper.t_capture.to_bits());
+            let d0 = (x.params.evader[0]).hypot(x.params.evader[1]);
+            assert_eq!(
+                d0 >= theorem_threshold(x.params.limits),
+                x.regime == Regime::Far
+            );
+        }
+    }
+}

@@ -1,0 +1,525 @@
+//! `cargo xtask plot`: SVG figures in target/plots/ — the paper's four cases in closed loop, a
+//! value map, and the Monte-Carlo scatter of simulated against predicted capture time.
+//!
+//! The SVG is written here by hand (lines, circles, rectangles, text): no font or plotting
+//! dependency.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
+use host_tests::sim::{simulate, SimParams, SimStatus};
+use twocars::{Direction, Law, Observation, Policy, TurningCircle, Variant, VehicleState};
+
+const PURSUER: &str = "#1f5fbf";
+const EVADER: &str = "#d0402b";
+
+/// A drawing: an SVG canvas and a linear map from a world rectangle into a plot area.
+struct Figure {
+    body: String,
+    width: f64,
+    height: f64,
+    /// World x range, y range.
+    x: (f64, f64),
+    y: (f64, f64),
+    /// Plot area in pixels: left, top, width, height.
+    area: (f64, f64, f64, f64),
+}
+
+impl Figure {
+    fn new(width: f64, height: f64, x: (f64, f64), y: (f64, f64)) -> Self {
+        Figure {
+            body: String::new(),
+            width,
+            height,
+            x,
+            y,
+            area: (60.0, 40.0, width - 90.0, height - 90.0),
+        }
+    }
+
+    /// A figure whose world rectangle keeps equal scales on both axes (for geometry).
+    fn equal(size: f64, centre: (f64, f64), half: f64) -> Self {
+        Figure::new(
+            size,
+            size,
+            (centre.0 - half, centre.0 + half),
+            (centre.1 - half, centre.1 + half),
+        )
+    }
+
+    fn px(&self, x: f64, y: f64) -> (f64, f64) {
+        let (left, top, w, h) = self.area;
+        (
+            left + (x - self.x.0) / (self.x.1 - self.x.0) * w,
+            top + h - (y - self.y.0) / (self.y.1 - self.y.0) * h,
+        )
+    }
+
+    fn scale(&self) -> f64 {
+        self.area.2 / (self.x.1 - self.x.0)
+    }
+
+    fn polyline(&mut self, points: &[(f64, f64)], colour: &str, width: f64, dash: &str) {
+        let mut d = String::new();
+        for &(x, y) in points {
+            let (a, b) = self.px(x, y);
+            let _ = write!(d, "{a:.1},{b:.1} ");
+        }
+        let _ = writeln!(
+            self.body,
+            r#"<polyline points="{d}" fill="none" stroke="{colour}" stroke-width="{width}" stroke-dasharray="{dash}"/>"#
+        );
+    }
+
+    fn circle(&mut self, x: f64, y: f64, r_world: f64, stroke: &str, fill: &str, dash: &str) {
+        let (a, b) = self.px(x, y);
+        let r = r_world * self.scale();
+        let _ = writeln!(
+            self.body,
+            r#"<circle cx="{a:.1}" cy="{b:.1}" r="{r:.1}" stroke="{stroke}" fill="{fill}" stroke-dasharray="{dash}"/>"#
+        );
+    }
+
+    fn dot(&mut self, x: f64, y: f64, radius_px: f64, fill: &str) {
+        let (a, b) = self.px(x, y);
+        let _ = writeln!(
+            self.body,
+            r#"<circle cx="{a:.1}" cy="{b:.1}" r="{radius_px}" fill="{fill}"/>"#
+        );
+    }
+
+    fn cell(&mut self, x: f64, y: f64, w: f64, h: f64, fill: &str) {
+        let (a, b) = self.px(x, y + h);
+        let (c, d) = self.px(x + w, y);
+        let _ = writeln!(
+            self.body,
+            r#"<rect x="{a:.1}" y="{b:.1}" width="{:.1}" height="{:.1}" fill="{fill}"/>"#,
+            c - a + 0.5,
+            d - b + 0.5
+        );
+    }
+
+    fn text(&mut self, x_px: f64, y_px: f64, size: f64, anchor: &str, text: &str) {
+        let text = text
+            .replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('>', "&gt;");
+        let _ = writeln!(
+            self.body,
+            r#"<text x="{x_px:.1}" y="{y_px:.1}" font-family="sans-serif" font-size="{size}" text-anchor="{anchor}">{text}</text>"#
+        );
+    }
+
+    /// Frame, ticks at `step` (world units; labels through `label`), axis names and a title.
+    fn axes(
+        &mut self,
+        step: (f64, f64),
+        label: fn(f64) -> String,
+        names: (&str, &str),
+        title: &str,
+    ) {
+        let (left, top, w, h) = self.area;
+        let _ = writeln!(
+            self.body,
+            r#"<rect x="{left}" y="{top}" width="{w}" height="{h}" fill="none" stroke="black"/>"#
+        );
+        let mut v = (self.x.0 / step.0).ceil() * step.0;
+        while v <= self.x.1 + 1e-9 {
+            let (a, _) = self.px(v, self.y.0);
+            self.text(a, top + h + 16.0, 11.0, "middle", &label(v));
+            v += step.0;
+        }
+        let mut v = (self.y.0 / step.1).ceil() * step.1;
+        while v <= self.y.1 + 1e-9 {
+            let (_, b) = self.px(self.x.0, v);
+            self.text(left - 6.0, b + 4.0, 11.0, "end", &label(v));
+            v += step.1;
+        }
+        self.text(left + w / 2.0, top + h + 34.0, 12.0, "middle", names.0);
+        let _ = writeln!(
+            self.body,
+            r#"<text x="16" y="{:.1}" font-family="sans-serif" font-size="12" text-anchor="middle" transform="rotate(-90 16 {:.1})">{}</text>"#,
+            top + h / 2.0,
+            top + h / 2.0,
+            names.1
+        );
+        self.text(self.width / 2.0, 22.0, 14.0, "middle", title);
+    }
+
+    fn save(&self, path: &Path) -> std::io::Result<()> {
+        let svg = format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n{}</svg>\n",
+            self.body,
+            w = self.width,
+            h = self.height
+        );
+        std::fs::write(path, svg)
+    }
+}
+
+fn metres(v: f64) -> String {
+    // Ticks that land a rounding error below zero print as 0, not -0.
+    let v = if v.abs() < 1e-9 { 0.0 } else { v };
+    format!("{v:.0}")
+}
+
+fn state(s: [f64; 3]) -> VehicleState<f64> {
+    VehicleState {
+        x: s[0],
+        y: s[1],
+        theta: s[2],
+    }
+}
+
+fn observation(limits: [f64; 4], p: [f64; 3], e: [f64; 3]) -> Observation {
+    Observation {
+        limits: limits.map(|v| v as f32),
+        pursuer: p.map(|v| v as f32),
+        evader: e.map(|v| v as f32),
+    }
+}
+
+/// One paper case: closed-loop trajectories, the four circles and the chosen tangent at t = 0.
+fn paper_case(
+    dir: &Path,
+    name: &str,
+    pursuer: [f64; 3],
+    evader: [f64; 3],
+) -> Result<PathBuf, String> {
+    let params = SimParams {
+        limits: PAPER_LIMITS,
+        pursuer,
+        evader,
+        dt: 0.01,
+        t_max: 30.0,
+        eps: 0.01,
+    };
+    let run = simulate::<f32>(&params, Variant::Paper, Policy::Paper, true);
+    let scene = twocars::law::validate::<f64>(&observation(PAPER_LIMITS, pursuer, evader))
+        .map_err(|s| s.name().to_string())?;
+    let (p, e) = (state(pursuer), state(evader));
+    let evaluation = Law::new(scene.limits, Variant::Paper).evaluate(&p, &e);
+    let report = evaluation.report.ok_or("no game at t = 0")?;
+    let circles = [
+        (TurningCircle::both(&p, &scene.limits.pursuer), PURSUER),
+        (TurningCircle::both(&e, &scene.limits.evader), EVADER),
+    ];
+    // A square view holding both tracks and all four circles.
+    let mut points: Vec<(f64, f64)> = run
+        .trajectory
+        .iter()
+        .flat_map(|(_, p, e)| [(p[0], p[1]), (e[0], e[1])])
+        .collect();
+    for (pair, _) in circles {
+        for c in pair {
+            let o = c.centre();
+            points.extend([
+                (o.x - c.radius, o.y - c.radius),
+                (o.x + c.radius, o.y + c.radius),
+            ]);
+        }
+    }
+    let (x0, x1, y0, y1) = points.iter().fold(
+        (f64::MAX, f64::MIN, f64::MAX, f64::MIN),
+        |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y)),
+    );
+    let half = 0.5 * (x1 - x0).max(y1 - y0) + 1.0;
+    let mut fig = Figure::equal(640.0, (0.5 * (x0 + x1), 0.5 * (y0 + y1)), half);
+    for (pair, colour) in circles {
+        for c in pair {
+            let o = c.centre();
+            fig.circle(o.x, o.y, c.radius, colour, "none", "4 3");
+        }
+    }
+    let track = |i: usize| -> Vec<(f64, f64)> {
+        run.trajectory
+            .iter()
+            .map(|(_, p, e)| if i == 0 { (p[0], p[1]) } else { (e[0], e[1]) })
+            .collect()
+    };
+    fig.polyline(&track(0), PURSUER, 1.8, "none");
+    fig.polyline(&track(1), EVADER, 1.8, "none");
+    let (row, col) = (report.solution.row, report.solution.col);
+    if let Some(chosen) = report.chosen_pair() {
+        let (sin, cos) = chosen.tangent.heading.sin_cos();
+        let pick = |pair: [TurningCircle<f64>; 2], d: Direction| match d {
+            Direction::Anticlockwise => pair[0],
+            Direction::Clockwise => pair[1],
+        };
+        let a = pick(circles[0].0, row).point_with_heading(sin, cos);
+        let b = pick(circles[1].0, col).point_with_heading(sin, cos);
+        fig.polyline(&[(a.x, a.y), (b.x, b.y)], "#2a9d3a", 2.0, "6 4");
+    }
+    fig.dot(pursuer[0], pursuer[1], 4.0, PURSUER);
+    fig.dot(evader[0], evader[1], 4.0, EVADER);
+    if let Some((_, p, _)) = run.trajectory.last() {
+        fig.dot(p[0], p[1], 5.0, "black");
+    }
+    let simulated = if run.status == SimStatus::Captured {
+        format!("{:.3} s", run.t_capture)
+    } else {
+        "no capture".to_string()
+    };
+    let title = format!(
+        "{name}: predicted {:.3} s ({}{}), simulated {simulated}",
+        run.predicted,
+        row.letter(),
+        col.letter()
+    );
+    fig.axes((5.0, 5.0), metres, ("x (m)", "y (m)"), &title);
+    let (left, top, _, _) = fig.area;
+    fig.text(
+        left + 8.0,
+        top + 16.0,
+        11.0,
+        "start",
+        "pursuer (blue), evader (red), turning circles at t = 0 (dashed),",
+    );
+    fig.text(
+        left + 8.0,
+        top + 30.0,
+        11.0,
+        "start",
+        "chosen valid tangent at t = 0 (green, dashed), capture point (black)",
+    );
+    let path = dir.join(format!("{name}.svg"));
+    fig.save(&path).map_err(|e| e.to_string())?;
+    Ok(path)
+}
+
+/// A colour for a value in [0, 1]: dark blue through green to yellow.
+fn ramp(t: f64) -> String {
+    let t = t.clamp(0.0, 1.0);
+    let stops = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let f = t * (stops.len() - 1) as f64;
+    let i = (f.floor() as usize).min(stops.len() - 2);
+    let u = f - i as f64;
+    let (a, b) = (stops[i], stops[i + 1]);
+    let mix = |x: f64, y: f64| (x + (y - x) * u).round() as u8;
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        mix(a.0, b.0),
+        mix(a.1, b.1),
+        mix(a.2, b.2)
+    )
+}
+
+/// The upper value and the chosen pair over a grid of evader positions (pursuer at the origin
+/// heading +y, evader heading +y, the paper's limits).
+fn value_map(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let (half, n) = (12.0, 97usize);
+    let step = 2.0 * half / n as f64;
+    let pursuer = [0.0, 0.0, std::f64::consts::FRAC_PI_2];
+    let mut cells = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let x = -half + (i as f64 + 0.5) * step;
+            let y = -half + (j as f64 + 0.5) * step;
+            let ev = twocars::evaluate_observation::<f64>(
+                &observation(PAPER_LIMITS, pursuer, [x, y, std::f64::consts::FRAC_PI_2]),
+                Variant::Paper,
+            );
+            cells.push((x, y, ev.report));
+        }
+    }
+    let top = 12.0;
+    let mut value = Figure::equal(640.0, (0.0, 0.0), half);
+    let mut choice = Figure::equal(640.0, (0.0, 0.0), half);
+    for (x, y, report) in &cells {
+        let (x0, y0) = (x - step / 2.0, y - step / 2.0);
+        match report.and_then(|r| r.solution.upper.map(|u| (r, u))) {
+            Some((r, upper)) => {
+                value.cell(x0, y0, step, step, &ramp(upper / top));
+                let colour = match (r.solution.row, r.solution.col) {
+                    (Direction::Anticlockwise, Direction::Anticlockwise) => "#4e79a7",
+                    (Direction::Anticlockwise, Direction::Clockwise) => "#f28e2b",
+                    (Direction::Clockwise, Direction::Anticlockwise) => "#59a14f",
+                    (Direction::Clockwise, Direction::Clockwise) => "#b07aa1",
+                };
+                choice.cell(x0, y0, step, step, colour);
+                if !r.solution.saddle {
+                    choice.cell(
+                        x0 + step * 0.3,
+                        y0 + step * 0.3,
+                        step * 0.4,
+                        step * 0.4,
+                        "black",
+                    );
+                }
+            }
+            None => {
+                value.cell(x0, y0, step, step, "#cccccc");
+                choice.cell(x0, y0, step, step, "#cccccc");
+            }
+        }
+    }
+    for fig in [&mut value, &mut choice] {
+        fig.dot(0.0, 0.0, 5.0, "white");
+        fig.polyline(&[(0.0, 0.0), (0.0, 1.5)], "white", 2.0, "none");
+    }
+    value.axes(
+        (4.0, 4.0),
+        metres,
+        ("evader x (m)", "evader y (m)"),
+        "Upper value (s); pursuer at the origin heading +y, evader heading +y",
+    );
+    let (left, t, w, _) = value.area;
+    for k in 0..=6 {
+        let v = top * k as f64 / 6.0;
+        let x = left + w * k as f64 / 6.0;
+        value.cell_px(x - 12.0, t - 14.0, 24.0, 8.0, &ramp(v / top));
+        value.text(x, t - 2.0, 9.0, "middle", &format!("{v:.0}"));
+    }
+    choice.axes(
+        (4.0, 4.0),
+        metres,
+        ("evader x (m)", "evader y (m)"),
+        "Chosen pair (pursuer, evader circle) over evader positions",
+    );
+    let (left, t, _, _) = choice.area;
+    choice.text(
+        left,
+        t - 6.0,
+        11.0,
+        "start",
+        "AA blue, AC orange, CA green, CC purple; black dot: no pure saddle; grey: no finite value",
+    );
+    let a = dir.join("value-map.svg");
+    let b = dir.join("choice-map.svg");
+    value.save(&a).map_err(|e| e.to_string())?;
+    choice.save(&b).map_err(|e| e.to_string())?;
+    Ok(vec![a, b])
+}
+
+impl Figure {
+    fn cell_px(&mut self, x: f64, y: f64, w: f64, h: f64, fill: &str) {
+        let _ = writeln!(
+            self.body,
+            r#"<rect x="{x:.1}" y="{y:.1}" width="{w:.1}" height="{h:.1}" fill="{fill}"/>"#
+        );
+    }
+}
+
+/// Simulated against predicted capture time (log axes) under one policy of a Monte Carlo.
+fn scatter(
+    dir: &Path,
+    results: &[crate::report::Run],
+    policy: &str,
+    pick: fn(&crate::report::Run) -> &host_tests::sim::SimResult,
+) -> Result<PathBuf, String> {
+    let runs = results.len();
+    let (lo, hi) = (-1.0, 3.0);
+    let mut fig = Figure::new(720.0, 660.0, (lo, hi), (lo, hi));
+    fig.polyline(&[(lo, lo), (hi, hi)], "#888888", 1.0, "4 3");
+    let clamp = |t: f64| t.max(1e-9).log10().clamp(lo, hi);
+    let mut missed = 0;
+    for r in results {
+        let colour = match r.regime {
+            crate::report::Regime::Far => PURSUER,
+            crate::report::Regime::Near => EVADER,
+        };
+        let p = pick(r);
+        if p.predicted.is_finite() && p.predicted > 0.0 {
+            let y = if p.t_capture.is_finite() {
+                clamp(p.t_capture)
+            } else {
+                missed += 1;
+                hi
+            };
+            fig.dot(clamp(p.predicted), y, 2.2, colour);
+        }
+    }
+    fig.axes(
+        (1.0, 1.0),
+        |v| format!("{}", 10f64.powf(v)),
+        (
+            "predicted capture time at t = 0 (s, log)",
+            "simulated capture time (s, log)",
+        ),
+        &format!("Closed loop, policy {policy}: {runs} seeded states, random limits, dt = 0.01 s"),
+    );
+    let (left, top, _, _) = fig.area;
+    fig.text(
+        left + 8.0,
+        top + 16.0,
+        11.0,
+        "start",
+        "blue: d0 >= threshold; red: d0 < threshold; dashed: simulated = predicted",
+    );
+    fig.text(left + 8.0, top + 30.0, 11.0, "start", &format!("{missed} runs without capture plotted on the top edge; cargo xtask report for the tables"));
+    let path = dir.join(format!("monte-carlo-{policy}.svg"));
+    fig.save(&path).map_err(|e| e.to_string())?;
+    Ok(path)
+}
+
+/// `cargo xtask plot`.
+pub fn command() -> i32 {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/plots");
+    let result = (|| -> Result<Vec<PathBuf>, String> {
+        std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+        let mut written = Vec::new();
+        for case in paper_cases() {
+            written.push(paper_case(&dir, case.name, case.pursuer, case.evader)?);
+        }
+        written.extend(value_map(&dir)?);
+        let runs = crate::report::monte_carlo(600, 2019, 0.01);
+        written.push(scatter(&dir, &runs, "paper", |r| &r.paper)?);
+        written.push(scatter(&dir, &runs, "near-field", |r| &r.near_field)?);
+        Ok(written)
+    })();
+    match result {
+        Ok(paths) => {
+            for p in paths {
+                println!("wrote {}", p.canonicalize().unwrap_or(p).display());
+            }
+            0
+        }
+        Err(e) => {
+            eprintln!("xtask plot: {e}");
+            1
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_is_escaped_and_points_map_into_the_plot_area() {
+        let mut fig = Figure::new(400.0, 300.0, (0.0, 10.0), (-5.0, 5.0));
+        fig.text(0.0, 0.0, 10.0, "start", "d0 < threshold & more");
+        assert!(
+            fig.body.contains("d0 &lt; threshold &amp; more"),
+            "{}",
+            fig.body
+        );
+        let (left, top, w, h) = fig.area;
+        assert_eq!(fig.px(0.0, -5.0), (left, top + h));
+        assert_eq!(fig.px(10.0, 5.0), (left + w, top));
+    }
+
+    #[test]
+    fn a_paper_case_figure_names_its_prediction_and_its_capture() {
+        let dir = std::env::temp_dir().join(format!("twocars-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let case = paper_cases()[0];
+        let path = paper_case(&dir, case.name, case.pursuer, case.evader).unwrap();
+        let svg = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            svg.contains("paper1: predicted 5.657 s (AA), simulated 5.6"),
+            "title"
+        );
+        // Four turning circles, two start dots and the capture point.
+        assert_eq!(svg.matches("<circle").count(), 7);
+        assert!(svg.trim_end().ends_with("</svg>"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
