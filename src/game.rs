@@ -27,8 +27,6 @@ pub struct GameSolution<S> {
     pub lower: Option<S>,
     /// upper == lower within the tie band: a pure saddle point.
     pub saddle: bool,
-    /// Value of the mixed extension where there is no pure saddle and all four entries are finite.
-    pub mixed: Option<S>,
 }
 
 /// Whether two values (seconds) tie within the backend's relative band `S::TIE_BAND`.
@@ -101,6 +99,21 @@ impl<S: Scalar> MatrixGame<S> {
         }
     }
 
+    /// Value of the mixed extension, (ad - bc) / (a + d - b - c), where the game has no pure
+    /// saddle and all four entries are finite; `None` otherwise.
+    pub fn mixed_value(&self) -> Option<S> {
+        let [[aa, ac], [ca, cc]] = self.entries;
+        match (self.solve().saddle, aa, ac, ca, cc) {
+            (false, Some(a), Some(b), Some(c), Some(d)) => {
+                let denominator = a + d - b - c;
+                let value = (a * d - b * c) / denominator;
+                // Where the products leave a fixed-point range the mixed value is not reported.
+                (denominator.abs() > S::zero() && value.is_valid()).then_some(value)
+            }
+            _ => None,
+        }
+    }
+
     /// Solves the game. Options within the tie band count as equal and go to A.
     pub fn solve(&self) -> GameSolution<S> {
         self.solve_sampled(None, S::zero())
@@ -124,22 +137,12 @@ impl<S: Scalar> MatrixGame<S> {
             (None, None) => true,
             _ => false,
         };
-        let mixed = match (saddle, aa, ac, ca, cc) {
-            (false, Some(a), Some(b), Some(c), Some(d)) => {
-                let denominator = a + d - b - c;
-                let value = (a * d - b * c) / denominator;
-                // Where the products leave a fixed-point range the mixed value is not reported.
-                (denominator.abs() > S::zero() && value.is_valid()).then_some(value)
-            }
-            _ => None,
-        };
         GameSolution {
             row,
             col,
             upper,
             lower,
             saddle,
-            mixed,
         }
     }
 }

@@ -48,13 +48,21 @@ pub struct PairOutcome<S> {
 pub struct GameReport<S> {
     /// Per pair `[pursuer circle][evader circle]` (A, C): `None` where no valid tangent exists.
     pub pairs: [[Option<PairOutcome<S>>; 2]; 2],
-    /// The matrix of Table 1.
-    pub matrix: MatrixGame<S>,
-    /// Its solution: chosen circles and values.
+    /// The solution of the matrix game: chosen circles and values.
     pub solution: GameSolution<S>,
 }
 
 impl<S: Scalar> GameReport<S> {
+    /// The matrix of Table 1: each pair's time to capture, `None` (infinity) where it has no valid
+    /// tangent.
+    pub fn matrix(&self) -> MatrixGame<S> {
+        MatrixGame {
+            entries: self
+                .pairs
+                .map(|row| row.map(|p| p.map(|p| p.capture.value))),
+        }
+    }
+
     /// The pair the two players chose, if it has a valid tangent.
     pub fn chosen_pair(&self) -> Option<&PairOutcome<S>> {
         self.pair(self.solution.row, self.solution.col)
@@ -112,7 +120,11 @@ impl<S: Scalar> Evaluation<S> {
     /// backend's range (never for f32 and f64).
     pub fn check_command(&mut self) {
         if !(self.command.pursuer.is_valid() && self.command.evader.is_valid()) {
-            *self = Evaluation::safe(Status::OutOfRange);
+            // Field by field, so that the evaluation stays where it is (no copy of the report).
+            self.status = Status::OutOfRange;
+            self.report = None;
+            self.command = Command::straight();
+            self.units = Units::SI;
         }
     }
 
@@ -214,25 +226,26 @@ impl<S: Scalar> Law<S> {
                 capture_time(&self.limits, tangent.length, alpha_p, alpha_e, self.variant);
             Some(PairOutcome { tangent, capture })
         };
-        let pairs = pursuer_circles.map(|pc| evader_circles.map(|ec| pair(pc, ec)));
+        let [pa, pc] = pursuer_circles;
+        let [ea, ec] = evader_circles;
+        let pairs = [[pair(pa, ea), pair(pa, ec)], [pair(pc, ea), pair(pc, ec)]];
+        let value = |p: &Option<PairOutcome<S>>| p.as_ref().map(|p| p.capture.value);
+        let [[aa, ac], [ca, cc]] = &pairs;
         let matrix = MatrixGame {
-            entries: pairs.map(|row| row.map(|p| p.map(|p| p.capture.value))),
+            entries: [[value(aa), value(ac)], [value(ca), value(cc)]],
         };
         // A backend whose arithmetic left its range (fixed point) says so instead of guessing.
-        if pairs
+        if matrix
+            .entries
             .iter()
             .flatten()
             .flatten()
-            .any(|p| !p.capture.value.is_valid())
+            .any(|v| !v.is_valid())
         {
             return Evaluation::safe(Status::OutOfRange);
         }
         let solution = matrix.solve_sampled(sampling.previous, sampling.tie_floor);
-        let report = GameReport {
-            pairs,
-            matrix,
-            solution,
-        };
+        let report = GameReport { pairs, solution };
         if solution.upper.is_none() {
             let command = fallback_command(pursuer, evader, &self.limits, None);
             let mut evaluation = Evaluation {

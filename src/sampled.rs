@@ -114,7 +114,7 @@ impl<S: Scalar> Guidance<S> {
         };
         let mut evaluation = self.law.evaluate_sampled(pursuer, evader, &sampling);
         let dt = Some(self.dt);
-        evaluation.command = match (evaluation.status, evaluation.report) {
+        evaluation.command = match (evaluation.status, evaluation.report.as_ref()) {
             (Status::Ok, Some(report)) => {
                 let s = report.solution;
                 self.previous = Some((s.row, s.col));
@@ -165,10 +165,13 @@ impl<S: Scalar> Guidance<S> {
     /// period its game is not trusted ([`crate::GameReport::trusted`]); later, its upper value
     /// rose instead of falling by dt (beyond the tie floor). Records the upper value.
     fn near_field_lost(&mut self, evaluation: &Evaluation<S>) -> bool {
-        let upper = evaluation.report.and_then(|r| r.solution.upper);
+        let upper = evaluation.report.as_ref().and_then(|r| r.solution.upper);
         let lost = match (self.near_field.last_upper, upper) {
             (_, None) => true,
-            (None, Some(_)) => !evaluation.report.is_some_and(|r| r.trusted(self.tie_floor)),
+            (None, Some(_)) => !evaluation
+                .report
+                .as_ref()
+                .is_some_and(|r| r.trusted(self.tie_floor)),
             (Some(last), Some(now)) => now > last - self.dt + self.tie_floor,
         };
         self.near_field.last_upper = upper;

@@ -33,7 +33,7 @@ fn check<S: Scalar>(observation: &Observation, period: f32, slack: f64) {
     if ev.status == Status::Ok || ev.status == Status::NoValidTangent {
         assert!(wp.abs() <= w_pm && we.abs() <= w_em, "{wp} {we}");
         if let Some(r) = ev.report {
-            for v in r.matrix.entries.iter().flatten().flatten() {
+            for v in r.matrix().entries.iter().flatten().flatten() {
                 assert!(units.seconds(*v).is_finite(), "entry {v:?}");
             }
         }

@@ -26,7 +26,7 @@ fn check(limits: [f32; 4], p: [f32; 3], e: [f32; 3], want: &[Status]) -> Evaluat
         "{c:?}"
     );
     if let Some(r) = ev.report {
-        for v in r.matrix.entries.iter().flatten().flatten() {
+        for v in r.matrix().entries.iter().flatten().flatten() {
             assert!(v.is_finite(), "entry {v}");
         }
     }

@@ -69,7 +69,7 @@ fn measure<S: Scalar>(
             if near_wrap(&reference, wrap_margin) {
                 return Ok(());
             }
-            let (m, reference, ours) = (reference.matrix, reference.solution, ours.solution);
+            let (m, reference, ours) = (reference.matrix(), reference.solution, ours.solution);
             let mut e = errors.borrow_mut();
             e.compared += 1;
             let (Some(want), Some(got)) = (reference.upper, ours.upper) else {

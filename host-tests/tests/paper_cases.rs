@@ -121,7 +121,10 @@ fn case_three_has_no_pure_saddle_and_an_exact_double_tie() {
         (f64::from(lower) - 4.5123).abs() < TOLERANCE,
         "lower {lower}"
     );
-    let [[aa, ac], [ca, cc]] = r.matrix.entries.map(|row| row.map(|v| v.expect("finite")));
+    let [[aa, ac], [ca, cc]] = r
+        .matrix()
+        .entries
+        .map(|row| row.map(|v| v.expect("finite")));
     assert!(twocars::game::ties(aa, cc), "t_aa {aa} vs t_cc {cc}");
     assert!(twocars::game::ties(ac, ca), "t_ac {ac} vs t_ca {ca}");
     // Both rows and both columns tie: both choices go to A.
@@ -129,7 +132,7 @@ fn case_three_has_no_pure_saddle_and_an_exact_double_tie() {
         (s.row, s.col),
         (Direction::Anticlockwise, Direction::Anticlockwise)
     );
-    let mixed = s.mixed.expect("mixed value");
+    let mixed = r.matrix().mixed_value().expect("mixed value");
     assert!(
         mixed > lower && mixed < s.upper.expect("upper"),
         "mixed {mixed}"

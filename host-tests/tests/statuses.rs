@@ -114,7 +114,7 @@ fn overlapping_circles_without_a_finite_row_give_no_valid_tangent_and_the_fallba
     let r = e.report.expect("matrix reported");
     assert!(r.solution.upper.is_none());
     assert!(r
-        .matrix
+        .matrix()
         .entries
         .iter()
         .all(|row| row.iter().any(Option::is_none)));

@@ -27,7 +27,7 @@ pub fn row<S: Scalar>(evaluation: &Evaluation<S>) -> String {
     let w_e = number(units.curvature(evaluation.command.evader));
     match (&evaluation.report, evaluation.status) {
         (Some(report), _) => {
-            let m = report.matrix.entries;
+            let m = report.matrix().entries;
             let v = |x: Option<S>| optional(x.map(|x| units.seconds(x)));
             format!(
                 "{status},{},{},{},{},{},{},{},{},{w_p},{w_e}",

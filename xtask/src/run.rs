@@ -130,7 +130,7 @@ fn show_matrix<S: Scalar>(o: &RunOptions, case: &Case, options: &Options) -> boo
     };
     let units = evaluation.units;
     let f = |v: Option<S>| v.map_or("inf".to_string(), |v| format!("{:9.4}", units.seconds(v)));
-    let m = report.matrix.entries;
+    let m = report.matrix().entries;
     println!("             evader A   evader C");
     println!("  pursuer A {}  {}", f(m[0][0]), f(m[0][1]));
     println!("  pursuer C {}  {}", f(m[1][0]), f(m[1][1]));
@@ -142,10 +142,13 @@ fn show_matrix<S: Scalar>(o: &RunOptions, case: &Case, options: &Options) -> boo
         f(s.upper).trim(),
         f(s.lower).trim(),
         s.saddle,
-        s.mixed.map_or(String::new(), |v| format!(
-            ", mixed value {:.4} s",
-            units.seconds(v)
-        )),
+        report
+            .matrix()
+            .mixed_value()
+            .map_or(String::new(), |v| format!(
+                ", mixed value {:.4} s",
+                units.seconds(v)
+            )),
     );
     let predicted = s.upper.map_or(f64::INFINITY, |v| units.seconds(v));
     if case.expected_value.is_nan() {
