@@ -35,8 +35,8 @@ impl<S: Scalar> CaptureTime<S> {
         let p = &limits.pursuer;
         let e = &limits.evader;
         (
-            p.radius() * self.pursuer_arc / p.v_max(),
-            e.radius() * self.evader_arc / e.v_max(),
+            p.seconds_per_radian() * self.pursuer_arc,
+            e.seconds_per_radian() * self.evader_arc,
         )
     }
 }
@@ -59,17 +59,17 @@ pub fn capture_time<S: Scalar>(
         overshoot: false,
     };
     let (t_p, t_e) = result.turn_times(limits);
-    let closing_speed = p.v_max() - e.v_max();
+    let per_metre = limits.seconds_per_metre_closed();
     result.value = if t_p > t_e {
         // The evader is on the tangent first and runs v_em (t_p - t_e) ahead along it.
-        t_p + (tangent_length + e.v_max() * (t_p - t_e)) / closing_speed
+        t_p + (tangent_length + e.v_max() * (t_p - t_e)) * per_metre
     } else {
         // The pursuer is on the tangent first and closes v_pm (t_e - t_p) before the evader leaves.
         let gap = tangent_length - p.v_max() * (t_e - t_p);
         result.overshoot = gap < S::zero();
         match (result.overshoot, variant) {
             (true, Variant::Clamped) => t_e,
-            _ => t_e + gap / closing_speed,
+            _ => t_e + gap * per_metre,
         }
     };
     result

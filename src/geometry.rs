@@ -27,6 +27,28 @@ impl Direction {
         }
     }
 
+    /// `value` with this direction's sign: `value` for A, `-value` for C (sigma value without a
+    /// multiplication).
+    pub fn signed<S: Scalar>(self, value: S) -> S {
+        match self {
+            Direction::Anticlockwise => value,
+            Direction::Clockwise => -value,
+        }
+    }
+
+    /// Heading angle (radians, in [0, 2 pi)) a vehicle with heading `theta` turns through in this
+    /// direction to reach heading `psi`: (sigma (psi - theta)) mod 2 pi. The vehicle is on the
+    /// tangent (angle 0) when the angle is below the backend's resolution `S::ARC_RESOLUTION`, or
+    /// within `tolerance` of 2 pi: a hair past the tangent.
+    pub fn arc_to<S: Scalar>(self, theta: S, psi: S, tolerance: S) -> S {
+        let alpha = self.signed(psi - theta).wrap_positive();
+        if alpha < S::from_f32(S::ARC_RESOLUTION) || alpha > S::tau() - tolerance {
+            S::zero()
+        } else {
+            alpha
+        }
+    }
+
     /// The paper's letter: `A` or `C`.
     pub fn letter(self) -> char {
         match self {
@@ -48,9 +70,14 @@ pub struct Point<S> {
 impl<S: Scalar> Point<S> {
     /// Euclidean distance to `other`, metres.
     pub fn distance(self, other: Point<S>) -> S {
+        self.distance_squared(other).sqrt()
+    }
+
+    /// Square of the distance to `other`, square metres (no square root).
+    pub fn distance_squared(self, other: Point<S>) -> S {
         let dx = other.x - self.x;
         let dy = other.y - self.y;
-        (dx * dx + dy * dy).sqrt()
+        dx * dx + dy * dy
     }
 }
 
@@ -60,6 +87,7 @@ pub struct VehicleLimits<S> {
     v_max: S,
     w_max: S,
     radius: S,
+    seconds_per_radian: S,
 }
 
 impl<S: Scalar> VehicleLimits<S> {
@@ -78,6 +106,11 @@ impl<S: Scalar> VehicleLimits<S> {
     /// Maximum turn rate v_max w_max, rad/s.
     pub fn max_turn_rate(&self) -> S {
         self.v_max * self.w_max
+    }
+    /// Time to turn through one radian at full speed on the minimum-radius circle,
+    /// r / v_max, seconds (precomputed: a division on a core without a divider is a library call).
+    pub fn seconds_per_radian(&self) -> S {
+        self.seconds_per_radian
     }
 }
 
@@ -142,6 +175,8 @@ pub struct Limits<S> {
     pub evader: VehicleLimits<S>,
     /// The law's units for these limits on this backend.
     pub units: Units,
+    /// 1 / (v_pm - v_em), s/m: the time the pursuer needs to close one metre on a common line.
+    seconds_per_metre_closed: S,
 }
 
 impl<S: Scalar> Limits<S> {
@@ -181,16 +216,30 @@ impl<S: Scalar> Limits<S> {
         // Curvature rounded toward zero, so that +-w_max commands stay within the true limit.
         let vehicle = |v: f32, w: f32| {
             let w_max = S::from_f32_toward_zero(w * units.metres);
+            let v_max = S::from_f32(v / units.metres_per_second);
+            let radius = S::one() / w_max;
             VehicleLimits {
-                v_max: S::from_f32(v / units.metres_per_second),
+                v_max,
                 w_max,
-                radius: S::one() / w_max,
+                radius,
+                seconds_per_radian: radius / v_max,
             }
         };
+        let (pursuer, evader) = (vehicle(v_pm, w_pm), vehicle(v_em, w_em));
+        let seconds_per_metre_closed = S::one() / (pursuer.v_max - evader.v_max);
+        let derived = [
+            pursuer.seconds_per_radian,
+            evader.seconds_per_radian,
+            seconds_per_metre_closed,
+        ];
+        if !derived.iter().all(|v| v.is_valid()) {
+            return Err(Status::OutOfRange);
+        }
         Ok(Limits {
-            pursuer: vehicle(v_pm, w_pm),
-            evader: vehicle(v_em, w_em),
+            pursuer,
+            evader,
             units,
+            seconds_per_metre_closed,
         })
     }
 
@@ -228,6 +277,11 @@ impl<S: Scalar> Limits<S> {
             VehicleState::new(0.0, 0.0, reduce(theta_p))?,
             VehicleState::new((x_e - x_p) / m, (y_e - y_p) / m, reduce(theta_e))?,
         ))
+    }
+
+    /// 1 / (v_pm - v_em), s/m: the time the pursuer needs to close one metre on a common line.
+    pub fn seconds_per_metre_closed(&self) -> S {
+        self.seconds_per_metre_closed
     }
 
     /// The theorem's distance threshold 2 r_e + 2 pi r_e v_pm / v_em, metres: at or above it the
@@ -340,16 +394,88 @@ impl<S: Scalar> TurningCircle<S> {
     }
 
     /// Heading angle (radians, in [0, 2 pi)) a vehicle with heading `theta` turns through on this
-    /// circle to reach heading `psi`: (sigma (psi - theta)) mod 2 pi. The vehicle is on the
-    /// tangent (angle 0) when the angle is below the backend's resolution `S::ARC_RESOLUTION`, or
-    /// within `tolerance` of 2 pi: a hair past the tangent.
+    /// circle to reach heading `psi` ([`Direction::arc_to`]).
     pub fn arc_to(&self, theta: S, psi: S, tolerance: S) -> S {
-        let alpha = (self.direction.sigma::<S>() * (psi - theta)).wrap_positive();
-        if alpha < S::from_f32(S::ARC_RESOLUTION) || alpha > S::tau() - tolerance {
-            S::zero()
-        } else {
-            alpha
+        self.direction.arc_to(theta, psi, tolerance)
+    }
+}
+
+/// What the four valid tangents between a pursuer's and an evader's circles share: Algorithm 1
+/// for all four pairs from one sine and cosine per vehicle. With Delta = position_e - position_p
+/// and n the left unit normals, a pair's |D|^2 - k^2 is
+/// |Delta|^2 + 2 (sigma_e r_e Delta . n_e - sigma_p r_p Delta . n_p) + sigma_e sigma_p r_e r_p |n_e - n_p|^2
+/// ([`ValidTangent::between`] for one pair).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CirclePairs<S> {
+    delta: Point<S>,
+    /// r_p n_p and r_e n_e, metres.
+    pursuer_offset: Point<S>,
+    evader_offset: Point<S>,
+    delta_sq: S,
+    /// Delta . r_p n_p and Delta . r_e n_e, square metres.
+    delta_pursuer: S,
+    delta_evader: S,
+    /// r_e r_p |n_e - n_p|^2, square metres.
+    normals: S,
+    pursuer_radius: S,
+    evader_radius: S,
+}
+
+impl<S: Scalar> CirclePairs<S> {
+    /// The shared terms of a pursuer and an evader.
+    pub fn new(
+        pursuer: &VehicleState<S>,
+        pursuer_limits: &VehicleLimits<S>,
+        evader: &VehicleState<S>,
+        evader_limits: &VehicleLimits<S>,
+    ) -> Self {
+        let (sin_p, cos_p) = pursuer.theta.sin_cos();
+        let (sin_e, cos_e) = evader.theta.sin_cos();
+        let (r_p, r_e) = (pursuer_limits.radius, evader_limits.radius);
+        let delta = Point {
+            x: evader.x - pursuer.x,
+            y: evader.y - pursuer.y,
+        };
+        let pursuer_offset = Point {
+            x: -(r_p * sin_p),
+            y: r_p * cos_p,
+        };
+        let evader_offset = Point {
+            x: -(r_e * sin_e),
+            y: r_e * cos_e,
+        };
+        let (dn_x, dn_y) = (cos_p - cos_e, sin_e - sin_p);
+        CirclePairs {
+            delta,
+            pursuer_offset,
+            evader_offset,
+            delta_sq: delta.x * delta.x + delta.y * delta.y,
+            delta_pursuer: delta.x * pursuer_offset.x + delta.y * pursuer_offset.y,
+            delta_evader: delta.x * evader_offset.x + delta.y * evader_offset.y,
+            normals: r_e * r_p * (dn_x * dn_x + dn_y * dn_y),
+            pursuer_radius: r_p,
+            evader_radius: r_e,
         }
+    }
+
+    /// The valid tangent from the pursuer's `pursuer` circle to the evader's `evader` circle, or
+    /// `None` where it does not exist.
+    pub fn tangent(&self, pursuer: Direction, evader: Direction) -> Option<ValidTangent<S>> {
+        let cross = if pursuer == evader {
+            self.normals
+        } else {
+            -self.normals
+        };
+        let linear = evader.signed(self.delta_evader) - pursuer.signed(self.delta_pursuer);
+        let length_sq = self.delta_sq + (linear + linear) + cross;
+        ValidTangent::from_terms(
+            length_sq,
+            self.delta.x + evader.signed(self.evader_offset.x)
+                - pursuer.signed(self.pursuer_offset.x),
+            self.delta.y + evader.signed(self.evader_offset.y)
+                - pursuer.signed(self.pursuer_offset.y),
+            evader.signed(self.evader_radius) - pursuer.signed(self.pursuer_radius),
+        )
     }
 }
 
@@ -385,13 +511,19 @@ impl<S: Scalar> ValidTangent<S> {
             + delta_y * delta_y
             + (delta_x * offset_x + delta_y * offset_y) * S::from_f32(2.0)
             + sr_e * sr_p * (dn_x * dn_x + dn_y * dn_y);
-        let (dx, dy) = (delta_x + offset_x, delta_y + offset_y);
-        let k = sr_e - sr_p;
+        Self::from_terms(
+            length_sq,
+            delta_x + offset_x,
+            delta_y + offset_y,
+            sr_e - sr_p,
+        )
+    }
+
+    /// The tangent from L^2 = |D|^2 - k^2, D = (dx, dy) and k (metres), or `None` where it does
+    /// not exist.
+    fn from_terms(length_sq: S, dx: S, dy: S, k: S) -> Option<Self> {
         let zero = S::zero();
-        if length_sq < zero {
-            return None;
-        }
-        if length_sq + k * k <= zero {
+        if length_sq < zero || length_sq + k * k <= zero {
             return None;
         }
         let length = length_sq.sqrt();

@@ -6,7 +6,7 @@
 use crate::capture::{capture_time, CaptureTime, Variant};
 use crate::game::{ties_within, GameSolution, MatrixGame};
 use crate::geometry::{
-    Direction, Limits, TurningCircle, Units, ValidTangent, VehicleLimits, VehicleState,
+    CirclePairs, Direction, Limits, Units, ValidTangent, VehicleLimits, VehicleState,
 };
 use crate::num::Scalar;
 use crate::status::Status;
@@ -43,7 +43,7 @@ pub struct PairOutcome<S> {
 }
 
 /// Everything the law computed for a valid, uncaptured state. (The circles are not kept: they
-/// follow from the states, [`TurningCircle::both`].)
+/// follow from the states, [`crate::TurningCircle::both`].)
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GameReport<S> {
     /// Per pair `[pursuer circle][evader circle]` (A, C): `None` where no valid tangent exists.
@@ -209,26 +209,25 @@ impl<S: Scalar> Law<S> {
         let p_lim = &self.limits.pursuer;
         let e_lim = &self.limits.evader;
         let capture_radius = S::from_f32(CAPTURE_RADIUS_FRACTION) * p_lim.radius();
-        if pursuer.position().distance(evader.position()) <= capture_radius {
+        let gap_squared = pursuer.position().distance_squared(evader.position());
+        if gap_squared.is_valid() && gap_squared <= capture_radius * capture_radius {
             return Evaluation::safe(Status::Captured);
         }
-        let pursuer_circles = TurningCircle::both(pursuer, p_lim);
-        let evader_circles = TurningCircle::both(evader, e_lim);
-        let pair = |pc: TurningCircle<S>, ec: TurningCircle<S>| -> Option<PairOutcome<S>> {
-            let tangent = ValidTangent::between(&pc, &ec)?;
-            let alpha_p = pc.arc_to(
+        let circles = CirclePairs::new(pursuer, p_lim, evader, e_lim);
+        let pair = |row: Direction, col: Direction| -> Option<PairOutcome<S>> {
+            let tangent = circles.tangent(row, col)?;
+            let alpha_p = row.arc_to(
                 pursuer.theta,
                 tangent.heading,
                 sampling.pursuer_arc_tolerance,
             );
-            let alpha_e = ec.arc_to(evader.theta, tangent.heading, sampling.evader_arc_tolerance);
+            let alpha_e = col.arc_to(evader.theta, tangent.heading, sampling.evader_arc_tolerance);
             let capture =
                 capture_time(&self.limits, tangent.length, alpha_p, alpha_e, self.variant);
             Some(PairOutcome { tangent, capture })
         };
-        let [pa, pc] = pursuer_circles;
-        let [ea, ec] = evader_circles;
-        let pairs = [[pair(pa, ea), pair(pa, ec)], [pair(pc, ea), pair(pc, ec)]];
+        let (a, c) = (Direction::Anticlockwise, Direction::Clockwise);
+        let pairs = [[pair(a, a), pair(a, c)], [pair(c, a), pair(c, c)]];
         let value = |p: &Option<PairOutcome<S>>| p.as_ref().map(|p| p.capture.value);
         let [[aa, ac], [ca, cc]] = &pairs;
         let matrix = MatrixGame {
@@ -283,31 +282,64 @@ pub fn bearing<S: Scalar>(from: &VehicleState<S>, x: S, y: S) -> S {
 
 /// The documented fallback where no pursuer row has a finite value: the pursuer turns toward the
 /// evader's bearing, the evader toward the direction pointing away from the pursuer; with a
-/// control period `dt` each turns at most what one period needs (see [`steer`]).
+/// control `period` each turns at most what one period needs (see [`steer`]).
 pub fn fallback_command<S: Scalar>(
     pursuer: &VehicleState<S>,
     evader: &VehicleState<S>,
     limits: &Limits<S>,
-    dt: Option<S>,
+    period: Option<&Period<S>>,
 ) -> Command<S> {
     let away_x = evader.x + evader.x - pursuer.x;
     let away_y = evader.y + evader.y - pursuer.y;
     Command {
-        pursuer: steer(bearing(pursuer, evader.x, evader.y), &limits.pursuer, dt),
-        evader: steer(bearing(evader, away_x, away_y), &limits.evader, dt),
+        pursuer: steer(
+            bearing(pursuer, evader.x, evader.y),
+            &limits.pursuer,
+            period.map(|p| p.pursuer),
+        ),
+        evader: steer(
+            bearing(evader, away_x, away_y),
+            &limits.evader,
+            period.map(|p| p.evader),
+        ),
+    }
+}
+
+/// A control period as each vehicle's steering sees it: the curvature per radian of heading
+/// still to go, 1 / (v_max dt) (1/m per radian; over one period a curvature w turns the vehicle
+/// through v_max w dt radians). Precomputed: a division on a core without a divider is a
+/// library call.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Period<S> {
+    /// The pursuer's 1 / (v_pm dt).
+    pub pursuer: S,
+    /// The evader's 1 / (v_em dt).
+    pub evader: S,
+}
+
+impl<S: Scalar> Period<S> {
+    /// The period `dt` (in the law's time unit) for `limits`; `None` where a reciprocal leaves
+    /// the backend's range.
+    pub fn new(limits: &Limits<S>, dt: S) -> Option<Self> {
+        let period = Period {
+            pursuer: S::one() / (limits.pursuer.v_max() * dt),
+            evader: S::one() / (limits.evader.v_max() * dt),
+        };
+        (period.pursuer.is_valid() && period.evader.is_valid()).then_some(period)
     }
 }
 
 /// Curvature (1/m) that turns a vehicle through the signed heading angle `to_go` (radians):
-/// sigma w_max, or with a control period `dt` (seconds) at most what one period needs,
-/// sigma min(w_max, |to_go| / (v_max dt)). Zero when nothing is left to turn.
-pub fn steer<S: Scalar>(to_go: S, limits: &VehicleLimits<S>, dt: Option<S>) -> S {
+/// sigma w_max, or with a control period at most what one period needs,
+/// sigma min(w_max, |to_go| / (v_max dt)), where `per_radian` is 1 / (v_max dt) ([`Period`]).
+/// Zero when nothing is left to turn.
+pub fn steer<S: Scalar>(to_go: S, limits: &VehicleLimits<S>, per_radian: Option<S>) -> S {
     let zero = S::zero();
     if to_go == zero {
         return zero;
     }
-    let magnitude = match dt {
-        Some(dt) => limits.w_max().min(to_go.abs() / (limits.v_max() * dt)),
+    let magnitude = match per_radian {
+        Some(per_radian) => limits.w_max().min(to_go.abs() * per_radian),
         None => limits.w_max(),
     };
     if to_go > zero {

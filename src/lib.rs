@@ -40,7 +40,8 @@ pub mod wire;
 pub use capture::{CaptureTime, Variant};
 pub use game::{GameSolution, MatrixGame};
 pub use geometry::{
-    Direction, Limits, Point, TurningCircle, Units, ValidTangent, VehicleLimits, VehicleState,
+    CirclePairs, Direction, Limits, Point, TurningCircle, Units, ValidTangent, VehicleLimits,
+    VehicleState,
 };
 pub use law::{evaluate_observation, Command, Evaluation, GameReport, Law, Observation};
 pub use num::Scalar;

@@ -11,7 +11,7 @@
 //! only to within v_pm dt, which on a chase closing at v_pm - v_em is that much capture time.
 
 use crate::geometry::{Direction, Limits, TurningCircle, VehicleLimits, VehicleState};
-use crate::law::{bearing, fallback_command, steer, Command, Evaluation, Law, Sampling};
+use crate::law::{bearing, fallback_command, steer, Command, Evaluation, Law, Period, Sampling};
 use crate::num::Scalar;
 use crate::status::Status;
 
@@ -33,6 +33,7 @@ pub struct Guidance<S> {
     law: Law<S>,
     policy: Policy,
     dt: S,
+    period: Period<S>,
     tie_floor: S,
     previous: Option<(Direction, Direction)>,
     near_field: NearFieldMemory<S>,
@@ -66,10 +67,12 @@ impl<S: Scalar> Guidance<S> {
         if !(dt.is_valid() && dt > S::zero() && tie_floor.is_valid()) {
             return Err(InvalidPeriod);
         }
+        let period = Period::new(&law.limits, dt).ok_or(InvalidPeriod)?;
         Ok(Guidance {
             law,
             policy: Policy::Paper,
             dt,
+            period,
             tie_floor,
             previous: None,
             near_field: NearFieldMemory {
@@ -113,7 +116,6 @@ impl<S: Scalar> Guidance<S> {
             tie_floor: self.tie_floor,
         };
         let mut evaluation = self.law.evaluate_sampled(pursuer, evader, &sampling);
-        let dt = Some(self.dt);
         evaluation.command = match (evaluation.status, evaluation.report.as_ref()) {
             (Status::Ok, Some(report)) => {
                 let s = report.solution;
@@ -123,12 +125,12 @@ impl<S: Scalar> Guidance<S> {
                         pursuer: steer(
                             s.row.sigma::<S>() * pair.capture.pursuer_arc,
                             &limits.pursuer,
-                            dt,
+                            Some(self.period.pursuer),
                         ),
                         evader: steer(
                             s.col.sigma::<S>() * pair.capture.evader_arc,
                             &limits.evader,
-                            dt,
+                            Some(self.period.evader),
                         ),
                     },
                     // A finite upper value with an infinite chosen entry cannot happen (the chosen
@@ -136,7 +138,9 @@ impl<S: Scalar> Guidance<S> {
                     None => evaluation.command,
                 }
             }
-            (Status::NoValidTangent, _) => fallback_command(pursuer, evader, &limits, dt),
+            (Status::NoValidTangent, _) => {
+                fallback_command(pursuer, evader, &limits, Some(&self.period))
+            }
             _ => Command::straight(),
         };
         let near = self.policy == Policy::NearField
@@ -147,7 +151,8 @@ impl<S: Scalar> Guidance<S> {
                 self.near_field.pursuing = true;
             }
             if self.near_field.pursuing {
-                evaluation.command.pursuer = lead_pursuit(pursuer, evader, &limits, self.dt);
+                evaluation.command.pursuer =
+                    lead_pursuit(pursuer, evader, &limits, self.dt, self.period.pursuer);
             }
         } else {
             self.near_field = NearFieldMemory {
@@ -190,6 +195,7 @@ fn lead_pursuit<S: Scalar>(
     evader: &VehicleState<S>,
     limits: &Limits<S>,
     dt: S,
+    per_radian: S,
 ) -> S {
     let p = &limits.pursuer;
     let distance = pursuer.position().distance(evader.position());
@@ -207,6 +213,6 @@ fn lead_pursuit<S: Scalar>(
     if on_course || out_of_reach {
         S::zero()
     } else {
-        steer(to_go, p, Some(dt))
+        steer(to_go, p, Some(per_radian))
     }
 }

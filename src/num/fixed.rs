@@ -182,6 +182,24 @@ fn atan_unit_q15(t: i32) -> i32 {
     mul_q15(t, p)
 }
 
+/// floor(x / (pi/2)) for x in Q14: by subtraction within a few quarter turns (at most 16 steps),
+/// by division beyond.
+fn quarter_turns(x: i32) -> i32 {
+    if x.unsigned_abs() >= 16 * FRAC_PI_2_Q14 as u32 {
+        return x.div_euclid(FRAC_PI_2_Q14);
+    }
+    let (mut rest, mut k) = (x, 0);
+    while rest < 0 {
+        rest += FRAC_PI_2_Q14;
+        k -= 1;
+    }
+    while rest >= FRAC_PI_2_Q14 {
+        rest -= FRAC_PI_2_Q14;
+        k += 1;
+    }
+    k
+}
+
 /// Largest integer whose square is at most n.
 fn isqrt(n: u32) -> u32 {
     let mut remainder = n;
@@ -214,6 +232,7 @@ impl Scalar for Fixed {
     const MIN_SPEED_RATIO: f32 = 1.0 / 16.0;
     const MAX_SPEED_RATIO: f32 = 15.0 / 16.0;
 
+    #[inline]
     fn from_f32(value: f32) -> Self {
         let scaled = value * ONE as f32;
         // Beyond +-2^31 (and for NaN) there is no Q17.14 number: invalid, never saturated.
@@ -224,6 +243,7 @@ impl Scalar for Fixed {
         // In range (checked above): the cast is exact after rounding.
         Fixed((scaled + half) as i32)
     }
+    #[inline]
     fn from_f32_toward_zero(value: f32) -> Self {
         let scaled = value * ONE as f32;
         if scaled.is_nan() || scaled.abs() >= 2_147_483_520.0 {
@@ -278,7 +298,7 @@ impl Scalar for Fixed {
         let Some(shifted) = self.0.checked_add(FRAC_PI_4_Q14) else {
             return (Fixed(INVALID), Fixed(INVALID));
         };
-        let k = shifted.div_euclid(FRAC_PI_2_Q14);
+        let k = quarter_turns(shifted);
         let r = ((self.0 - k * FRAC_PI_2_Q14) << 1) - ((k * FRAC_PI_2_Q30_REST) >> 15);
         let (s, c) = sin_cos_reduced_q15(r);
         let (s, c) = (Fixed(q15_to_q14(s)), Fixed(q15_to_q14(c)));
@@ -318,6 +338,18 @@ impl Scalar for Fixed {
     fn wrap_positive(self) -> Self {
         if self.is_invalid() {
             return self;
+        }
+        // The law's angles are differences of reduced headings, within a few turns: a few
+        // subtractions instead of a division (a library call on a Cortex-M0).
+        let mut v = self.0;
+        if v.unsigned_abs() < 4 * TAU_Q14 as u32 {
+            while v < 0 {
+                v += TAU_Q14;
+            }
+            while v >= TAU_Q14 {
+                v -= TAU_Q14;
+            }
+            return Fixed(v);
         }
         Fixed(self.0.rem_euclid(TAU_Q14))
     }
