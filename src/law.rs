@@ -198,6 +198,34 @@ impl<S: Scalar> Law<S> {
         self.evaluate_sampled(pursuer, evader, &Sampling::instantaneous())
     }
 
+    /// One pair of circles: its valid tangent (Algorithm 1) and the time to capture along it
+    /// (Algorithm 2). Kept out of line: the law calls it four times, and four inlined copies cost
+    /// more flash than the calls cost time.
+    #[inline(never)]
+    fn pair(
+        &self,
+        circles: &CirclePairs<S>,
+        row: Direction,
+        col: Direction,
+        pursuer_heading: S,
+        evader_heading: S,
+        sampling: &Sampling<S>,
+    ) -> Option<PairOutcome<S>> {
+        let tangent = circles.tangent(row, col)?;
+        let alpha_p = row.arc_to(
+            pursuer_heading,
+            tangent.heading,
+            sampling.pursuer_arc_tolerance,
+        );
+        let alpha_e = col.arc_to(
+            evader_heading,
+            tangent.heading,
+            sampling.evader_arc_tolerance,
+        );
+        let capture = capture_time(&self.limits, tangent.length, alpha_p, alpha_e, self.variant);
+        Some(PairOutcome { tangent, capture })
+    }
+
     /// Evaluates the law with a caller's arc tolerances and previous choice; the command is the
     /// instantaneous one (+-w_max of each chosen circle).
     pub fn evaluate_sampled(
@@ -205,6 +233,23 @@ impl<S: Scalar> Law<S> {
         pursuer: &VehicleState<S>,
         evader: &VehicleState<S>,
         sampling: &Sampling<S>,
+    ) -> Evaluation<S> {
+        self.evaluate_with(pursuer, evader, sampling, |_, _, instantaneous| {
+            instantaneous
+        })
+    }
+
+    /// Evaluates the law, and where there is a game (`Ok`, `NoValidTangent`) lets `command`
+    /// choose the command from the status, the report and the instantaneous command (+-w_max
+    /// of each chosen circle, or the unsampled fallback). The evaluation is built once, in the
+    /// caller's place (the report is over 100 bytes). A command outside the backend's range
+    /// turns the evaluation into `OutOfRange` with the safe command.
+    pub fn evaluate_with(
+        &self,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        sampling: &Sampling<S>,
+        command: impl FnOnce(Status, &GameReport<S>, Command<S>) -> Command<S>,
     ) -> Evaluation<S> {
         let p_lim = &self.limits.pursuer;
         let e_lim = &self.limits.evader;
@@ -214,18 +259,7 @@ impl<S: Scalar> Law<S> {
             return Evaluation::safe(Status::Captured);
         }
         let circles = CirclePairs::new(pursuer, p_lim, evader, e_lim);
-        let pair = |row: Direction, col: Direction| -> Option<PairOutcome<S>> {
-            let tangent = circles.tangent(row, col)?;
-            let alpha_p = row.arc_to(
-                pursuer.theta,
-                tangent.heading,
-                sampling.pursuer_arc_tolerance,
-            );
-            let alpha_e = col.arc_to(evader.theta, tangent.heading, sampling.evader_arc_tolerance);
-            let capture =
-                capture_time(&self.limits, tangent.length, alpha_p, alpha_e, self.variant);
-            Some(PairOutcome { tangent, capture })
-        };
+        let pair = |row, col| self.pair(&circles, row, col, pursuer.theta, evader.theta, sampling);
         let (a, c) = (Direction::Anticlockwise, Direction::Clockwise);
         let pairs = [[pair(a, a), pair(a, c)], [pair(c, a), pair(c, c)]];
         let value = |p: &Option<PairOutcome<S>>| p.as_ref().map(|p| p.capture.value);
@@ -245,24 +279,28 @@ impl<S: Scalar> Law<S> {
         }
         let solution = matrix.solve_sampled(sampling.previous, sampling.tie_floor);
         let report = GameReport { pairs, solution };
-        if solution.upper.is_none() {
-            let command = fallback_command(pursuer, evader, &self.limits, None);
-            let mut evaluation = Evaluation {
-                status: Status::NoValidTangent,
-                report: Some(report),
-                command,
-                units: self.limits.units,
-            };
-            evaluation.check_command();
-            return evaluation;
+        let (status, instantaneous) = if solution.upper.is_none() {
+            (
+                Status::NoValidTangent,
+                fallback_command(pursuer, evader, &self.limits, None),
+            )
+        } else {
+            (
+                Status::Ok,
+                Command {
+                    pursuer: solution.row.sigma::<S>() * p_lim.w_max(),
+                    evader: solution.col.sigma::<S>() * e_lim.w_max(),
+                },
+            )
+        };
+        let command = command(status, &report, instantaneous);
+        if !(command.pursuer.is_valid() && command.evader.is_valid()) {
+            return Evaluation::safe(Status::OutOfRange);
         }
         Evaluation {
-            status: Status::Ok,
+            status,
             report: Some(report),
-            command: Command {
-                pursuer: solution.row.sigma::<S>() * p_lim.w_max(),
-                evader: solution.col.sigma::<S>() * e_lim.w_max(),
-            },
+            command,
             units: self.limits.units,
         }
     }

@@ -11,7 +11,9 @@
 //! only to within v_pm dt, which on a chase closing at v_pm - v_em is that much capture time.
 
 use crate::geometry::{Direction, Limits, TurningCircle, VehicleLimits, VehicleState};
-use crate::law::{bearing, fallback_command, steer, Command, Evaluation, Law, Period, Sampling};
+use crate::law::{
+    bearing, fallback_command, steer, Command, Evaluation, GameReport, Law, Period, Sampling,
+};
 use crate::num::Scalar;
 use crate::status::Status;
 
@@ -47,6 +49,14 @@ struct NearFieldMemory<S> {
     pursuing: bool,
 }
 
+impl<S> NearFieldMemory<S> {
+    /// Nothing remembered: the law is followed.
+    const FRESH: Self = NearFieldMemory {
+        last_upper: None,
+        pursuing: false,
+    };
+}
+
 /// Why a control period is not usable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct InvalidPeriod;
@@ -75,10 +85,7 @@ impl<S: Scalar> Guidance<S> {
             period,
             tie_floor,
             previous: None,
-            near_field: NearFieldMemory {
-                last_upper: None,
-                pursuing: false,
-            },
+            near_field: NearFieldMemory::FRESH,
         })
     }
 
@@ -96,10 +103,7 @@ impl<S: Scalar> Guidance<S> {
     /// Forgets the previous choice (a new engagement).
     pub fn reset(&mut self) {
         self.previous = None;
-        self.near_field = NearFieldMemory {
-            last_upper: None,
-            pursuing: false,
-        };
+        self.near_field = NearFieldMemory::FRESH;
     }
 
     fn arc_tolerance(&self, limits: &VehicleLimits<S>) -> S {
@@ -115,9 +119,31 @@ impl<S: Scalar> Guidance<S> {
             previous: self.previous,
             tie_floor: self.tie_floor,
         };
-        let mut evaluation = self.law.evaluate_sampled(pursuer, evader, &sampling);
-        evaluation.command = match (evaluation.status, evaluation.report.as_ref()) {
-            (Status::Ok, Some(report)) => {
+        let law = self.law;
+        let evaluation =
+            law.evaluate_with(pursuer, evader, &sampling, |status, report, command| {
+                self.sampled_command(status, report, command, pursuer, evader)
+            });
+        if !matches!(evaluation.status, Status::Ok | Status::NoValidTangent) {
+            self.near_field = NearFieldMemory::FRESH;
+        }
+        evaluation
+    }
+
+    /// The sampled command for a game: each player steers toward its chosen tangent by what one
+    /// period needs (or the fallback's bearings); under the near-field policy the pursuer may
+    /// leave the law (module docs). Records the choice for the next period.
+    fn sampled_command(
+        &mut self,
+        status: Status,
+        report: &GameReport<S>,
+        instantaneous: Command<S>,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+    ) -> Command<S> {
+        let limits = self.law.limits;
+        let mut command = match status {
+            Status::Ok => {
                 let s = report.solution;
                 self.previous = Some((s.row, s.col));
                 match report.chosen_pair() {
@@ -135,33 +161,25 @@ impl<S: Scalar> Guidance<S> {
                     },
                     // A finite upper value with an infinite chosen entry cannot happen (the chosen
                     // row's worst entry is finite); keep the instantaneous command if it ever did.
-                    None => evaluation.command,
+                    None => instantaneous,
                 }
             }
-            (Status::NoValidTangent, _) => {
-                fallback_command(pursuer, evader, &limits, Some(&self.period))
-            }
-            _ => Command::straight(),
+            _ => fallback_command(pursuer, evader, &limits, Some(&self.period)),
         };
         let near = self.policy == Policy::NearField
-            && matches!(evaluation.status, Status::Ok | Status::NoValidTangent)
             && pursuer.position().distance(evader.position()) < limits.theorem_threshold();
         if near {
-            if self.near_field_lost(&evaluation) {
+            if self.near_field_lost(report) {
                 self.near_field.pursuing = true;
             }
             if self.near_field.pursuing {
-                evaluation.command.pursuer =
+                command.pursuer =
                     lead_pursuit(pursuer, evader, &limits, self.dt, self.period.pursuer);
             }
         } else {
-            self.near_field = NearFieldMemory {
-                last_upper: None,
-                pursuing: false,
-            };
+            self.near_field = NearFieldMemory::FRESH;
         }
-        evaluation.check_command();
-        evaluation
+        command
     }
 }
 
@@ -169,14 +187,11 @@ impl<S: Scalar> Guidance<S> {
     /// Whether, in the near field, the law has lost its own prediction: on the first near-field
     /// period its game is not trusted ([`crate::GameReport::trusted`]); later, its upper value
     /// rose instead of falling by dt (beyond the tie floor). Records the upper value.
-    fn near_field_lost(&mut self, evaluation: &Evaluation<S>) -> bool {
-        let upper = evaluation.report.as_ref().and_then(|r| r.solution.upper);
+    fn near_field_lost(&mut self, report: &GameReport<S>) -> bool {
+        let upper = report.solution.upper;
         let lost = match (self.near_field.last_upper, upper) {
             (_, None) => true,
-            (None, Some(_)) => !evaluation
-                .report
-                .as_ref()
-                .is_some_and(|r| r.trusted(self.tie_floor)),
+            (None, Some(_)) => !report.trusted(self.tie_floor),
             (Some(last), Some(now)) => now > last - self.dt + self.tie_floor,
         };
         self.near_field.last_upper = upper;
