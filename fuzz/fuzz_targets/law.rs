@@ -1,11 +1,12 @@
 //! The law on arbitrary f32 bit patterns for limits and states, on the f32 and the fixed-point
 //! backends: no panic; statuses agree with an independent check of the input; commands finite and
-//! within +-w_max (in 1/m, whatever the backend's units); the sampled command too.
+//! within +-w_max (in 1/m, whatever the backend's units); the sampled command too, under both
+//! policies.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use twocars::num::fixed::Fixed;
-use twocars::{evaluate_observation, Guidance, Law, Observation, Scalar, Status, Variant};
+use twocars::{evaluate_observation, Guidance, Law, Observation, Policy, Scalar, Status, Variant};
 
 /// Checks one backend; `slack` is the relative tolerance of |w| <= w_max after unit conversion.
 fn check<S: Scalar>(observation: &Observation, period: f32, slack: f64) {
@@ -24,7 +25,10 @@ fn check<S: Scalar>(observation: &Observation, period: f32, slack: f64) {
     let non_finite = fields.clone().any(|v| !v.is_finite());
     let [v_pm, w_pm, v_em, w_em] = observation.limits;
     let assumption = v_pm > v_em && v_em > 0.0 && w_pm > w_em && w_em > 0.0;
-    let (w_pm, w_em) = (f64::from(w_pm) * (1.0 + slack), f64::from(w_em) * (1.0 + slack));
+    let (w_pm, w_em) = (
+        f64::from(w_pm) * (1.0 + slack),
+        f64::from(w_em) * (1.0 + slack),
+    );
     if non_finite {
         assert_eq!(ev.status, Status::NonFiniteInput);
     } else if !assumption {
@@ -42,7 +46,11 @@ fn check<S: Scalar>(observation: &Observation, period: f32, slack: f64) {
     }
     // The sampled command of a stateful caller, with the fuzzed period.
     if let Ok(scene) = twocars::law::validate::<S>(observation) {
-        if let Ok(mut g) = Guidance::new(Law::new(scene.limits, Variant::Clamped), period) {
+        for policy in [Policy::Paper, Policy::NearField] {
+            let Ok(g) = Guidance::new(Law::new(scene.limits, Variant::Clamped), period) else {
+                break;
+            };
+            let mut g = g.with_policy(policy);
             let s = g.step(&scene.pursuer, &scene.evader);
             let (sp, se) = (
                 s.units.curvature(s.command.pursuer),

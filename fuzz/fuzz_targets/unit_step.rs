@@ -26,7 +26,10 @@ fn check_reply(bytes: &[u8]) {
                     kind::COMMAND => {
                         let c = CommandMsg::parse(p).expect("command parses");
                         for (rate, max) in [(c.pursuer_rate, 4.0f32), (c.evader_rate, 1.0)] {
-                            assert!(rate.is_finite() && rate.abs() <= max * (1.0 + 1e-6), "rate {rate}");
+                            assert!(
+                                rate.is_finite() && rate.abs() <= max * (1.0 + 1e-6),
+                                "rate {rate}"
+                            );
                         }
                         assert!(!c.predicted.is_nan() && !c.upper.is_nan() && !c.lower.is_nan());
                     }
@@ -36,7 +39,9 @@ fn check_reply(bytes: &[u8]) {
                     kind::COUNTERS => {
                         Counters::parse(p).expect("counters parse");
                     }
-                    kind::CONFIGURE_ACK | kind::SHUTDOWN_ACK | kind::RESET_ACK => assert!(p.is_empty()),
+                    kind::CONFIGURE_ACK | kind::SHUTDOWN_ACK | kind::RESET_ACK => {
+                        assert!(p.is_empty())
+                    }
                     other => panic!("unknown reply type {other:#x}"),
                 }
             }
@@ -49,7 +54,14 @@ fuzz_target!(|data: &[u8]| {
     let mut unit = Unit::new();
     let mut now = 0u32;
     if data.first().is_some_and(|b| b & 1 == 1) {
-        let c = Configure { limits: LIMITS, dt: 0.01, watchdog: 0.5, roles: 3, variant: 0, policy: 0 };
+        let c = Configure {
+            limits: LIMITS,
+            dt: 0.01,
+            watchdog: 0.5,
+            roles: 3,
+            variant: 0,
+            policy: 0,
+        };
         let mut out = [0u8; MAX_ENCODED];
         let n = encode_frame(kind::CONFIGURE, 1, |w| c.emit(w), &mut out).expect("fits");
         for &b in &out[..n] {
