@@ -10,7 +10,7 @@
 //! travel, dt v_pm / (v_pm - v_em): a sampled controller knows where the pursuer is along its path
 //! only to within v_pm dt, which on a chase closing at v_pm - v_em is that much capture time.
 
-use crate::geometry::{Direction, Limits, TurningCircle, VehicleLimits, VehicleState};
+use crate::geometry::{Limits, TurningCircle, VehicleLimits, VehicleState};
 use crate::law::{
     bearing, fallback_command, steer, Command, Evaluation, GameReport, Law, Period, Sampling,
 };
@@ -36,8 +36,8 @@ pub struct Guidance<S> {
     policy: Policy,
     dt: S,
     period: Period<S>,
-    tie_floor: S,
-    previous: Option<(Direction, Direction)>,
+    /// Arc tolerances and tie floor, fixed by the limits and dt; `previous` is the last choice.
+    sampling: Sampling<S>,
     near_field: NearFieldMemory<S>,
 }
 
@@ -78,13 +78,21 @@ impl<S: Scalar> Guidance<S> {
             return Err(InvalidPeriod);
         }
         let period = Period::new(&law.limits, dt).ok_or(InvalidPeriod)?;
+        // An arc within one period's full turn of 2 pi is a hair past the tangent.
+        let arc_tolerance = |limits: &VehicleLimits<S>| {
+            (limits.max_turn_rate() * dt).max(S::from_f32(S::ARC_RESOLUTION))
+        };
         Ok(Guidance {
             law,
             policy: Policy::Paper,
             dt,
             period,
-            tie_floor,
-            previous: None,
+            sampling: Sampling {
+                pursuer_arc_tolerance: arc_tolerance(&law.limits.pursuer),
+                evader_arc_tolerance: arc_tolerance(&law.limits.evader),
+                previous: None,
+                tie_floor,
+            },
             near_field: NearFieldMemory::FRESH,
         })
     }
@@ -102,23 +110,13 @@ impl<S: Scalar> Guidance<S> {
 
     /// Forgets the previous choice (a new engagement).
     pub fn reset(&mut self) {
-        self.previous = None;
+        self.sampling.previous = None;
         self.near_field = NearFieldMemory::FRESH;
-    }
-
-    fn arc_tolerance(&self, limits: &VehicleLimits<S>) -> S {
-        (limits.max_turn_rate() * self.dt).max(S::from_f32(S::ARC_RESOLUTION))
     }
 
     /// Evaluates the law for this period and returns the evaluation with the sampled command.
     pub fn step(&mut self, pursuer: &VehicleState<S>, evader: &VehicleState<S>) -> Evaluation<S> {
-        let limits = self.law.limits;
-        let sampling = Sampling {
-            pursuer_arc_tolerance: self.arc_tolerance(&limits.pursuer),
-            evader_arc_tolerance: self.arc_tolerance(&limits.evader),
-            previous: self.previous,
-            tie_floor: self.tie_floor,
-        };
+        let sampling = self.sampling;
         let law = self.law;
         let evaluation =
             law.evaluate_with(pursuer, evader, &sampling, |status, report, command| {
@@ -145,7 +143,7 @@ impl<S: Scalar> Guidance<S> {
         let mut command = match status {
             Status::Ok => {
                 let s = report.solution;
-                self.previous = Some((s.row, s.col));
+                self.sampling.previous = Some((s.row, s.col));
                 match report.chosen_pair() {
                     Some(pair) => Command {
                         pursuer: steer(
@@ -191,8 +189,8 @@ impl<S: Scalar> Guidance<S> {
         let upper = report.solution.upper;
         let lost = match (self.near_field.last_upper, upper) {
             (_, None) => true,
-            (None, Some(_)) => !report.trusted(self.tie_floor),
-            (Some(last), Some(now)) => now > last - self.dt + self.tie_floor,
+            (None, Some(_)) => !report.trusted(self.sampling.tie_floor),
+            (Some(last), Some(now)) => now > last - self.dt + self.sampling.tie_floor,
         };
         self.near_field.last_upper = upper;
         lost
