@@ -200,9 +200,10 @@ impl<S: Scalar> Guidance<S> {
 /// The near-field pursuer where the law's game is not to be trusted: it turns toward a lead point
 /// ahead of the evader, at most what one period needs, unless the evader is inside the pursuer's
 /// turning circle on that side and more than one period's turn off the nose, where turning cannot
-/// bring it ahead: then it goes straight to open the distance. The lead point is where the evader would be, holding its course, after half
-/// the time the pursuer needs to reach the evader's present position (a full lead overshoots an
-/// evader that turns). A bearing within half a period's turn counts as on course: straight.
+/// bring it ahead: then it goes straight to open the distance. The lead point is where the evader
+/// would be, holding its course, after half the time the pursuer needs to reach the evader's
+/// present position (a full lead overshoots an evader that turns). A bearing within half a
+/// period's turn counts as on course (straight), except within four periods' travel.
 fn lead_pursuit<S: Scalar>(
     pursuer: &VehicleState<S>,
     evader: &VehicleState<S>,

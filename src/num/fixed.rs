@@ -111,21 +111,21 @@ impl Mul for Fixed {
         }
         // The common case, a length or time (below 2^14) times a sine, speed or radius (below
         // 8): two 32-bit products (one MULS each on a Cortex-M0, where a 64-bit product is a
-        // library call), |a| b = (|a| >> 14) b 2^14 + (|a| mod 2^14) b, rounded half away from 0.
+        // library call). With a = h 2^14 + l (h = a >> 14, l = a mod 2^14 in [0, 2^14)),
+        // a b / 2^14 = h b + l b / 2^14, rounded half up like the 64-bit path below.
         let (ua, ub) = (self.0.unsigned_abs(), rhs.0.unsigned_abs());
-        let (large, small) = if ua >= ub { (ua, ub) } else { (ub, ua) };
-        if large < 1 << 28 && small < 1 << 17 {
-            let high = (large >> FRAC) * small;
-            let low = ((large & (ONE as u32 - 1)) * small + (1 << (FRAC - 1))) >> FRAC;
-            let magnitude = i32::try_from(high + low).unwrap_or(INVALID);
-            if magnitude == INVALID {
-                return Fixed(INVALID);
-            }
-            return Fixed(if (self.0 < 0) == (rhs.0 < 0) {
-                magnitude
-            } else {
-                -magnitude
-            });
+        let operands = if ub < 1 << 17 && ua < 1 << 28 {
+            Some((self.0, rhs.0))
+        } else if ua < 1 << 17 && ub < 1 << 28 {
+            Some((rhs.0, self.0))
+        } else {
+            None
+        };
+        if let Some((a, b)) = operands {
+            // |h| < 2^14 and |b| < 2^17; l b + 2^13 < 2^31.
+            let high = (a >> FRAC) * b;
+            let low = ((a & (ONE - 1)) * b + (1 << (FRAC - 1))) >> FRAC;
+            return Fixed(high.checked_add(low).unwrap_or(INVALID));
         }
         let product = i64::from(self.0) * i64::from(rhs.0);
         Fixed::from_wide((product + (1 << (FRAC - 1))) >> FRAC)
