@@ -164,10 +164,9 @@ impl<S: Scalar> Guidance<S> {
             }
             _ => fallback_command(pursuer, evader, &limits, Some(&self.period)),
         };
-        let near = self.policy == Policy::NearField
-            && pursuer.position().distance(evader.position()) < limits.theorem_threshold();
-        if near {
-            if self.near_field_lost(report) {
+        let distance = pursuer.position().distance(evader.position());
+        if self.policy == Policy::NearField && distance < limits.theorem_threshold() {
+            if self.near_field_lost(report, distance) {
                 self.near_field.pursuing = true;
             }
             if self.near_field.pursuing {
@@ -184,11 +183,14 @@ impl<S: Scalar> Guidance<S> {
 impl<S: Scalar> Guidance<S> {
     /// Whether, in the near field, the law has lost its own prediction: on the first near-field
     /// period its game is not trusted ([`crate::GameReport::trusted`]); later, its upper value
-    /// rose instead of falling by dt (beyond the tie floor). Records the upper value.
-    fn near_field_lost(&mut self, report: &GameReport<S>) -> bool {
+    /// rose instead of falling by dt (beyond the tie floor), or it has no finite value while the
+    /// players are more than four periods' travel apart (closer, the law's fallback aims at the
+    /// evader, as lead pursuit would). Records the upper value.
+    fn near_field_lost(&mut self, report: &GameReport<S>, distance: S) -> bool {
         let upper = report.solution.upper;
+        let pursuer = &self.law.limits.pursuer;
         let lost = match (self.near_field.last_upper, upper) {
-            (_, None) => true,
+            (_, None) => distance >= S::from_f32(4.0) * pursuer.v_max() * self.dt,
             (None, Some(_)) => !report.trusted(self.sampling.tie_floor),
             (Some(last), Some(now)) => now > last - self.dt + self.sampling.tie_floor,
         };

@@ -119,6 +119,33 @@ fn above_the_threshold_at_random_limits_capture_matches_the_prediction() {
     );
 }
 
+/// Above the threshold the near-field policy is the paper's law until the law's own prediction
+/// breaks: wherever the paper's law captured as predicted, the near-field policy captures no later
+/// (dt = 10 ms, where the last centimetres are decided to the millimetre).
+#[test]
+fn the_near_field_policy_does_not_lengthen_runs_the_paper_law_predicted() {
+    let far = scene(60.0).prop_filter("above threshold", above_threshold);
+    seeded_runner(48)
+        .run(&far, |s| {
+            let p = params(&s, 0.01);
+            let paper = simulate::<f32>(&p, Variant::Paper, Policy::Paper, false);
+            let ours = simulate::<f32>(&p, Variant::Paper, Policy::NearField, false);
+            let closed = paper.t_capture + EPS / (s.limits[0] - s.limits[2]);
+            let held = paper.status == SimStatus::Captured
+                && (closed - paper.predicted).abs() <= 5.0 * p.dt;
+            if held {
+                assert!(
+                    ours.t_capture <= paper.t_capture + 5.0 * p.dt,
+                    "near-field {} vs paper {}",
+                    ours.t_capture,
+                    paper.t_capture
+                );
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
 /// Below the threshold, at the paper's limits and initial distances 2 to 6.5 m, the near-field
 /// policy shortens the mean capture time and the worst lateness past the law's own prediction,
 /// and chatters less than the paper's law. (It does lengthen some runs: `cargo xtask report`.)
