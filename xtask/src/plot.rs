@@ -147,6 +147,20 @@ impl Figure {
         self.text(self.width / 2.0, 22.0, 14.0, "middle", title);
     }
 
+    /// Lines of explanation at the top left of the plot area.
+    fn legend(&mut self, lines: &[&str]) {
+        let (left, top, _, _) = self.area;
+        for (i, line) in lines.iter().enumerate() {
+            self.text(
+                left + 8.0,
+                top + 16.0 + 14.0 * i as f64,
+                11.0,
+                "start",
+                line,
+            );
+        }
+    }
+
     fn save(&self, path: &Path) -> std::io::Result<()> {
         let svg = format!(
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n{}</svg>\n",
@@ -268,21 +282,10 @@ fn paper_case(
         col.letter()
     );
     fig.axes((5.0, 5.0), metres, ("x (m)", "y (m)"), &title);
-    let (left, top, _, _) = fig.area;
-    fig.text(
-        left + 8.0,
-        top + 16.0,
-        11.0,
-        "start",
+    fig.legend(&[
         "pursuer (blue), evader (red), turning circles at t = 0 (dashed),",
-    );
-    fig.text(
-        left + 8.0,
-        top + 30.0,
-        11.0,
-        "start",
         "chosen valid tangent at t = 0 (green, dashed), capture point (black)",
-    );
+    ]);
     let path = dir.join(format!("{name}.svg"));
     fig.save(&path).map_err(|e| e.to_string())?;
     Ok(path)
@@ -445,15 +448,12 @@ fn scatter(
         ),
         &format!("Closed loop, policy {policy}: {runs} seeded states, random limits, dt = 0.01 s"),
     );
-    let (left, top, _, _) = fig.area;
-    fig.text(
-        left + 8.0,
-        top + 16.0,
-        11.0,
-        "start",
+    fig.legend(&[
         "blue: d0 >= threshold; red: d0 < threshold; dashed: simulated = predicted",
-    );
-    fig.text(left + 8.0, top + 30.0, 11.0, "start", &format!("{missed} runs without capture plotted on the top edge; cargo xtask report for the tables"));
+        &format!(
+            "{missed} runs without capture plotted on the top edge; cargo xtask report for the tables"
+        ),
+    ]);
     let path = dir.join(format!("monte-carlo-{policy}.svg"));
     fig.save(&path).map_err(|e| e.to_string())?;
     Ok(path)
