@@ -25,6 +25,17 @@ pub struct Cpu {
     ticks_per_instruction: f64,
 }
 
+impl Cpu {
+    /// Its name in the tables.
+    pub fn name(&self) -> &'static str {
+        self.name
+    }
+    /// QEMU's machine arguments.
+    pub fn machine(&self) -> &'static [&'static str] {
+        self.machine
+    }
+}
+
 pub const M4F: Cpu = Cpu {
     name: "Cortex-M4F (mps2-an386)",
     target: "thumbv7em-none-eabihf",
@@ -58,33 +69,7 @@ pub struct Measured {
 /// Builds the bench image with `features` for `cpu`, runs it in QEMU with `-icount` and reads
 /// its per-state lines.
 pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
-    let all_features = format!("{features}{}", cpu.board_features);
-    let status = Command::new(&cargo)
-        .current_dir(root())
-        .args([
-            "build",
-            "--release",
-            "--target",
-            cpu.target,
-            "--bin",
-            "twocars-bench",
-        ])
-        .args(["--features", &all_features])
-        .stdout(Stdio::null())
-        .status()
-        .map_err(|e| e.to_string())?;
-    if !status.success() {
-        return Err(format!(
-            "bench build for {} ({all_features}) failed",
-            cpu.name
-        ));
-    }
-    let elf: PathBuf = root()
-        .join("target")
-        .join(cpu.target)
-        .join("release")
-        .join("twocars-bench");
+    let elf = build(cpu, features)?;
     let flash = crate::size::of(&elf)?.flash();
     let mut child = Command::new(qemu::qemu_binary()?)
         .args(cpu.machine)
@@ -144,6 +129,37 @@ pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
         ));
     }
     Ok(m)
+}
+
+/// Builds the bench image with `features` for `cpu`; returns the ELF's path.
+pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let all_features = format!("{features}{}", cpu.board_features);
+    let status = Command::new(&cargo)
+        .current_dir(root())
+        .args([
+            "build",
+            "--release",
+            "--target",
+            cpu.target,
+            "--bin",
+            "twocars-bench",
+        ])
+        .args(["--features", &all_features])
+        .stdout(Stdio::null())
+        .status()
+        .map_err(|e| e.to_string())?;
+    if !status.success() {
+        return Err(format!(
+            "bench build for {} ({all_features}) failed",
+            cpu.name
+        ));
+    }
+    Ok(root()
+        .join("target")
+        .join(cpu.target)
+        .join("release")
+        .join("twocars-bench"))
 }
 
 /// Instructions per evaluation (mean, min, max), the law's stack and flash on one CPU.

@@ -7,6 +7,7 @@ mod firmware_loop;
 mod fuzz;
 mod options;
 mod plot;
+mod profile;
 mod qemu;
 mod qemu_tests;
 mod report;
@@ -25,6 +26,7 @@ cargo xtask <command> [options]
           [--limits v,w,v,w] [--pursuer x,y,th --evader x,y,th] [--host-only]
   build   build a firmware image and print its flash and RAM  [--board qemu|stm32f405|all]
   bench   instructions per law evaluation (M4F, M0), flash, stack, host throughput -> docs/bench.md
+  profile instructions per law evaluation by function (QEMU exec log), M4F f32 and M0 fixed point
   fuzz    the libFuzzer targets from their seed corpora  [--seconds S | --runs N] [--write-seeds] [target..]
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
@@ -57,6 +59,7 @@ fn main() -> ExitCode {
         ("fuzz", Ok((_, rest))) => fuzz::command(&rest),
         ("report", Ok((_, rest))) => report::command(&rest),
         ("plot", Ok(_)) => plot::command(),
+        ("profile", Ok(_)) => profile::command(),
         ("build", Ok((_, rest))) => qemu::build_command(&rest),
         (other, Ok(_)) => {
             eprintln!("xtask: unknown command `{other}`\n{HELP}");
