@@ -5,7 +5,7 @@
 use host_tests::link::{self, Reply};
 use host_tests::sim::{closed_loop, SimParams, SimResult, StepCommand};
 use twocars::message::{Configure, Counters, StateMsg, ROLE_EVADER, ROLE_PURSUER};
-use twocars::{Direction, Guidance, Law, Limits, Variant, VehicleState};
+use twocars::{Direction, Guidance, Law, Limits, Policy, Variant, VehicleState};
 
 use crate::qemu::Qemu;
 
@@ -38,6 +38,7 @@ pub fn run_case(
     sequence: &mut u16,
     params: &SimParams,
     roles: u8,
+    (variant, policy): (Variant, Policy),
 ) -> Result<FirmwareRun, String> {
     let limits32 = params.limits.map(|v| v as f32);
     let configure = Configure {
@@ -45,8 +46,14 @@ pub fn run_case(
         dt: params.dt as f32,
         watchdog: 1.0,
         roles,
-        variant: 0,
-        policy: 0,
+        variant: match variant {
+            Variant::Paper => 0,
+            Variant::Clamped => 1,
+        },
+        policy: match policy {
+            Policy::Paper => 0,
+            Policy::NearField => 1,
+        },
     };
     *sequence = sequence.wrapping_add(1);
     qemu.send(&link::configure(*sequence, &configure))?;
@@ -56,8 +63,9 @@ pub fn run_case(
     }
     let [v_pm, w_pm, v_em, w_em] = limits32;
     let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|s| s.name().to_string())?;
-    let mut host = Guidance::new(Law::new(limits, Variant::Paper), params.dt as f32)
-        .map_err(|_| "invalid dt".to_string())?;
+    let mut host = Guidance::new(Law::new(limits, variant), params.dt as f32)
+        .map_err(|_| "invalid dt".to_string())?
+        .with_policy(policy);
     let mut run = FirmwareRun {
         result: SimResult::empty(host_tests::sim::SimStatus::Timeout, f64::INFINITY),
         predicted: f64::NAN,

@@ -76,27 +76,35 @@ fn closed_loop(elf: &std::path::Path) -> Outcome {
     let mut q = Qemu::start(elf, false)?;
     let mut sequence = 0;
     let mut report = Vec::new();
-    for case in paper_cases() {
-        let params = SimParams {
-            limits: PAPER_LIMITS,
-            pursuer: case.pursuer,
-            evader: case.evader,
-            dt: 0.01,
-            t_max: 30.0,
-            eps: 0.01,
-        };
-        let fw =
-            firmware_loop::run_case(&mut q, &mut sequence, &params, ROLE_PURSUER | ROLE_EVADER)?;
-        let host = simulate::<f32>(&params, Variant::Paper, Policy::Paper, false);
-        let diff = fw.result.t_capture - host.t_capture;
-        // Stated tolerance: one control period (the same f32 code runs on both sides).
-        if fw.result.status != host.status || diff.abs() > params.dt || fw.errors_received > 0 {
-            return Err(format!(
-                "{}: firmware {:?} vs host {:?}",
-                case.name, fw.result, host
-            ));
+    // Both policies: Configure's policy byte selects the firmware's, the host runs the same.
+    for policy in [Policy::Paper, Policy::NearField] {
+        for case in paper_cases() {
+            let params = SimParams {
+                limits: PAPER_LIMITS,
+                pursuer: case.pursuer,
+                evader: case.evader,
+                dt: 0.01,
+                t_max: 30.0,
+                eps: 0.01,
+            };
+            let fw = firmware_loop::run_case(
+                &mut q,
+                &mut sequence,
+                &params,
+                ROLE_PURSUER | ROLE_EVADER,
+                (Variant::Paper, policy),
+            )?;
+            let host = simulate::<f32>(&params, Variant::Paper, policy, false);
+            let diff = fw.result.t_capture - host.t_capture;
+            // Stated tolerance: one control period (the same f32 code runs on both sides).
+            if fw.result.status != host.status || diff.abs() > params.dt || fw.errors_received > 0 {
+                return Err(format!(
+                    "{} {policy:?}: firmware {:?} vs host {:?}",
+                    case.name, fw.result, host
+                ));
+            }
+            report.push(format!("{} {policy:?} {:+.1e} s", case.name, diff));
         }
-        report.push(format!("{} {:+.1e} s", case.name, diff));
     }
     firmware_loop::shutdown(q, &mut sequence)?;
     Ok(format!(

@@ -215,7 +215,13 @@ pub fn run(options: &Options, args: &[String]) -> i32 {
             host.sign_flips
         );
         let Some(q) = session.as_mut() else { continue };
-        match firmware_loop::run_case(q, &mut sequence, &params(&o, case), o.roles) {
+        match firmware_loop::run_case(
+            q,
+            &mut sequence,
+            &params(&o, case),
+            o.roles,
+            (options.variant, options.policy),
+        ) {
             Ok(fw) => {
                 let r = &fw.result;
                 let diff = r.t_capture - host.t_capture;
