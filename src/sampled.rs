@@ -164,8 +164,13 @@ impl<S: Scalar> Guidance<S> {
             }
             _ => fallback_command(pursuer, evader, &limits, Some(&self.period)),
         };
-        let distance = pursuer.position().distance(evader.position());
-        if self.policy == Policy::NearField && distance < limits.theorem_threshold() {
+        // The distance (a square root) only under the near-field policy.
+        let near = match self.policy {
+            Policy::NearField => Some(pursuer.position().distance(evader.position()))
+                .filter(|&d| d < limits.theorem_threshold()),
+            Policy::Paper => None,
+        };
+        if let Some(distance) = near {
             if self.near_field_lost(report, distance) {
                 self.near_field.pursuing = true;
             }
