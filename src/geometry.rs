@@ -392,19 +392,17 @@ impl<S: Scalar> TurningCircle<S> {
             y: centre.y - sr * cos_psi,
         }
     }
-
-    /// Heading angle (radians, in [0, 2 pi)) a vehicle with heading `theta` turns through on this
-    /// circle to reach heading `psi` ([`Direction::arc_to`]).
-    pub fn arc_to(&self, theta: S, psi: S, tolerance: S) -> S {
-        self.direction.arc_to(theta, psi, tolerance)
-    }
 }
 
 /// What the four valid tangents between a pursuer's and an evader's circles share: Algorithm 1
-/// for all four pairs from one sine and cosine per vehicle. With Delta = position_e - position_p
-/// and n the left unit normals, a pair's |D|^2 - k^2 is
-/// |Delta|^2 + 2 (sigma_e r_e Delta . n_e - sigma_p r_p Delta . n_p) + sigma_e sigma_p r_e r_p |n_e - n_p|^2
-/// ([`ValidTangent::between`] for one pair).
+/// for all four pairs from one sine and cosine per vehicle.
+///
+/// With D = O_e - O_p (the centres) and k = sigma_e r_e - sigma_p r_p, a pair's tangent exists iff
+/// |D| >= |k| and |D| > 0; its length is L = sqrt(|D|^2 - k^2). L^2 is formed without the
+/// cancellation of subtracting nearly equal centres: with Delta = position_e - position_p and n the
+/// left unit normals,
+/// |D|^2 - k^2 = |Delta|^2 + 2 (sigma_e r_e Delta . n_e - sigma_p r_p Delta . n_p)
+///   + sigma_e sigma_p r_e r_p |n_e - n_p|^2.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CirclePairs<S> {
     delta: Point<S>,
@@ -490,37 +488,9 @@ pub struct ValidTangent<S> {
 }
 
 impl<S: Scalar> ValidTangent<S> {
-    /// The valid tangent from `pursuer` to `evader`, or `None` where it does not exist.
-    ///
-    /// With D = O_e - O_p and k = sigma_e r_e - sigma_p r_p, the tangent exists iff |D| >= |k| and
-    /// |D| > 0; its length is L = sqrt(|D|^2 - k^2) and its direction is (L D + k D_perp) / |D|^2
-    /// with D_perp = (D_y, -D_x), so that |D| sin(psi - atan2(D)) = -k.
-    ///
-    /// L^2 is formed without cancellation when the circles nearly touch: with
-    /// Delta = position_e - position_p and o = sigma r n (n the left normal),
-    /// |D|^2 - k^2 = |Delta|^2 + 2 Delta . (o_e - o_p) + sigma_e sigma_p r_e r_p |n_e - n_p|^2.
-    pub fn between(pursuer: &TurningCircle<S>, evader: &TurningCircle<S>) -> Option<Self> {
-        let (sr_p, sr_e) = (pursuer.signed_radius(), evader.signed_radius());
-        let delta_x = evader.position.x - pursuer.position.x;
-        let delta_y = evader.position.y - pursuer.position.y;
-        let offset_x = sr_e * evader.normal.x - sr_p * pursuer.normal.x;
-        let offset_y = sr_e * evader.normal.y - sr_p * pursuer.normal.y;
-        let dn_x = evader.normal.x - pursuer.normal.x;
-        let dn_y = evader.normal.y - pursuer.normal.y;
-        let length_sq = delta_x * delta_x
-            + delta_y * delta_y
-            + (delta_x * offset_x + delta_y * offset_y) * S::from_f32(2.0)
-            + sr_e * sr_p * (dn_x * dn_x + dn_y * dn_y);
-        Self::from_terms(
-            length_sq,
-            delta_x + offset_x,
-            delta_y + offset_y,
-            sr_e - sr_p,
-        )
-    }
-
     /// The tangent from L^2 = |D|^2 - k^2, D = (dx, dy) and k (metres), or `None` where it does
-    /// not exist.
+    /// not exist. Its direction is (L D + k D_perp) / |D|^2 with D_perp = (D_y, -D_x), so that
+    /// |D| sin(psi - atan2(D)) = -k.
     fn from_terms(length_sq: S, dx: S, dy: S, k: S) -> Option<Self> {
         let zero = S::zero();
         if length_sq < zero || length_sq + k * k <= zero {

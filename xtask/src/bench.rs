@@ -30,9 +30,17 @@ impl Cpu {
     pub fn name(&self) -> &'static str {
         self.name
     }
-    /// QEMU's machine arguments.
-    pub fn machine(&self) -> &'static [&'static str] {
-        self.machine
+    /// QEMU on this CPU's machine, headless, semihosting to the host, loading `elf`; the caller
+    /// adds its own options (instruction counting, execution log).
+    pub fn qemu(&self, elf: &std::path::Path) -> Result<Command, String> {
+        let mut command = Command::new(qemu::qemu_binary()?);
+        command
+            .args(self.machine)
+            .args(["-display", "none", "-monitor", "none", "-serial", "none"])
+            .args(["-semihosting-config", "enable=on,target=native"])
+            .arg("-kernel")
+            .arg(elf);
+        Ok(command)
     }
 }
 
@@ -71,13 +79,9 @@ pub struct Measured {
 pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
     let elf = build(cpu, features)?;
     let flash = crate::size::of(&elf)?.flash();
-    let mut child = Command::new(qemu::qemu_binary()?)
-        .args(cpu.machine)
-        .args(["-display", "none", "-monitor", "none", "-serial", "none"])
-        .args(["-semihosting-config", "enable=on,target=native"])
+    let mut child = cpu
+        .qemu(&elf)?
         .args(["-icount", "shift=6"])
-        .arg("-kernel")
-        .arg(&elf)
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()

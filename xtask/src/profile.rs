@@ -7,7 +7,7 @@
 //! (that is `cargo xtask bench`, which subtracts the call overhead).
 
 use std::collections::HashMap;
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 
 use crate::bench::{self, Cpu};
 use crate::qemu;
@@ -53,14 +53,10 @@ pub fn count(log: &str) -> Profile {
 pub fn profile(cpu: Cpu, features: &str) -> Result<Profile, String> {
     let elf = bench::build(cpu, features)?;
     let log = qemu::root().join("target").join("profile-exec.log");
-    let status = Command::new(qemu::qemu_binary()?)
-        .args(cpu.machine())
-        .args(["-display", "none", "-monitor", "none", "-serial", "none"])
-        .args(["-semihosting-config", "enable=on,target=native"])
+    let status = cpu
+        .qemu(&elf)?
         .args(["-singlestep", "-d", "exec,nochain", "-D"])
         .arg(&log)
-        .arg("-kernel")
-        .arg(&elf)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .status()
