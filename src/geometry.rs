@@ -37,11 +37,17 @@ impl Direction {
     }
 
     /// Heading angle (radians, in [0, 2 pi)) a vehicle with heading `theta` turns through in this
-    /// direction to reach heading `psi`: (sigma (psi - theta)) mod 2 pi. The vehicle is on the
-    /// tangent (angle 0) when the angle is below the backend's resolution `S::ARC_RESOLUTION`, or
-    /// within `tolerance` of 2 pi: a hair past the tangent.
+    /// direction to reach heading `psi`: (sigma (psi - theta)) mod 2 pi, for `theta` and `psi`
+    /// both in [-pi, pi] ([`Scalar::wrap_signed`]), whose difference wraps with one addition. The
+    /// vehicle is on the tangent (angle 0) when the angle is below the backend's resolution
+    /// `S::ARC_RESOLUTION`, or within `tolerance` of 2 pi: a hair past the tangent.
     pub fn arc_to<S: Scalar>(self, theta: S, psi: S, tolerance: S) -> S {
-        let alpha = self.signed(psi - theta).wrap_positive();
+        let turn = self.signed(psi - theta);
+        let alpha = if turn < S::zero() {
+            turn + S::tau()
+        } else {
+            turn
+        };
         if alpha < S::from_f32(S::ARC_RESOLUTION) || alpha > S::tau() - tolerance {
             S::zero()
         } else {
@@ -405,6 +411,10 @@ impl<S: Scalar> TurningCircle<S> {
 ///   + sigma_e sigma_p r_e r_p |n_e - n_p|^2.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CirclePairs<S> {
+    /// The pursuer's and the evader's headings reduced to [-pi, pi], radians.
+    pub pursuer_heading: S,
+    /// See `pursuer_heading`.
+    pub evader_heading: S,
     delta: Point<S>,
     /// r_p n_p and r_e n_e, metres.
     pursuer_offset: Point<S>,
@@ -444,6 +454,8 @@ impl<S: Scalar> CirclePairs<S> {
         };
         let (dn_x, dn_y) = (cos_p - cos_e, sin_e - sin_p);
         CirclePairs {
+            pursuer_heading: pursuer.theta.wrap_signed(),
+            evader_heading: evader.theta.wrap_signed(),
             delta,
             pursuer_offset,
             evader_offset,

@@ -207,18 +207,16 @@ impl<S: Scalar> Law<S> {
         circles: &CirclePairs<S>,
         row: Direction,
         col: Direction,
-        pursuer_heading: S,
-        evader_heading: S,
         sampling: &Sampling<S>,
     ) -> Option<PairOutcome<S>> {
         let tangent = circles.tangent(row, col)?;
         let alpha_p = row.arc_to(
-            pursuer_heading,
+            circles.pursuer_heading,
             tangent.heading,
             sampling.pursuer_arc_tolerance,
         );
         let alpha_e = col.arc_to(
-            evader_heading,
+            circles.evader_heading,
             tangent.heading,
             sampling.evader_arc_tolerance,
         );
@@ -259,7 +257,7 @@ impl<S: Scalar> Law<S> {
             return Evaluation::safe(Status::Captured);
         }
         let circles = CirclePairs::new(pursuer, p_lim, evader, e_lim);
-        let pair = |row, col| self.pair(&circles, row, col, pursuer.theta, evader.theta, sampling);
+        let pair = |row, col| self.pair(&circles, row, col, sampling);
         let (a, c) = (Direction::Anticlockwise, Direction::Clockwise);
         let pairs = [[pair(a, a), pair(a, c)], [pair(c, a), pair(c, c)]];
         let value = |p: &Option<PairOutcome<S>>| p.as_ref().map(|p| p.capture.value);
@@ -306,16 +304,10 @@ impl<S: Scalar> Law<S> {
     }
 }
 
-/// Signed angle (radians, in (-pi, pi]) from a vehicle's heading to the direction of the point
+/// Signed angle (radians, in [-pi, pi]) from a vehicle's heading to the direction of the point
 /// (x, y), anticlockwise positive.
 pub fn bearing<S: Scalar>(from: &VehicleState<S>, x: S, y: S) -> S {
-    let direction = S::atan2(y - from.y, x - from.x);
-    let relative = (direction - from.theta).wrap_positive();
-    if relative > S::pi() {
-        relative - S::tau()
-    } else {
-        relative
-    }
+    (S::atan2(y - from.y, x - from.x) - from.theta).wrap_signed()
 }
 
 /// The documented fallback where no pursuer row has a finite value: the pursuer turns toward the

@@ -1,7 +1,7 @@
 //! The f32 backend's own functions against f64, over the law's envelope, with the bounds stated
 //! in `src/num/f32_math.rs`.
 
-use twocars::num::f32_math::{atan2, floor, sin_cos, sqrt};
+use twocars::num::f32_math::{atan2, floor, sin_cos, sqrt, wrap_signed};
 
 /// Evenly spaced f32 samples of [lo, hi].
 fn samples(lo: f32, hi: f32, n: usize) -> impl Iterator<Item = f32> {
@@ -71,4 +71,19 @@ fn floor_matches_the_definition() {
     for x in [-2.5f32, -2.0, -0.1, 0.0, 0.1, 1.0, 1.9, 1234.5, -1234.5] {
         assert_eq!(floor(x), x.floor(), "{x}");
     }
+}
+
+#[test]
+fn wrap_signed_reduces_headings_to_within_pi_and_keeps_them_exact() {
+    let mut worst: f64 = 0.0;
+    for x in samples(-1.0e4, 1.0e4, 400_000) {
+        let r = f64::from(wrap_signed(x));
+        let pi = std::f64::consts::PI;
+        assert!(r.abs() <= pi + 1e-6, "{x} -> {r}");
+        // r = x - 2 pi k for an integer k, to within the error.
+        let turns = (f64::from(x) - r) / std::f64::consts::TAU;
+        worst = worst.max((turns - turns.round()).abs() * std::f64::consts::TAU);
+    }
+    println!("wrap_signed: worst absolute error {worst:.2e} rad on [-1e4, 1e4]");
+    assert!(worst <= 3e-7, "{worst}");
 }

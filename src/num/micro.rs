@@ -79,4 +79,7 @@ impl Scalar for Micro {
         // Plain f32 arithmetic: the f32 backend's reduction.
         Micro(self.0.wrap_positive())
     }
+    fn wrap_signed(self) -> Self {
+        Micro(self.0.wrap_signed())
+    }
 }

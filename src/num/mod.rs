@@ -76,6 +76,16 @@ pub trait Scalar:
     fn atan2(y: Self, x: Self) -> Self;
     /// The angle reduced to [0, 2 pi).
     fn wrap_positive(self) -> Self;
+    /// The angle reduced to [-pi, pi] (the law's headings: one reduction per heading, so that a
+    /// difference of two reduced angles wraps with one addition).
+    fn wrap_signed(self) -> Self {
+        let positive = self.wrap_positive();
+        if positive > Self::pi() {
+            positive - Self::tau()
+        } else {
+            positive
+        }
+    }
 
     /// Zero.
     fn zero() -> Self {
@@ -144,6 +154,9 @@ impl Scalar for f32 {
     }
     fn atan2(y: Self, x: Self) -> Self {
         f32_math::atan2(y, x)
+    }
+    fn wrap_signed(self) -> Self {
+        f32_math::wrap_signed(self)
     }
     fn wrap_positive(self) -> Self {
         let tau = core::f32::consts::TAU;
