@@ -409,24 +409,24 @@ impl<S: Scalar> TurningCircle<S> {
 /// left unit normals,
 /// |D|^2 - k^2 = |Delta|^2 + 2 (sigma_e r_e Delta . n_e - sigma_p r_p Delta . n_p)
 ///   + sigma_e sigma_p r_e r_p |n_e - n_p|^2.
+///
+/// The four pairs' L^2, D and k are formed here, straight-line, so that a pair only reads its own.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CirclePairs<S> {
     /// The pursuer's and the evader's headings reduced to [-pi, pi], radians.
     pub pursuer_heading: S,
     /// See `pursuer_heading`.
     pub evader_heading: S,
-    delta: Point<S>,
-    /// r_p n_p and r_e n_e, metres.
-    pursuer_offset: Point<S>,
-    evader_offset: Point<S>,
-    delta_sq: S,
-    /// Delta . r_p n_p and Delta . r_e n_e, square metres.
-    delta_pursuer: S,
-    delta_evader: S,
-    /// r_e r_p |n_e - n_p|^2, square metres.
-    normals: S,
-    pursuer_radius: S,
-    evader_radius: S,
+    /// Per pair `[pursuer circle][evader circle]` (A, C).
+    pairs: [[PairTerms<S>; 2]; 2],
+}
+
+/// L^2 (square metres), D and k (metres) of one pair of circles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PairTerms<S> {
+    length_sq: S,
+    d: Point<S>,
+    k: S,
 }
 
 impl<S: Scalar> CirclePairs<S> {
@@ -444,6 +444,7 @@ impl<S: Scalar> CirclePairs<S> {
             x: evader.x - pursuer.x,
             y: evader.y - pursuer.y,
         };
+        // r_p n_p and r_e n_e, metres.
         let pursuer_offset = Point {
             x: -(r_p * sin_p),
             y: r_p * cos_p,
@@ -452,40 +453,46 @@ impl<S: Scalar> CirclePairs<S> {
             x: -(r_e * sin_e),
             y: r_e * cos_e,
         };
+        let delta_sq = delta.x * delta.x + delta.y * delta.y;
+        // Delta . r_p n_p and Delta . r_e n_e, square metres.
+        let delta_pursuer = delta.x * pursuer_offset.x + delta.y * pursuer_offset.y;
+        let delta_evader = delta.x * evader_offset.x + delta.y * evader_offset.y;
+        // r_e r_p |n_e - n_p|^2, square metres.
         let (dn_x, dn_y) = (cos_p - cos_e, sin_e - sin_p);
+        let normals = r_e * r_p * (dn_x * dn_x + dn_y * dn_y);
+        let terms = |pursuer: Direction, evader: Direction| {
+            let cross = if pursuer == evader { normals } else { -normals };
+            let linear = evader.signed(delta_evader) - pursuer.signed(delta_pursuer);
+            PairTerms {
+                length_sq: delta_sq + (linear + linear) + cross,
+                d: Point {
+                    x: delta.x + evader.signed(evader_offset.x) - pursuer.signed(pursuer_offset.x),
+                    y: delta.y + evader.signed(evader_offset.y) - pursuer.signed(pursuer_offset.y),
+                },
+                k: evader.signed(r_e) - pursuer.signed(r_p),
+            }
+        };
+        let (a, c) = (Direction::Anticlockwise, Direction::Clockwise);
         CirclePairs {
             pursuer_heading: pursuer.theta.wrap_signed(),
             evader_heading: evader.theta.wrap_signed(),
-            delta,
-            pursuer_offset,
-            evader_offset,
-            delta_sq: delta.x * delta.x + delta.y * delta.y,
-            delta_pursuer: delta.x * pursuer_offset.x + delta.y * pursuer_offset.y,
-            delta_evader: delta.x * evader_offset.x + delta.y * evader_offset.y,
-            normals: r_e * r_p * (dn_x * dn_x + dn_y * dn_y),
-            pursuer_radius: r_p,
-            evader_radius: r_e,
+            pairs: [[terms(a, a), terms(a, c)], [terms(c, a), terms(c, c)]],
         }
     }
 
     /// The valid tangent from the pursuer's `pursuer` circle to the evader's `evader` circle, or
     /// `None` where it does not exist.
     pub fn tangent(&self, pursuer: Direction, evader: Direction) -> Option<ValidTangent<S>> {
-        let cross = if pursuer == evader {
-            self.normals
-        } else {
-            -self.normals
+        let [a_row, c_row] = &self.pairs;
+        let [a, c] = match pursuer {
+            Direction::Anticlockwise => a_row,
+            Direction::Clockwise => c_row,
         };
-        let linear = evader.signed(self.delta_evader) - pursuer.signed(self.delta_pursuer);
-        let length_sq = self.delta_sq + (linear + linear) + cross;
-        ValidTangent::from_terms(
-            length_sq,
-            self.delta.x + evader.signed(self.evader_offset.x)
-                - pursuer.signed(self.pursuer_offset.x),
-            self.delta.y + evader.signed(self.evader_offset.y)
-                - pursuer.signed(self.pursuer_offset.y),
-            evader.signed(self.evader_radius) - pursuer.signed(self.pursuer_radius),
-        )
+        let terms = match evader {
+            Direction::Anticlockwise => a,
+            Direction::Clockwise => c,
+        };
+        ValidTangent::from_terms(terms.length_sq, terms.d.x, terms.d.y, terms.k)
     }
 }
 

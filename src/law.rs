@@ -139,6 +139,33 @@ impl<S: Scalar> Evaluation<S> {
     }
 }
 
+/// What a controller acts on from one evaluation: the status, the game's solution and the
+/// command, without the per-pair report ([`Evaluation`] keeps it; the firmware has no use for it,
+/// and not copying its hundred-odd bytes is a tenth of an evaluation on a Cortex-M4F).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Decision<S> {
+    /// The contract's status.
+    pub status: Status,
+    /// The game's solution, for `Ok` and `NoValidTangent`.
+    pub solution: Option<GameSolution<S>>,
+    /// The command: the law's for `Ok`, the documented safe command otherwise.
+    pub command: Command<S>,
+    /// The units of the values and the command (see [`Evaluation::units`]).
+    pub units: Units,
+}
+
+impl<S: Scalar> From<Evaluation<S>> for Decision<S> {
+    #[inline]
+    fn from(evaluation: Evaluation<S>) -> Self {
+        Decision {
+            status: evaluation.status,
+            solution: evaluation.report.map(|r| r.solution),
+            command: evaluation.command,
+            units: evaluation.units,
+        }
+    }
+}
+
 /// Raw input of the law, as it arrives from a door (CSV, wire): m/s, 1/m, metres, radians.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Observation {

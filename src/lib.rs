@@ -43,7 +43,7 @@ pub use geometry::{
     CirclePairs, Direction, Limits, Point, TurningCircle, Units, ValidTangent, VehicleLimits,
     VehicleState,
 };
-pub use law::{evaluate_observation, Command, Evaluation, GameReport, Law, Observation};
+pub use law::{evaluate_observation, Command, Decision, Evaluation, GameReport, Law, Observation};
 pub use num::Scalar;
 pub use sampled::{Guidance, Policy};
 pub use status::Status;

@@ -12,7 +12,8 @@
 
 use crate::geometry::{Limits, TurningCircle, VehicleLimits, VehicleState};
 use crate::law::{
-    bearing, fallback_command, steer, Command, Evaluation, GameReport, Law, Period, Sampling,
+    bearing, fallback_command, steer, Command, Decision, Evaluation, GameReport, Law, Period,
+    Sampling,
 };
 use crate::num::Scalar;
 use crate::status::Status;
@@ -114,7 +115,15 @@ impl<S: Scalar> Guidance<S> {
         self.near_field = NearFieldMemory::FRESH;
     }
 
+    /// Evaluates the law for this period and returns what a controller acts on: the status, the
+    /// game's solution and the sampled command (as [`Guidance::step`], without the per-pair
+    /// report).
+    pub fn decide(&mut self, pursuer: &VehicleState<S>, evader: &VehicleState<S>) -> Decision<S> {
+        self.step(pursuer, evader).into()
+    }
+
     /// Evaluates the law for this period and returns the evaluation with the sampled command.
+    #[inline]
     pub fn step(&mut self, pursuer: &VehicleState<S>, evader: &VehicleState<S>) -> Evaluation<S> {
         let sampling = self.sampling;
         let law = self.law;

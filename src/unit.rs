@@ -7,7 +7,7 @@
 
 use crate::capture::Variant;
 use crate::geometry::{Direction, Limits, VehicleState};
-use crate::law::{Evaluation, Law};
+use crate::law::{Decision, Law};
 use crate::message::{
     kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg, NO_CIRCLE, ROLE_EVADER, ROLE_PURSUER,
 };
@@ -231,8 +231,8 @@ impl Unit {
                         stale_command(roles).emit(w)
                     }));
                 }
-                let evaluation = configured.guidance.step(&pursuer, &evader);
-                let reply = command_message(&evaluation, configured);
+                let decision = configured.guidance.decide(&pursuer, &evader);
+                let reply = command_message(&decision, configured);
                 self.watchdog = Watchdog::Armed {
                     arrived_ms: now_ms,
                     stamp_ms: message.time_ms,
@@ -319,11 +319,11 @@ fn stale_command(roles: u8) -> CommandMsg {
     }
 }
 
-fn command_message(evaluation: &Evaluation<f32>, configured: &Configured) -> CommandMsg {
+fn command_message(evaluation: &Decision<f32>, configured: &Configured) -> CommandMsg {
     let limits = configured.guidance.law().limits;
     let roles = configured.roles;
     let rate = |role: u8, w: f32, v: f32| if roles & role != 0 { v * w } else { 0.0 };
-    let solution = evaluation.report.map(|r| r.solution);
+    let solution = evaluation.solution;
     let value = |v: Option<Option<f32>>| v.flatten().unwrap_or(f32::INFINITY);
     CommandMsg {
         status: status_code(evaluation.status),

@@ -1,5 +1,7 @@
 //! Bench firmware: times one full evaluation of the law (both roles, four tangents, the game,
-//! the sampled commands: `Guidance::step`, limits validated beforehand) per bench state with SysTick on the processor clock,
+//! the sampled commands: `Guidance::decide`, the firmware's path, or with `bench-report`
+//! `Guidance::step` and its per-pair report; limits validated beforehand) per bench state with
+//! SysTick on the processor clock,
 //! under QEMU `-icount` so ticks count instructions; paints the stack to find the law's peak
 //! use. Prints `state <i> <ticks> <stack bytes> <upper> <w_p> <w_e>` lines over semihosting (the
 //! last three as f32 bit patterns in hex, in seconds and 1/m: what the host compares), then exits.
@@ -44,16 +46,29 @@ fn prepare(i: usize) -> Option<Prepared> {
     Some((guidance, p, e))
 }
 
-/// The timed region: one `Guidance::step`, its evaluation returned in the caller's slot. With
-/// `bench-empty` only a safe evaluation is returned there (the call and return overhead).
+/// What the timed region returns: the decision, or with `bench-report` the whole evaluation.
+#[cfg(not(feature = "bench-report"))]
+type Output = twocars::Decision<Number>;
+#[cfg(feature = "bench-report")]
+type Output = twocars::Evaluation<Number>;
+
+/// The timed region: one `Guidance::decide` (or `Guidance::step`), returned in the caller's
+/// slot. With `bench-empty` only a safe evaluation is returned there (the call and return
+/// overhead).
 #[inline(never)]
-fn evaluate(prepared: &mut Prepared) -> twocars::Evaluation<Number> {
+fn evaluate(prepared: &mut Prepared) -> Output {
     #[cfg(feature = "bench-empty")]
+    #[allow(clippy::useless_conversion)] // `Output` is `Evaluation` itself with `bench-report`.
     {
         black_box(prepared);
-        twocars::Evaluation::safe(twocars::Status::Captured)
+        twocars::Evaluation::safe(twocars::Status::Captured).into()
     }
-    #[cfg(not(feature = "bench-empty"))]
+    #[cfg(all(not(feature = "bench-empty"), not(feature = "bench-report")))]
+    {
+        let (guidance, p, e) = prepared;
+        guidance.decide(p, e)
+    }
+    #[cfg(all(not(feature = "bench-empty"), feature = "bench-report"))]
     {
         let (guidance, p, e) = prepared;
         guidance.step(p, e)
@@ -61,11 +76,12 @@ fn evaluate(prepared: &mut Prepared) -> twocars::Evaluation<Number> {
 }
 
 /// Upper value (s) and both commands (1/m) as f32 bit patterns (infinity without a game).
-fn outputs(ev: twocars::Evaluation<Number>) -> [u32; 3] {
+fn outputs(ev: impl Into<twocars::Decision<Number>>) -> [u32; 3] {
+    let ev: twocars::Decision<Number> = ev.into();
     let units = ev.units;
     let upper = ev
-        .report
-        .and_then(|r| r.solution.upper)
+        .solution
+        .and_then(|s| s.upper)
         .map_or(f64::INFINITY, |v| units.seconds(v));
     [
         upper,

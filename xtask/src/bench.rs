@@ -180,7 +180,12 @@ struct Row {
 
 fn measure(cpu: Cpu, numeric: &'static str, features: &str) -> Result<Row, String> {
     let law = build_and_run(cpu, features)?;
-    let empty = build_and_run(cpu, "bench-empty")?;
+    // The baseline returns the same type as the timed region.
+    let empty = if features.contains("bench-report") {
+        build_and_run(cpu, "bench-empty,bench-report")?
+    } else {
+        build_and_run(cpu, "bench-empty")?
+    };
     let overhead = empty.ticks.iter().sum::<f64>() / empty.ticks.len() as f64;
     let instructions: Vec<f64> = law
         .ticks
@@ -292,6 +297,7 @@ pub fn run() -> i32 {
         measure(M4F, "micromath (f32)", "bench-micromath"),
         measure(M0, "fixed point (Q17.14)", "bench-fixed"),
         measure(M0, "f32 soft-float (own polynomials)", "bench-firmware"),
+        measure(M4F, "f32, `step` with the per-pair report", "bench-report"),
     ];
     let mut md = String::new();
     let _ = writeln!(md, "# Bench\n");
@@ -301,8 +307,10 @@ pub fn run() -> i32 {
     );
     let _ = writeln!(
         md,
-        "Law: one `Guidance::step` (both roles: 2 x 2 circles, 4 valid tangents, 4 capture times, the \
-         matrix game, both sampled commands) at the paper's limits (v_pm = 2, w_pm = 2, v_em = 1, \
+        "Law: one `Guidance::decide`, the firmware's path (both roles: 2 x 2 circles, 4 valid \
+         tangents, 4 capture times, the matrix game, both sampled commands; the status, the game's \
+         solution and the commands returned), and on the last row one `Guidance::step`, which also \
+         returns the per-pair report the host tools print, at the paper's limits (v_pm = 2, w_pm = 2, v_em = 1, \
          w_em = 1), dt = 10 ms, over the {} states of `src/bench.rs` (the paper's four cases, a tail \
          chase, no valid tangent, the overshoot entry, near and far states).\n",
         STATES.len()

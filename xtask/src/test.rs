@@ -118,6 +118,7 @@ pub fn run() -> i32 {
         ("bench-empty", "empty bench"),
         ("bench-fixed", "fixed-point bench"),
         ("bench-micromath", "micromath bench"),
+        ("bench-report", "report bench"),
     ] {
         let firmware_clippy = [
             "clippy",
