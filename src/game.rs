@@ -29,6 +29,17 @@ pub struct GameSolution<S> {
     pub saddle: bool,
 }
 
+impl<S> GameSolution<S> {
+    /// A placeholder before the game is solved: no values, both circles A.
+    pub const UNSOLVED: Self = GameSolution {
+        row: Direction::Anticlockwise,
+        col: Direction::Anticlockwise,
+        upper: None,
+        lower: None,
+        saddle: false,
+    };
+}
+
 /// Whether two values (seconds) tie within the backend's relative band `S::TIE_BAND`.
 pub fn ties<S: Scalar>(a: S, b: S) -> bool {
     ties_within(a, b, S::zero())

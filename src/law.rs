@@ -53,6 +53,16 @@ pub struct GameReport<S> {
 }
 
 impl<S: Scalar> GameReport<S> {
+    /// No pairs and no solution: the place a game is written into. (A function, not a
+    /// constant: a constant is copied whole from flash, where this stores four tags.)
+    #[inline]
+    pub fn empty() -> Self {
+        GameReport {
+            pairs: [[None, None], [None, None]],
+            solution: GameSolution::UNSOLVED,
+        }
+    }
+
     /// The matrix of Table 1: each pair's time to capture, `None` (infinity) where it has no valid
     /// tangent.
     pub fn matrix(&self) -> MatrixGame<S> {
@@ -128,6 +138,26 @@ impl<S: Scalar> Evaluation<S> {
         }
     }
 
+    /// The evaluation of a game written into `report` (valid where `status` has one); without a
+    /// game, the safe command.
+    pub fn from_game(
+        status: Status,
+        report: GameReport<S>,
+        command: Command<S>,
+        units: Units,
+    ) -> Self {
+        if status.has_game() {
+            Evaluation {
+                status,
+                report: Some(report),
+                command,
+                units,
+            }
+        } else {
+            Evaluation::safe(status)
+        }
+    }
+
     /// The safe command (straight ahead) with a status that says why.
     pub fn safe(status: Status) -> Self {
         Evaluation {
@@ -152,6 +182,28 @@ pub struct Decision<S> {
     pub command: Command<S>,
     /// The units of the values and the command (see [`Evaluation::units`]).
     pub units: Units,
+}
+
+impl<S: Scalar> Decision<S> {
+    /// The decision of an evaluation whose game (valid where `status` has one) was written into
+    /// `report`; without a game, the safe command.
+    pub fn from_game(
+        status: Status,
+        report: &GameReport<S>,
+        command: Command<S>,
+        units: Units,
+    ) -> Self {
+        if status.has_game() {
+            Decision {
+                status,
+                solution: Some(report.solution),
+                command,
+                units,
+            }
+        } else {
+            Evaluation::safe(status).into()
+        }
+    }
 }
 
 impl<S: Scalar> From<Evaluation<S>> for Decision<S> {
@@ -226,8 +278,10 @@ impl<S: Scalar> Law<S> {
     }
 
     /// One pair of circles: its valid tangent (Algorithm 1) and the time to capture along it
-    /// (Algorithm 2). Kept out of line: the law calls it four times, and four inlined copies cost
-    /// more flash than the calls cost time.
+    /// (Algorithm 2), written to `outcome` (`None` without a valid tangent); returns the time, the
+    /// matrix entry. Kept out of line: the law calls it four times, and four inlined copies cost
+    /// more flash than the calls cost time. The outcome is written where the report keeps it,
+    /// never moved.
     #[inline(never)]
     fn pair(
         &self,
@@ -235,8 +289,12 @@ impl<S: Scalar> Law<S> {
         row: Direction,
         col: Direction,
         sampling: &Sampling<S>,
-    ) -> Option<PairOutcome<S>> {
-        let tangent = circles.tangent(row, col)?;
+        outcome: &mut Option<PairOutcome<S>>,
+    ) -> Option<S> {
+        let Some(tangent) = circles.tangent(row, col) else {
+            *outcome = None;
+            return None;
+        };
         let alpha_p = row.arc_to(
             circles.pursuer_heading,
             tangent.heading,
@@ -248,7 +306,8 @@ impl<S: Scalar> Law<S> {
             sampling.evader_arc_tolerance,
         );
         let capture = capture_time(&self.limits, tangent.length, alpha_p, alpha_e, self.variant);
-        Some(PairOutcome { tangent, capture })
+        *outcome = Some(PairOutcome { tangent, capture });
+        Some(capture.value)
     }
 
     /// Evaluates the law with a caller's arc tolerances and previous choice; the command is the
@@ -266,8 +325,7 @@ impl<S: Scalar> Law<S> {
 
     /// Evaluates the law, and where there is a game (`Ok`, `NoValidTangent`) lets `command`
     /// choose the command from the status, the report and the instantaneous command (+-w_max
-    /// of each chosen circle, or the unsampled fallback). The evaluation is built once, in the
-    /// caller's place (the report is over 100 bytes). A command outside the backend's range
+    /// of each chosen circle, or the unsampled fallback). A command outside the backend's range
     /// turns the evaluation into `OutOfRange` with the safe command.
     pub fn evaluate_with(
         &self,
@@ -276,21 +334,63 @@ impl<S: Scalar> Law<S> {
         sampling: &Sampling<S>,
         command: impl FnOnce(Status, &GameReport<S>, Command<S>) -> Command<S>,
     ) -> Evaluation<S> {
+        let mut report = GameReport::empty();
+        let (status, command) = self.decide_into(pursuer, evader, sampling, &mut report, command);
+        Evaluation::from_game(status, report, command, self.limits.units)
+    }
+
+    /// [`Law::evaluate_with`] with the game written into the caller's `report` (valid where the
+    /// status is `Ok` or `NoValidTangent`): the status and the command (the safe command for
+    /// every other status). A caller that does not keep the report (the firmware) does not copy
+    /// its hundred-odd bytes.
+    pub fn decide_into(
+        &self,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        sampling: &Sampling<S>,
+        report: &mut GameReport<S>,
+        command: impl FnOnce(Status, &GameReport<S>, Command<S>) -> Command<S>,
+    ) -> (Status, Command<S>) {
+        match self.play(pursuer, evader, sampling, report) {
+            Ok((status, instantaneous)) => {
+                let command = command(status, report, instantaneous);
+                if command.pursuer.is_valid() && command.evader.is_valid() {
+                    (status, command)
+                } else {
+                    (Status::OutOfRange, Command::straight())
+                }
+            }
+            Err(status) => (status, Command::straight()),
+        }
+    }
+
+    /// The game of one state, written into `report`: the four pairs and the solution. Returns
+    /// the status (`Ok` or `NoValidTangent`) and the instantaneous command, or the status that
+    /// ends the evaluation (`Captured`, or `OutOfRange` where a backend's arithmetic left its
+    /// range).
+    fn play(
+        &self,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        sampling: &Sampling<S>,
+        report: &mut GameReport<S>,
+    ) -> Result<(Status, Command<S>), Status> {
         let p_lim = &self.limits.pursuer;
         let e_lim = &self.limits.evader;
         let capture_radius = S::from_f32(CAPTURE_RADIUS_FRACTION) * p_lim.radius();
         let gap_squared = pursuer.position().distance_squared(evader.position());
         if gap_squared.is_valid() && gap_squared <= capture_radius * capture_radius {
-            return Evaluation::safe(Status::Captured);
+            return Err(Status::Captured);
         }
         let circles = CirclePairs::new(pursuer, p_lim, evader, e_lim);
-        let pair = |row, col| self.pair(&circles, row, col, sampling);
         let (a, c) = (Direction::Anticlockwise, Direction::Clockwise);
-        let pairs = [[pair(a, a), pair(a, c)], [pair(c, a), pair(c, c)]];
-        let value = |p: &Option<PairOutcome<S>>| p.as_ref().map(|p| p.capture.value);
-        let [[aa, ac], [ca, cc]] = &pairs;
+        let [[aa, ac], [ca, cc]] = &mut report.pairs;
+        let pair = |row, col, outcome| self.pair(&circles, row, col, sampling, outcome);
         let matrix = MatrixGame {
-            entries: [[value(aa), value(ac)], [value(ca), value(cc)]],
+            entries: [
+                [pair(a, a, aa), pair(a, c, ac)],
+                [pair(c, a, ca), pair(c, c, cc)],
+            ],
         };
         // A backend whose arithmetic left its range (fixed point) says so instead of guessing.
         if matrix
@@ -300,34 +400,23 @@ impl<S: Scalar> Law<S> {
             .flatten()
             .any(|v| !v.is_valid())
         {
-            return Evaluation::safe(Status::OutOfRange);
+            return Err(Status::OutOfRange);
         }
         let solution = matrix.solve_sampled(sampling.previous, sampling.tie_floor);
-        let report = GameReport { pairs, solution };
-        let (status, instantaneous) = if solution.upper.is_none() {
-            (
+        report.solution = solution;
+        if solution.upper.is_none() {
+            return Ok((
                 Status::NoValidTangent,
                 fallback_command(pursuer, evader, &self.limits, None),
-            )
-        } else {
-            (
-                Status::Ok,
-                Command {
-                    pursuer: solution.row.sigma::<S>() * p_lim.w_max(),
-                    evader: solution.col.sigma::<S>() * e_lim.w_max(),
-                },
-            )
-        };
-        let command = command(status, &report, instantaneous);
-        if !(command.pursuer.is_valid() && command.evader.is_valid()) {
-            return Evaluation::safe(Status::OutOfRange);
+            ));
         }
-        Evaluation {
-            status,
-            report: Some(report),
-            command,
-            units: self.limits.units,
-        }
+        Ok((
+            Status::Ok,
+            Command {
+                pursuer: solution.row.sigma::<S>() * p_lim.w_max(),
+                evader: solution.col.sigma::<S>() * e_lim.w_max(),
+            },
+        ))
     }
 }
 

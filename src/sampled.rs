@@ -119,22 +119,42 @@ impl<S: Scalar> Guidance<S> {
     /// game's solution and the sampled command (as [`Guidance::step`], without the per-pair
     /// report).
     pub fn decide(&mut self, pursuer: &VehicleState<S>, evader: &VehicleState<S>) -> Decision<S> {
-        self.step(pursuer, evader).into()
+        let mut report = GameReport::empty();
+        let (status, command) = self.play(pursuer, evader, &mut report);
+        Decision::from_game(status, &report, command, self.law.limits.units)
     }
 
     /// Evaluates the law for this period and returns the evaluation with the sampled command.
-    #[inline]
     pub fn step(&mut self, pursuer: &VehicleState<S>, evader: &VehicleState<S>) -> Evaluation<S> {
+        let mut report = GameReport::empty();
+        let (status, command) = self.play(pursuer, evader, &mut report);
+        Evaluation::from_game(status, report, command, self.law.limits.units)
+    }
+
+    /// The law for this period, its game written into `report`: the status and the sampled
+    /// command. Without a game the near-field memory is forgotten.
+    #[inline]
+    fn play(
+        &mut self,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        report: &mut GameReport<S>,
+    ) -> (Status, Command<S>) {
         let sampling = self.sampling;
         let law = self.law;
-        let evaluation =
-            law.evaluate_with(pursuer, evader, &sampling, |status, report, command| {
+        let (status, command) = law.decide_into(
+            pursuer,
+            evader,
+            &sampling,
+            report,
+            |status, report, command| {
                 self.sampled_command(status, report, command, pursuer, evader)
-            });
-        if !matches!(evaluation.status, Status::Ok | Status::NoValidTangent) {
+            },
+        );
+        if !status.has_game() {
             self.near_field = NearFieldMemory::FRESH;
         }
-        evaluation
+        (status, command)
     }
 
     /// The sampled command for a game: each player steers toward its chosen tangent by what one

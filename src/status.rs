@@ -21,6 +21,12 @@ pub enum Status {
 }
 
 impl Status {
+    /// Whether an evaluation with this status has a game (`Ok`, `NoValidTangent`): the four
+    /// pairs and a solution.
+    pub fn has_game(self) -> bool {
+        matches!(self, Status::Ok | Status::NoValidTangent)
+    }
+
     /// The contract's name of the status, as printed in the CSV doors.
     pub fn name(self) -> &'static str {
         match self {
