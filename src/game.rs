@@ -30,13 +30,15 @@ pub struct GameSolution<S> {
 }
 
 impl<S> GameSolution<S> {
-    /// A placeholder before the game is solved: no values, both circles A.
-    pub const UNSOLVED: Self = GameSolution {
+    /// The solution of a game without a valid tangent (every entry infinite): both circles A,
+    /// both values infinite, a saddle at infinity ([`MatrixGame::solve`] gives the same). The
+    /// place a solution is written into.
+    pub const NO_TANGENT: Self = GameSolution {
         row: Direction::Anticlockwise,
         col: Direction::Anticlockwise,
         upper: None,
         lower: None,
-        saddle: false,
+        saddle: true,
     };
 }
 

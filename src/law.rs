@@ -59,7 +59,7 @@ impl<S: Scalar> GameReport<S> {
     pub fn empty() -> Self {
         GameReport {
             pairs: [[None, None], [None, None]],
-            solution: GameSolution::UNSOLVED,
+            solution: GameSolution::NO_TANGENT,
         }
     }
 

@@ -82,4 +82,7 @@ impl Scalar for Micro {
     fn wrap_signed(self) -> Self {
         Micro(self.0.wrap_signed())
     }
+    fn abs(self) -> Self {
+        Micro(f32::abs(self.0))
+    }
 }

@@ -158,6 +158,10 @@ impl Scalar for f32 {
     fn wrap_signed(self) -> Self {
         f32_math::wrap_signed(self)
     }
+    fn abs(self) -> Self {
+        // VABS: one instruction where the default's compare and select are four.
+        f32::abs(self)
+    }
     fn wrap_positive(self) -> Self {
         let tau = core::f32::consts::TAU;
         let wrapped = self - tau * f32_math::floor(self * (1.0 / tau));
