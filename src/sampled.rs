@@ -193,24 +193,36 @@ impl<S: Scalar> Guidance<S> {
             }
             _ => fallback_command(pursuer, evader, &limits, Some(&self.period)),
         };
-        // The distance (a square root) only under the near-field policy.
-        let near = match self.policy {
-            Policy::NearField => Some(pursuer.position().distance(evader.position()))
-                .filter(|&d| d < limits.theorem_threshold()),
-            Policy::Paper => None,
-        };
-        if let Some(distance) = near {
-            if self.near_field_lost(report, distance) {
-                self.near_field.pursuing = true;
-            }
-            if self.near_field.pursuing {
-                command.pursuer =
-                    lead_pursuit(pursuer, evader, &limits, self.dt, self.period.pursuer);
-            }
-        } else {
-            self.near_field = NearFieldMemory::FRESH;
+        match self.policy {
+            Policy::NearField => self.near_field(report, pursuer, evader, &mut command),
+            Policy::Paper => self.near_field = NearFieldMemory::FRESH,
         }
         command
+    }
+
+    /// The near-field policy's part: below the theorem's threshold, the pursuer's command becomes
+    /// lead pursuit once the law has lost its prediction; at or above it the memory is forgotten.
+    /// Out of line: the paper policy never runs it, and inlined it doubled the step's code.
+    #[inline(never)]
+    fn near_field(
+        &mut self,
+        report: &GameReport<S>,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        command: &mut Command<S>,
+    ) {
+        let limits = self.law.limits;
+        let distance = pursuer.position().distance(evader.position());
+        if distance >= limits.theorem_threshold() {
+            self.near_field = NearFieldMemory::FRESH;
+            return;
+        }
+        if self.near_field_lost(report, distance) {
+            self.near_field.pursuing = true;
+        }
+        if self.near_field.pursuing {
+            command.pursuer = lead_pursuit(pursuer, evader, &limits, self.dt, self.period.pursuer);
+        }
     }
 }
 
