@@ -177,6 +177,13 @@ pub fn valid_params(params: &SimParams) -> bool {
 /// every dt the controller sees time and both states and returns the command, held for the step;
 /// both vehicles move exactly at full speed. The result's `predicted` fields are left infinite for
 /// the caller. `Err` if the controller fails.
+///
+/// The controller sees the states in a frame centred on the pursuer's position (axes and
+/// headings unchanged), as an autopilot's local navigation frame would give them: the game is
+/// the same under translation, and the f32 the law reads then resolves the players' relative
+/// geometry to 1e-7 of their distance, not of their distance from the origin (after a chase
+/// of 700 m, f32 absolute positions are 6e-5 m apart: a slow chase then dithered in its last
+/// centimetres, 1,141 sign flips where the local frame gives 1; docs/closed-loop.md).
 pub fn closed_loop<E>(
     params: &SimParams,
     record: bool,
@@ -195,7 +202,8 @@ pub fn closed_loop<E>(
         if record {
             result.trajectory.push((t0, p, e));
         }
-        let command = controller(t0, p, e)?;
+        let local = |s: [f64; 3]| [s[0] - p[0], s[1] - p[1], s[2]];
+        let command = controller(t0, local(p), local(e))?;
         if let Some(choice) = command.choice {
             if previous.is_some_and(|prev| prev != choice) {
                 result.switches += 1;

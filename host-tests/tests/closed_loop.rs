@@ -88,10 +88,9 @@ fn quantiles(mut values: Vec<u64>) -> (u64, u64, u64) {
     (at(0.5), at(0.9), at(1.0))
 }
 
-/// At random limits the capture time matches too, and while the players are at least the
-/// theorem's threshold apart the command does not chatter. Over whole runs the sign flips are
-/// printed, not bounded: slow-closing chases (v_pm / v_em near 1.1) dither in their last
-/// centimetres, in the near field (see docs/closed-loop.md).
+/// At random limits the capture time matches too, and the command does not chatter over the
+/// whole run, the last centimetres included (the simulator hands the law a frame centred on the
+/// pursuer; with f32 absolute positions long chases dithered at the end, docs/closed-loop.md).
 #[test]
 fn above_the_threshold_at_random_limits_capture_matches_the_prediction() {
     let far = scene(60.0).prop_filter("above threshold", above_threshold);
@@ -100,21 +99,20 @@ fn above_the_threshold_at_random_limits_capture_matches_the_prediction() {
         .run(&far, |s| {
             let r = simulate::<f32>(&params(&s, DT), Variant::Paper, Policy::Paper, false);
             check_capture_matches_prediction(&r, s.limits);
-            let far_flips = r.sign_flips - r.near_field_sign_flips;
             assert!(
-                far_flips <= MAX_SIGN_FLIPS,
-                "{far_flips} sign flips above the threshold"
+                r.sign_flips <= MAX_SIGN_FLIPS,
+                "{} sign flips ({} in the near field)",
+                r.sign_flips,
+                r.near_field_sign_flips
             );
-            flips.borrow_mut().push((r.sign_flips, far_flips));
+            flips.borrow_mut().push(r.sign_flips);
             Ok(())
         })
         .unwrap();
     let flips = flips.into_inner();
-    let (median, p90, max) = quantiles(flips.iter().map(|f| f.0).collect());
-    let (_, _, far_max) = quantiles(flips.iter().map(|f| f.1).collect());
+    let (median, p90, max) = quantiles(flips.clone());
     println!(
-        "random limits, {} runs: sign flips per run median {median}, 90th percentile {p90}, max {max}; \
-         above the threshold max {far_max}",
+        "random limits, {} runs: sign flips per run median {median}, 90th percentile {p90}, max {max}",
         flips.len()
     );
 }

@@ -271,29 +271,35 @@ pub fn print(runs: &[Run], seed: u64, dt: f64) {
             ),
             ("the near-field policy", |r: &Run| &r.near_field),
         ] {
-            let mut worst: Vec<&&Run> = set.iter().collect();
-            worst.sort_by(|a, b| b.lateness(pick(b)).total_cmp(&a.lateness(pick(a))));
-            println!(
-                "Latest captures under {name} (re-run a row with `cargo xtask sim [--policy near-field]`):\n"
-            );
-            println!("```\n{}", crate::sim::INPUT_HEADER);
-            for r in worst.iter().take(3) {
-                println!("{}", sim_row(&r.params));
-            }
-            println!("```\n");
-            for r in worst.iter().take(3) {
-                println!(
-                    "- predicted {:.3} s; paper captured at {:.3} s ({} flips), near-field at {:.3} s ({} flips)",
-                    r.paper.predicted,
-                    r.paper.t_capture,
-                    r.paper.sign_flips,
-                    r.near_field.t_capture,
-                    r.near_field.sign_flips
-                );
-            }
-            println!();
+            let mut latest: Vec<&Run> = set.clone();
+            latest.sort_by(|a, b| b.lateness(pick(b)).total_cmp(&a.lateness(pick(a))));
+            print_rows(&format!("Latest captures under {name}"), &latest);
+            let mut flippiest: Vec<&Run> = set.clone();
+            flippiest.sort_by_key(|r| std::cmp::Reverse(pick(r).sign_flips));
+            print_rows(&format!("Most sign flips under {name}"), &flippiest);
         }
     }
+}
+
+/// The first three runs of `runs` as `sim` rows, with both policies' outcomes.
+fn print_rows(title: &str, runs: &[&Run]) {
+    println!("{title} (re-run a row with `cargo xtask sim [--policy near-field]`):\n");
+    println!("```\n{}", crate::sim::INPUT_HEADER);
+    for r in runs.iter().take(3) {
+        println!("{}", sim_row(&r.params));
+    }
+    println!("```\n");
+    for r in runs.iter().take(3) {
+        println!(
+            "- predicted {:.3} s; paper captured at {:.3} s ({} flips), near-field at {:.3} s ({} flips)",
+            r.paper.predicted,
+            r.paper.t_capture,
+            r.paper.sign_flips,
+            r.near_field.t_capture,
+            r.near_field.sign_flips
+        );
+    }
+    println!();
 }
 
 /// `cargo xtask report [--runs N] [--seed S] [--dt S]`.
