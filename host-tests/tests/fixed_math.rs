@@ -62,6 +62,45 @@ fn sqrt_within_one_lsb_plus_2_to_the_minus_15_relative() {
     assert_eq!(fixed(-5).sqrt(), fixed(0));
 }
 
+/// floor(sqrt(n)) for any u64, exactly.
+fn isqrt_u64(n: u64) -> u64 {
+    let mut r = (n as f64).sqrt() as u64;
+    while r * r > n {
+        r -= 1;
+    }
+    while (r + 1) * (r + 1) <= n {
+        r += 1;
+    }
+    r
+}
+
+/// The square root's definition: raw shifted left by s = min(leading zeros, 14) rounded down to
+/// even, its integer root, shifted left by (14 - s) / 2. The backend reaches it by Newton steps
+/// and an exact correction; every raw below 2^24 and a stride through the rest give the same.
+#[test]
+fn sqrt_is_the_integer_root_of_the_shifted_raw_value() {
+    let stride = (1u32 << 24..i32::MAX as u32).step_by(4_099);
+    let squares = (1u32..46_341).flat_map(|r| [r * r - 1, r * r, r * r + 1]);
+    for raw in (1u32..1 << 24).chain(stride).chain(squares) {
+        let shift = raw.leading_zeros().min(14) & !1;
+        let want = isqrt_u64(u64::from(raw) << shift) << ((14 - shift) / 2);
+        let got = fixed(raw as i32).sqrt().raw();
+        assert_eq!(i64::from(got), want as i64, "raw {raw}");
+    }
+}
+
+/// Headings reduce to [-pi, pi] by whole turns of the backend's 2 pi.
+#[test]
+fn wrap_signed_reduces_by_whole_turns_to_within_pi() {
+    let (pi, tau) = (Fixed::pi().raw(), Fixed::tau().raw());
+    let limit = (1.0e4 * 16_384.0) as i32;
+    for raw in (-limit..=limit).step_by(97).chain(-2 * tau..=2 * tau) {
+        let wrapped = fixed(raw).wrap_signed().raw();
+        assert!((-pi..=pi).contains(&wrapped), "{raw} -> {wrapped}");
+        assert_eq!((raw - wrapped) % tau, 0, "{raw} -> {wrapped}");
+    }
+}
+
 #[test]
 fn overflow_and_division_by_zero_give_the_invalid_value_which_propagates() {
     let big = Fixed::from_f32(100_000.0);

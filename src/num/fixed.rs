@@ -18,7 +18,8 @@
 //!   degree 7 in Q15);
 //! - [`Scalar::atan2`]: absolute error <= 3e-4 rad (octant reduction, the degree-9 odd polynomial
 //!   of Abramowitz and Stegun 4.4.49, |error| <= 1e-5 on [-1, 1]);
-//! - [`Scalar::sqrt`]: error <= 2^-14 + 2^-15 relative (bitwise integer square root on 32 bits).
+//! - [`Scalar::sqrt`]: error <= 2^-14 + 2^-15 relative (the exact integer square root of the
+//!   value shifted into 32 bits, by Newton steps from a table and an integer correction).
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -200,22 +201,40 @@ fn quarter_turns(x: i32) -> i32 {
     k
 }
 
-/// Largest integer whose square is at most n.
-fn isqrt(n: u32) -> u32 {
-    let mut remainder = n;
-    let mut root = 0u32;
-    let mut bit = 1u32 << 30;
-    while bit > n {
-        bit >>= 2;
+/// 2^14 / sqrt((i + 0.5) / 16) for i = 4..=15, rounded: 1 / sqrt(X) in Q14 at the middle of each
+/// sixteenth of X in [1/4, 1), the start of [`isqrt_normalised`]'s Newton iteration.
+const RSQRT_Q14: [u32; 12] = [
+    30_894, 27_945, 25_705, 23_930, 22_479, 21_263, 20_225, 19_326, 18_536, 17_837, 17_211, 16_646,
+];
+
+/// Largest integer whose square is at most m, for m in [2^30, 2^32): y = 1 / sqrt(m / 2^32) from a
+/// table and two Newton steps y (3 - X y^2) / 2 (multiplications only: a division, and the
+/// bit-by-bit square root, cost a hundred-odd instructions on a Cortex-M0), then the root
+/// m y / 2^32, one Newton step on the root, and a last exact correction by integer squares.
+fn isqrt_normalised(m: u32) -> u32 {
+    // X = m / 2^32 in Q16; every product below stays under 2^32 (X y^2 is near 1).
+    let x = m >> 16;
+    let mut y = RSQRT_Q14
+        .get(((m >> 28) as usize).saturating_sub(4))
+        .copied()
+        .unwrap_or(1 << 14);
+    for _ in 0..2 {
+        let y_sq = (y * y) >> 14;
+        let x_y_sq = (x * y_sq) >> 16;
+        y = (y * ((3 << 14) - x_y_sq.min(3 << 14))) >> 15;
     }
-    while bit != 0 {
-        if remainder >= root + bit {
-            remainder -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
-        }
-        bit >>= 2;
+    // sqrt(X) 2^16, within a few units; then r += (m - r^2) / (2 r) with 1 / r = y / 2^30.
+    let mut root = ((x * y) >> 14).min(0xFFFF);
+    let residual = m.wrapping_sub(root * root) as i32;
+    // |residual| < 2^22 (the root is within a few units): (residual / 2^6) y < 2^31.
+    let step = ((residual >> 6) * y as i32) >> 25;
+    root = root.wrapping_add_signed(step).min(0xFFFF);
+    // Exact: the largest root whose square is at most m (r^2 < 2^32 for r < 2^16).
+    while root * root > m {
+        root -= 1;
+    }
+    while root < 0xFFFF && (root + 1) * (root + 1) <= m {
+        root += 1;
     }
     root
 }
@@ -283,10 +302,33 @@ impl Scalar for Fixed {
         if a == 0 {
             return Fixed(0);
         }
-        // sqrt(raw / 2^14) * 2^14 = sqrt(raw * 2^14): shift raw left by an even s <= 14 that
-        // keeps it in 32 bits, and the root left by the remaining (14 - s) / 2.
-        let shift = a.leading_zeros().min(FRAC) & !1;
-        let root = isqrt(a << shift) << ((FRAC - shift) / 2);
+        // sqrt(raw / 2^14) * 2^14 = sqrt(raw * 2^14): shift raw left by the even s that brings
+        // it to [2^30, 2^32) (compares, not a count of leading zeros: a library call on a
+        // Cortex-M0), and the root left by (14 - s) / 2, or right by (s - 14) / 2 (the floor of
+        // a floor: the same root as of raw 2^14 itself).
+        let (mut m, mut shift) = (a, 0);
+        if m < 1 << 16 {
+            m <<= 16;
+            shift += 16;
+        }
+        if m < 1 << 24 {
+            m <<= 8;
+            shift += 8;
+        }
+        if m < 1 << 28 {
+            m <<= 4;
+            shift += 4;
+        }
+        if m < 1 << 30 {
+            m <<= 2;
+            shift += 2;
+        }
+        let root = isqrt_normalised(m);
+        let root = if shift <= FRAC {
+            root << ((FRAC - shift) / 2)
+        } else {
+            root >> ((shift - FRAC) / 2)
+        };
         Fixed::from_wide(i64::from(root))
     }
     fn sin_cos(self) -> (Self, Self) {
@@ -333,6 +375,18 @@ impl Scalar for Fixed {
             Fixed(-a)
         } else {
             Fixed(a)
+        }
+    }
+    fn wrap_signed(self) -> Self {
+        // The law's headings arrive reduced ([`crate::Limits::states`]): one comparison.
+        if self.is_invalid() || self.0.unsigned_abs() <= PI_Q14 as u32 {
+            return self;
+        }
+        let positive = self.wrap_positive();
+        if positive.0 > PI_Q14 {
+            Fixed(positive.0 - TAU_Q14)
+        } else {
+            positive
         }
     }
     fn wrap_positive(self) -> Self {
