@@ -201,6 +201,61 @@ fn quarter_turns(x: i32) -> i32 {
     k
 }
 
+/// 2^20 / (16 + i + 0.5) for i = 0..=15, rounded: 2^31 / h at the middle of each sixteenth of
+/// h in [2^15, 2^16), the start of [`ratio_q15`]'s Newton iteration.
+const RECIPROCAL: [u32; 16] = [
+    63_550, 59_919, 56_680, 53_773, 51_150, 48_771, 46_603, 44_620, 42_799, 41_121, 39_569, 38_130,
+    36_792, 35_545, 34_380, 33_288,
+];
+
+/// floor(low 2^15 / high) for 0 <= low <= high < 2^17, high > 0 (0 for high = 0): the ratio in
+/// Q15, at most 2^15. A reciprocal of high from a table and two Newton steps r (2 - h r)
+/// (multiplications only), the quotient from it, then an exact correction by products: the 32-bit
+/// division is a library call of about 150 instructions on a Cortex-M0.
+fn ratio_q15(low: u32, high: u32) -> u32 {
+    if high == 0 {
+        return 0;
+    }
+    // Both shifted alike so that h is in [2^16, 2^17): the ratio is unchanged.
+    let (mut h, mut l) = (high, low);
+    if h < 1 << 1 {
+        (h, l) = (h << 16, l << 16);
+    }
+    if h < 1 << 9 {
+        (h, l) = (h << 8, l << 8);
+    }
+    if h < 1 << 13 {
+        (h, l) = (h << 4, l << 4);
+    }
+    if h < 1 << 15 {
+        (h, l) = (h << 2, l << 2);
+    }
+    if h < 1 << 16 {
+        (h, l) = (h << 1, l << 1);
+    }
+    // r = 2^31 / (h / 2), within one part in 2^15 after two steps; every product below 2^32.
+    let half = h >> 1;
+    let mut r = RECIPROCAL
+        .get(((half >> 11) as usize).saturating_sub(16))
+        .copied()
+        .unwrap_or(1 << 15);
+    let error = 0u32.wrapping_sub(half * r);
+    r = (r * (error >> 16)) >> 15;
+    let error = 0u32.wrapping_sub(half * r);
+    r = (r * (error >> 16)) >> 15;
+    let r = r.min(1 << 16);
+    let mut quotient = ((l >> 1) * r) >> 16;
+    // Exact: the largest q with q high <= low 2^15 (low 2^15 < 2^32, q <= 2^15).
+    let dividend = low << 15;
+    while quotient * high > dividend {
+        quotient -= 1;
+    }
+    while quotient < 1 << 15 && (quotient + 1) * high <= dividend {
+        quotient += 1;
+    }
+    quotient
+}
+
 /// 2^14 / sqrt((i + 0.5) / 16) for i = 4..=15, rounded: 1 / sqrt(X) in Q14 at the middle of each
 /// sixteenth of X in [1/4, 1), the start of [`isqrt_normalised`]'s Newton iteration.
 const RSQRT_Q14: [u32; 12] = [
@@ -361,13 +416,20 @@ impl Scalar for Fixed {
         }
         let (mut low, mut high) = if ay <= ax { (ay, ax) } else { (ax, ay) };
         // Bring the larger below 2^17 so that low << 15 fits 32 bits; the ratio keeps 15 bits.
-        let bits = 32 - high.leading_zeros();
-        if bits > 17 {
-            low >>= bits - 17;
-            high >>= bits - 17;
+        // By compares (a count of leading zeros is a library call on a Cortex-M0).
+        if high >= 1 << 24 {
+            (low, high) = (low >> 8, high >> 8);
         }
-        let t = (low << 15).checked_div(high).unwrap_or(0);
-        let atan = atan_unit_q15(i32::try_from(t).unwrap_or(1 << 15));
+        if high >= 1 << 20 {
+            (low, high) = (low >> 4, high >> 4);
+        }
+        if high >= 1 << 18 {
+            (low, high) = (low >> 2, high >> 2);
+        }
+        if high >= 1 << 17 {
+            (low, high) = (low >> 1, high >> 1);
+        }
+        let atan = atan_unit_q15(ratio_q15(low, high) as i32);
         let a = if ay <= ax { atan } else { FRAC_PI_2_Q15 - atan };
         let a = if x.0 < 0 { PI_Q15 - a } else { a };
         let a = q15_to_q14(a);
