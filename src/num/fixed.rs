@@ -110,20 +110,21 @@ impl Mul for Fixed {
         if self.is_invalid() || rhs.is_invalid() {
             return Fixed(INVALID);
         }
-        // The common case, a length or time (below 2^14) times a sine, speed or radius (below
+        // The common case, a length or time (below 2^13) times a sine, speed or radius (below
         // 8): two 32-bit products (one MULS each on a Cortex-M0, where a 64-bit product is a
         // library call). With a = h 2^14 + l (h = a >> 14, l = a mod 2^14 in [0, 2^14)),
         // a b / 2^14 = h b + l b / 2^14, rounded half up like the 64-bit path below.
-        let (ua, ub) = (self.0.unsigned_abs(), rhs.0.unsigned_abs());
-        let operands = if ub < 1 << 17 && ua < 1 << 28 {
+        // v in [-2^(bits - 1), 2^(bits - 1)): one addition and one comparison.
+        let within = |v: i32, bits: u32| (v as u32).wrapping_add(1 << (bits - 1)) < 1 << bits;
+        let operands = if within(rhs.0, 18) && within(self.0, 28) {
             Some((self.0, rhs.0))
-        } else if ua < 1 << 17 && ub < 1 << 28 {
+        } else if within(self.0, 18) && within(rhs.0, 28) {
             Some((rhs.0, self.0))
         } else {
             None
         };
         if let Some((a, b)) = operands {
-            // |h| < 2^14 and |b| < 2^17; l b + 2^13 < 2^31.
+            // |h| <= 2^13 and |b| <= 2^17; |l b| + 2^13 < 2^31.
             let high = (a >> FRAC) * b;
             let low = ((a & (ONE - 1)) * b + (1 << (FRAC - 1))) >> FRAC;
             return Fixed(high.checked_add(low).unwrap_or(INVALID));
