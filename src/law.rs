@@ -126,18 +126,6 @@ pub struct Evaluation<S> {
 }
 
 impl<S: Scalar> Evaluation<S> {
-    /// Turns this evaluation into `OutOfRange` with the safe command if its command left the
-    /// backend's range (never for f32 and f64).
-    pub fn check_command(&mut self) {
-        if !(self.command.pursuer.is_valid() && self.command.evader.is_valid()) {
-            // Field by field, so that the evaluation stays where it is (no copy of the report).
-            self.status = Status::OutOfRange;
-            self.report = None;
-            self.command = Command::straight();
-            self.units = Units::SI;
-        }
-    }
-
     /// The evaluation of a game written into `report` (valid where `status` has one); without a
     /// game, the safe command.
     pub fn from_game(
