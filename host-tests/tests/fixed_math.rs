@@ -141,8 +141,13 @@ fn products_are_the_exact_product_rounded_half_up_or_invalid() {
         let bits = (state >> 33) as u32 as i32;
         bits >> ((state >> 8) % 31)
     };
-    for _ in 0..200_000 {
-        let (a, b) = (next(), next());
+    // The edges of each path: 2^17, 2^21 and 2^27 in magnitude, either sign.
+    let edges = [1 << 17, 1 << 21, 1 << 27].map(|e: i32| [e - 1, e, -e, 1 - e]);
+    let edges: Vec<i32> = edges.into_iter().flatten().collect();
+    let pairs = edges
+        .iter()
+        .flat_map(|&a| edges.iter().map(move |&b| (a, b)));
+    for (a, b) in (0..200_000).map(|_| (next(), next())).chain(pairs) {
         if a == i32::MIN || b == i32::MIN {
             continue;
         }

@@ -129,6 +129,16 @@ impl Mul for Fixed {
             let low = ((a & (ONE - 1)) * b + (1 << (FRAC - 1))) >> FRAC;
             return Fixed(high.checked_add(low).unwrap_or(INVALID));
         }
+        // Both below 128 (a squared distance, a dot product of offsets): with b split like a,
+        // a b / 2^14 = h_a h_b 2^14 + h_a l_b + l_a h_b + l_a l_b / 2^14, four 32-bit products
+        // whose sum stays below 2^29 (the 64-bit product is a library call on a Cortex-M0).
+        if within(self.0, 22) && within(rhs.0, 22) {
+            let (a, b) = (self.0, rhs.0);
+            let (a_high, a_low) = (a >> FRAC, a & (ONE - 1));
+            let (b_high, b_low) = (b >> FRAC, b & (ONE - 1));
+            let low = (a_low * b_low + (1 << (FRAC - 1))) >> FRAC;
+            return Fixed(((a_high * b_high) << FRAC) + a_high * b_low + a_low * b_high + low);
+        }
         let product = i64::from(self.0) * i64::from(rhs.0);
         Fixed::from_wide((product + (1 << (FRAC - 1))) >> FRAC)
     }
