@@ -1,7 +1,7 @@
 //! The fixed-point backend's functions against f64 on exactly representable inputs, with the
 //! bounds stated in `src/num/fixed.rs`, and its arithmetic's refusal to wrap or saturate.
 
-use twocars::num::fixed::Fixed;
+use twocars::num::fixed::{ratio_q15, Fixed};
 use twocars::Scalar;
 
 const LSB: f64 = 1.0 / 16384.0;
@@ -87,6 +87,19 @@ fn sqrt_is_the_integer_root_of_the_shifted_raw_value() {
         let got = fixed(raw as i32).sqrt().raw();
         assert_eq!(i64::from(got), want as i64, "raw {raw}");
     }
+}
+
+/// The ratio behind `atan2` is the exact floor of low 2^15 / high: at low = high for every high
+/// (where its estimate is largest, and quotient * high nearest 2^32), and on a stride below.
+#[test]
+fn ratio_is_the_exact_quotient() {
+    for high in 1u32..1 << 17 {
+        assert_eq!(ratio_q15(high, high), 1 << 15, "{high}");
+        for low in (0..high).step_by(((high / 61) as usize).max(1)) {
+            assert_eq!(ratio_q15(low, high), (low << 15) / high, "{low} / {high}");
+        }
+    }
+    assert_eq!(ratio_q15(5, 0), 0);
 }
 
 /// Headings reduce to [-pi, pi] by whole turns of the backend's 2 pi.

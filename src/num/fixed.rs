@@ -223,7 +223,7 @@ const RECIPROCAL: [u32; 16] = [
 /// Q15, at most 2^15. A reciprocal of high from a table and two Newton steps r (2 - h r)
 /// (multiplications only), the quotient from it, then an exact correction by products: the 32-bit
 /// division is a library call of about 150 instructions on a Cortex-M0.
-fn ratio_q15(low: u32, high: u32) -> u32 {
+pub fn ratio_q15(low: u32, high: u32) -> u32 {
     if high == 0 {
         return 0;
     }
@@ -255,6 +255,9 @@ fn ratio_q15(low: u32, high: u32) -> u32 {
     let error = 0u32.wrapping_sub(half * r);
     r = (r * (error >> 16)) >> 15;
     let r = r.min(1 << 16);
+    // After one step Newton's reciprocal is at most 1 / h (1/h - r' = h (1/h - r)^2), and every
+    // truncation lowers it: the estimate is at most the ratio (<= 2^15), so quotient * high stays
+    // below 2^32 (test `ratio_is_the_exact_quotient` checks every high at low = high).
     let mut quotient = ((l >> 1) * r) >> 16;
     // Exact: the largest q with q high <= low 2^15 (low 2^15 < 2^32, q <= 2^15).
     let dividend = low << 15;
