@@ -202,7 +202,7 @@ impl<S: Scalar> Guidance<S> {
 
     /// The near-field policy's part: below the theorem's threshold, the pursuer's command becomes
     /// lead pursuit once the law has lost its prediction; at or above it the memory is forgotten.
-    /// Out of line: the paper policy never runs it, and inlined it doubled the step's code.
+    /// Out of line: the paper policy never runs it (its 816 B stay off the paper path).
     #[inline(never)]
     fn near_field(
         &mut self,
