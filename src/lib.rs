@@ -14,6 +14,32 @@
 //! paper (theta_dot = v w, turning radius 1 / w_max); a turn rate in rad/s is v w.
 //!
 //! The law is written once over [`num::Scalar`]; it is `no_std`, allocation-free and panic-free.
+//!
+//! A controller validates the limits once, then asks for a decision every control period with
+//! both vehicles' states (positions in a frame near the engagement: f32 resolves 1e-7 of the
+//! distance from the origin):
+//!
+//! ```
+//! use twocars::{Guidance, Law, Limits, Status, Variant};
+//!
+//! // v_pm, w_pm, v_em, w_em: the paper's limits (m/s and 1/m).
+//! let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).expect("valid limits");
+//! let law = Law::new(limits, Variant::Paper);
+//! let mut guidance = Guidance::new(law, 0.01).expect("dt = 10 ms");
+//! // (x, y, theta) of the pursuer and the evader: the paper's case 1.
+//! let (pursuer, evader) = limits
+//!     .states([0.0, 0.0, core::f32::consts::FRAC_PI_2], [-3.0, -6.0, core::f32::consts::FRAC_PI_2])
+//!     .expect("inside the envelope");
+//! let decision = guidance.decide(&pursuer, &evader);
+//! assert_eq!(decision.status, Status::Ok);
+//! let upper = decision.solution.and_then(|s| s.upper).expect("a finite value");
+//! assert!((upper - 5.6575).abs() < 1e-3); // seconds
+//! // Curvature commands (1/m), at most w_max: a turn rate is v_max w.
+//! assert!(decision.command.pursuer.abs() <= 2.0 && decision.command.evader.abs() <= 1.0);
+//! ```
+//!
+//! [`Guidance::step`] returns the same with the per-pair report (tangents, arcs, the matrix),
+//! for tools that print or plot it.
 #![no_std]
 #![deny(missing_docs)]
 // Board shells need `unsafe` for registers; everything else is safe code.
