@@ -112,16 +112,16 @@ impl<S: Scalar> MatrixGame<S> {
         }
     }
 
-    /// Value of the mixed extension, (ad - bc) / (a + d - b - c), where the game has no pure
-    /// saddle and all four entries are finite; `None` otherwise.
-    pub fn mixed_value(&self) -> Option<S> {
+    /// Value of the mixed extension, (ad - bc) / (a + d - b - c), in the law's time unit, where
+    /// the game has no pure saddle and all four entries are finite; `None` otherwise. A report:
+    /// formed in f64, as the products of two capture times can leave a fixed-point range.
+    pub fn mixed_value(&self) -> Option<f64> {
         let [[aa, ac], [ca, cc]] = self.entries;
         match (self.solve().saddle, aa, ac, ca, cc) {
             (false, Some(a), Some(b), Some(c), Some(d)) => {
+                let [a, b, c, d] = [a, b, c, d].map(S::to_f64);
                 let denominator = a + d - b - c;
-                let value = (a * d - b * c) / denominator;
-                // Where the products leave a fixed-point range the mixed value is not reported.
-                (denominator.abs() > S::zero() && value.is_valid()).then_some(value)
+                (denominator != 0.0).then(|| (a * d - b * c) / denominator)
             }
             _ => None,
         }

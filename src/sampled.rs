@@ -66,19 +66,29 @@ impl<S: Scalar> Guidance<S> {
     /// Guidance with control period `dt` seconds.
     ///
     /// # Errors
-    /// [`InvalidPeriod`] unless 0 < dt <= 1e3 s and finite, and representable in the law's
-    /// units on this backend.
+    /// [`InvalidPeriod`] unless 0 < dt <= 1e3 s and finite, and its terms (dt plus the tie floor,
+    /// 2 pi / (v_max dt)) are within the backend's [`Scalar::MAX_PERIOD_TERM`] in the law's units.
     pub fn new(law: Law<S>, dt: f32) -> Result<Self, InvalidPeriod> {
         if !(dt.is_finite() && dt > 0.0 && dt <= 1.0e3) {
             return Err(InvalidPeriod);
         }
         let dt = S::from_f32(law.limits.units.time_from_seconds(dt));
+        let bound = S::from_f32(S::MAX_PERIOD_TERM);
+        if !(dt.is_valid() && dt > S::zero() && dt <= bound) {
+            return Err(InvalidPeriod);
+        }
         let pursuer_speed = law.limits.pursuer.v_max();
         let tie_floor = dt * pursuer_speed / (pursuer_speed - law.limits.evader.v_max());
-        if !(dt.is_valid() && dt > S::zero() && tie_floor.is_valid()) {
+        // Compared with bound - dt (>= 0 here): dt + tie_floor itself may leave the range.
+        if !(tie_floor.is_valid() && tie_floor <= bound - dt) {
             return Err(InvalidPeriod);
         }
         let period = Period::new(&law.limits, dt).ok_or(InvalidPeriod)?;
+        // A full turn's curvature, 2 pi / (v_max dt), within the bound as well.
+        let per_radian_bound = bound / S::tau();
+        if !(period.pursuer <= per_radian_bound && period.evader <= per_radian_bound) {
+            return Err(InvalidPeriod);
+        }
         // An arc within one period's full turn of 2 pi is a hair past the tangent.
         let arc_tolerance = |limits: &VehicleLimits<S>| {
             (limits.max_turn_rate() * dt).max(S::from_f32(S::ARC_RESOLUTION))

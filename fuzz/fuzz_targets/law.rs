@@ -1,7 +1,8 @@
 //! The law on arbitrary f32 bit patterns for limits and states, on the f32 and the fixed-point
 //! backends: no panic; statuses agree with an independent check of the input; commands finite and
 //! within +-w_max (in 1/m, whatever the backend's units); the sampled command too, under both
-//! policies.
+//! policies, over two periods. Built with overflow checks (`fuzz/Cargo.toml`): the fixed-point
+//! backend's unchecked `+`, `-`, `*` would panic here if the envelope let one overflow.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
@@ -51,13 +52,16 @@ fn check<S: Scalar>(observation: &Observation, period: f32, slack: f64) {
                 break;
             };
             let mut g = g.with_policy(policy);
-            let s = g.step(&scene.pursuer, &scene.evader);
-            let (sp, se) = (
-                s.units.curvature(s.command.pursuer),
-                s.units.curvature(s.command.evader),
-            );
-            assert!(sp.is_finite() && sp.abs() <= w_pm, "{sp}");
-            assert!(se.is_finite() && se.abs() <= w_em, "{se}");
+            // Two periods: the second compares with what the first remembered.
+            for _ in 0..2 {
+                let s = g.step(&scene.pursuer, &scene.evader);
+                let (sp, se) = (
+                    s.units.curvature(s.command.pursuer),
+                    s.units.curvature(s.command.evader),
+                );
+                assert!(sp.is_finite() && sp.abs() <= w_pm, "{sp}");
+                assert!(se.is_finite() && se.abs() <= w_em, "{se}");
+            }
         }
     }
 }

@@ -276,3 +276,115 @@ fn fixed_point_reports_inputs_outside_its_envelope() {
     assert_eq!(fixed(PAPER, origin, origin), Status::Captured);
     assert!(PLAYED.contains(&fixed(PAPER, [0.0, 0.0, PI], [0.0, 1.0, -PI])));
 }
+
+/// The fixed-point backend's `+`, `-` and `*` are unchecked in release builds: its envelope must
+/// keep every intermediate of the law in range. This test (a debug build: an overflow panics)
+/// plays the law and both sampled policies, two periods each, at the corners of the envelope:
+/// r_e / r_p = 16, v_em / v_pm = 1/16 and 15/16, the evader up to 200 r_p away on each axis,
+/// headings all round, and the shortest and longest control periods `Guidance::new` accepts.
+#[test]
+fn fixed_point_law_stays_in_range_at_the_corners_of_its_envelope() {
+    use twocars::num::fixed::Fixed;
+    use twocars::{Limits, Policy};
+    // r_p = 1 cm at 100 m/s: the law's time unit is 1e-4 s, so a period of up to 1e3 s reaches
+    // the longest the backend accepts.
+    let (v_pm, w_pm, r_p) = (100.0_f32, 100.0_f32, 0.01_f32);
+    let origin = [10.0_f32, -10.0];
+    let (mut played, mut periods) = (0, 0);
+    for v_em in [v_pm / 16.0, v_pm / 2.0, v_pm * 15.0 / 16.0] {
+        let limits = Limits::<Fixed>::new(v_pm, w_pm, v_em, w_pm / 16.0).expect("in the envelope");
+        let accepted = |dt: f32| Guidance::new(Law::new(limits, Variant::Paper), dt).is_ok();
+        // The accepted periods form one interval: its ends by bisection on a log scale.
+        let (mut short, mut long) = (1.0e-9_f32, 1.0e3_f32);
+        let middle = 1.0e-2_f32;
+        assert!(accepted(middle) && !accepted(short));
+        let (mut lo, mut hi) = (short, middle);
+        for _ in 0..60 {
+            let mid = (lo * hi).sqrt();
+            if accepted(mid) {
+                hi = mid
+            } else {
+                lo = mid
+            }
+        }
+        short = hi;
+        if !accepted(long) {
+            let (mut lo, mut hi) = (middle, long);
+            for _ in 0..60 {
+                let mid = (lo * hi).sqrt();
+                if accepted(mid) {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            long = lo;
+        }
+        for dt in [short, middle, long] {
+            let guidance = Guidance::new(Law::new(limits, Variant::Paper), dt).expect("accepted");
+            periods += 1;
+            for (i, j) in (0..25).map(|k| (k / 5, k % 5)) {
+                let offset = |n: i32| 100.0 * r_p * (n - 2) as f32;
+                for (a, b) in (0..256).map(|k| (k / 16, k % 16)) {
+                    let heading = |n: i32| -PI + TAU * n as f32 / 16.0;
+                    let p = [origin[0], origin[1], heading(a)];
+                    let e = [origin[0] + offset(i), origin[1] + offset(j), heading(b)];
+                    let (p, e) = limits.states(p, e).expect("in the envelope");
+                    for policy in [Policy::Paper, Policy::NearField] {
+                        let mut g = guidance.with_policy(policy);
+                        for _ in 0..2 {
+                            let d = g.decide(&p, &e);
+                            let w = d.units.curvature(d.command.pursuer);
+                            assert!(w.is_finite() && w.abs() <= f64::from(w_pm) * 1.000_001);
+                            if PLAYED.contains(&d.status) {
+                                played += 1;
+                            } else {
+                                assert_eq!(d.status, Status::Captured);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!("{periods} periods, {played} decisions played");
+    assert!(periods == 9 && played > 100_000, "{periods} {played}");
+}
+
+/// Every period, accepted or refused, is judged without leaving the fixed-point range: a period
+/// near the longest accepted with v_em / v_pm = 0.7 made the check dt + tie floor overflow
+/// (found by fuzzing). The accepted periods form one interval.
+#[test]
+fn fixed_point_guidance_judges_every_period_within_its_range() {
+    use twocars::num::fixed::Fixed;
+    use twocars::Limits;
+    let (mut accepted_total, mut refused_total) = (0, 0);
+    for sixteenths in 1..=15 {
+        let v_em = 100.0 * sixteenths as f32 / 16.0;
+        let limits = Limits::<Fixed>::new(100.0, 100.0, v_em, 100.0 / 16.0).expect("envelope");
+        // dt from 1e-9 s to 1e3 s in 1,200 steps of 10^(1/100); the law's time unit is 1e-4 s.
+        let verdicts: Vec<bool> = (0..=1200)
+            .map(|k| 10f32.powf(-9.0 + k as f32 / 100.0))
+            .map(|dt| Guidance::new(Law::new(limits, Variant::Paper), dt).is_ok())
+            .collect();
+        let first = verdicts
+            .iter()
+            .position(|&ok| ok)
+            .expect("some period accepted");
+        let last = verdicts
+            .iter()
+            .rposition(|&ok| ok)
+            .expect("some period accepted");
+        assert!(
+            verdicts[first..=last].iter().all(|&ok| ok),
+            "{sixteenths}/16: a gap"
+        );
+        assert!(
+            first > 0 && last < 1200,
+            "{sixteenths}/16: {first}..={last}"
+        );
+        accepted_total += last + 1 - first;
+        refused_total += verdicts.len() - (last + 1 - first);
+    }
+    println!("{accepted_total} periods accepted, {refused_total} refused");
+}

@@ -134,7 +134,7 @@ fn case_three_has_no_pure_saddle_and_an_exact_double_tie() {
     );
     let mixed = r.matrix().mixed_value().expect("mixed value");
     assert!(
-        mixed > lower && mixed < s.upper.expect("upper"),
+        mixed > f64::from(lower) && mixed < f64::from(s.upper.expect("upper")),
         "mixed {mixed}"
     );
 }

@@ -7,10 +7,15 @@
 //! - the evader within 200 r_p of the pursuer on each axis;
 //! - r_e / r_p = w_pm / w_em <= 16 and 1/16 <= v_em / v_pm <= 15/16;
 //!
-//! inside it every intermediate of the law stays below 2^17 in magnitude (the largest, |D|^2 and
-//! capture times, stay below 10^5). Arithmetic never wraps or saturates silently: a result out
-//! of range, or a division by zero, gives the *invalid* value, which every later operation
-//! propagates and the law reports as `out_of_range` with the safe command.
+//! inside it every intermediate of the law stays below 2^17 in magnitude: the largest are
+//! |D|^2 <= 9.0e4, L |D| <= 6.9e4 and capture times within +-2.6e4 (the bounds, term by term, are
+//! in `docs/numeric.md`), and [`crate::Guidance::new`] refuses a control period whose terms would
+//! leave it ([`Scalar::MAX_PERIOD_TERM`]). So `+`, `-` and `*` are not checked at run time: like
+//! Rust's integers they panic on overflow in debug builds (every host test and fuzz run) and wrap
+//! in release builds, where the envelope keeps them from overflowing. Conversions and divisions
+//! are checked: a result out of range, or a division by zero, gives the *invalid* value, which the
+//! validated constructors ([`crate::Limits::new`], [`crate::Guidance::new`]) refuse, so it never
+//! reaches the law's arithmetic.
 //!
 //! Resolution 2^-14 = 6.1e-5 (r_p, radians, r_p / v_pm). Error bounds, checked against f64 by
 //! `cargo test -p host-tests --test fixed_math`:
@@ -29,8 +34,8 @@ use super::Scalar;
 const FRAC: u32 = 14;
 /// 1.0 in Q14.
 const ONE: i32 = 1 << FRAC;
-/// The invalid value: the result of an overflow or a division by zero, propagated by every
-/// operation.
+/// The invalid value: a conversion out of range, or an overflowing or zero division. Negation,
+/// division, square root, sine, cosine and atan2 propagate it.
 const INVALID: i32 = i32::MIN;
 /// pi / 2 in Q30 minus its Q14 value shifted to Q30: the correction that keeps the quadrant
 /// reduction of large angles accurate with 32-bit arithmetic only.
@@ -76,10 +81,9 @@ impl Add for Fixed {
     type Output = Fixed;
     #[inline]
     fn add(self, rhs: Fixed) -> Fixed {
-        if self.is_invalid() || rhs.is_invalid() {
-            return Fixed(INVALID);
-        }
-        Fixed(self.0.checked_add(rhs.0).unwrap_or(INVALID))
+        // Unchecked in release builds: the law's envelope bounds every sum (module docs); debug
+        // builds (the host tests, the fuzzers) panic on overflow.
+        Fixed(self.0 + rhs.0)
     }
 }
 
@@ -87,10 +91,7 @@ impl Sub for Fixed {
     type Output = Fixed;
     #[inline]
     fn sub(self, rhs: Fixed) -> Fixed {
-        if self.is_invalid() || rhs.is_invalid() {
-            return Fixed(INVALID);
-        }
-        Fixed(self.0.checked_sub(rhs.0).unwrap_or(INVALID))
+        Fixed(self.0 - rhs.0)
     }
 }
 
@@ -99,7 +100,7 @@ impl Neg for Fixed {
     #[inline]
     fn neg(self) -> Fixed {
         // -i32::MIN does not exist: the invalid value stays invalid.
-        Fixed(self.0.checked_neg().unwrap_or(INVALID))
+        Fixed(self.0.wrapping_neg())
     }
 }
 
@@ -107,40 +108,16 @@ impl Mul for Fixed {
     type Output = Fixed;
     #[inline]
     fn mul(self, rhs: Fixed) -> Fixed {
-        if self.is_invalid() || rhs.is_invalid() {
-            return Fixed(INVALID);
-        }
-        // The common case, a length or time (below 2^13) times a sine, speed or radius (below
-        // 8): two 32-bit products (one MULS each on a Cortex-M0, where a 64-bit product is a
-        // library call). With a = h 2^14 + l (h = a >> 14, l = a mod 2^14 in [0, 2^14)),
-        // a b / 2^14 = h b + l b / 2^14, rounded half up like the 64-bit path below.
-        // v in [-2^(bits - 1), 2^(bits - 1)): one addition and one comparison.
-        let within = |v: i32, bits: u32| (v as u32).wrapping_add(1 << (bits - 1)) < 1 << bits;
-        let operands = if within(rhs.0, 18) && within(self.0, 28) {
-            Some((self.0, rhs.0))
-        } else if within(self.0, 18) && within(rhs.0, 28) {
-            Some((rhs.0, self.0))
-        } else {
-            None
-        };
-        if let Some((a, b)) = operands {
-            // |h| <= 2^13 and |b| <= 2^17; |l b| + 2^13 < 2^31.
-            let high = (a >> FRAC) * b;
-            let low = ((a & (ONE - 1)) * b + (1 << (FRAC - 1))) >> FRAC;
-            return Fixed(high.checked_add(low).unwrap_or(INVALID));
-        }
-        // Both below 128 (a squared distance, a dot product of offsets): with b split like a,
-        // a b / 2^14 = h_a h_b 2^14 + h_a l_b + l_a h_b + l_a l_b / 2^14, four 32-bit products
-        // whose sum stays below 2^29 (the 64-bit product is a library call on a Cortex-M0).
-        if within(self.0, 22) && within(rhs.0, 22) {
-            let (a, b) = (self.0, rhs.0);
-            let (a_high, a_low) = (a >> FRAC, a & (ONE - 1));
-            let (b_high, b_low) = (b >> FRAC, b & (ONE - 1));
-            let low = (a_low * b_low + (1 << (FRAC - 1))) >> FRAC;
-            return Fixed(((a_high * b_high) << FRAC) + a_high * b_low + a_low * b_high + low);
-        }
-        let product = i64::from(self.0) * i64::from(rhs.0);
-        Fixed::from_wide((product + (1 << (FRAC - 1))) >> FRAC)
+        // Four 32-bit products (one MULS each on a Cortex-M0, where a 64-bit product is a library
+        // call). With a = h_a 2^14 + l_a (h_a = a >> 14, l_a = a mod 2^14 in [0, 2^14)) and b
+        // alike, a b / 2^14 = h_a h_b 2^14 + h_a l_b + l_a h_b + l_a l_b / 2^14, rounded half up;
+        // each partial product fits 32 bits whenever the result does. Unchecked in release
+        // builds like `Add`; debug builds panic on overflow.
+        let (a, b) = (self.0, rhs.0);
+        let (a_high, a_low) = (a >> FRAC, a & (ONE - 1));
+        let (b_high, b_low) = (b >> FRAC, b & (ONE - 1));
+        let low = (a_low * b_low + (1 << (FRAC - 1))) >> FRAC;
+        Fixed(a_high * b_high * ONE + a_high * b_low + a_low * b_high + low)
     }
 }
 
@@ -319,6 +296,9 @@ impl Scalar for Fixed {
     const MAX_RADIUS_RATIO: f32 = 16.0;
     const MIN_SPEED_RATIO: f32 = 1.0 / 16.0;
     const MAX_SPEED_RATIO: f32 = 15.0 / 16.0;
+    /// Half the range: with capture times within +-2.6e4, the near-field policy's comparison of
+    /// a value less dt plus the tie floor stays below 2^17, as does 4 v_pm dt.
+    const MAX_PERIOD_TERM: f32 = 32_768.0;
 
     #[inline]
     fn from_f32(value: f32) -> Self {

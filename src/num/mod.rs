@@ -51,6 +51,11 @@ pub trait Scalar:
     /// Largest v_em / v_pm this backend accepts (the closing speed's floor); above it
     /// `out_of_range`.
     const MAX_SPEED_RATIO: f32 = 1.0;
+    /// Largest magnitude, in the law's units, of a control period's terms on this backend: the
+    /// period dt plus the tie floor, and a full turn's curvature 2 pi / (v_max dt) of each vehicle.
+    /// [`crate::Guidance::new`] refuses a period beyond it, so that a sampled caller's products
+    /// stay in the backend's range (fixed point's arithmetic is not checked at run time).
+    const MAX_PERIOD_TERM: f32 = f32::INFINITY;
 
     /// Converts from `f32`; the caller has checked the value is finite and inside the envelope.
     fn from_f32(value: f32) -> Self;
