@@ -512,7 +512,9 @@ impl<S: Scalar> ValidTangent<S> {
     /// |D| sin(psi - atan2(D)) = -k.
     fn from_terms(length_sq: S, dx: S, dy: S, k: S) -> Option<Self> {
         let zero = S::zero();
-        if length_sq < zero || length_sq + k * k <= zero {
+        // No tangent inside the other circle (L^2 < 0), nor for coincident circles (D = 0, so
+        // L = k = 0; without a product: k is r_e +- r_p, never 0 under Assumption 1).
+        if length_sq < zero || (length_sq == zero && k == zero) {
             return None;
         }
         let length = length_sq.sqrt();
