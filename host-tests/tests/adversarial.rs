@@ -294,32 +294,27 @@ fn fixed_point_law_stays_in_range_at_the_corners_of_its_envelope() {
     for v_em in [v_pm / 16.0, v_pm / 2.0, v_pm * 15.0 / 16.0] {
         let limits = Limits::<Fixed>::new(v_pm, w_pm, v_em, w_pm / 16.0).expect("in the envelope");
         let accepted = |dt: f32| Guidance::new(Law::new(limits, Variant::Paper), dt).is_ok();
-        // The accepted periods form one interval: its ends by bisection on a log scale.
-        let (mut short, mut long) = (1.0e-9_f32, 1.0e3_f32);
-        let middle = 1.0e-2_f32;
-        assert!(accepted(middle) && !accepted(short));
-        let (mut lo, mut hi) = (short, middle);
-        for _ in 0..60 {
-            let mid = (lo * hi).sqrt();
-            if accepted(mid) {
-                hi = mid
-            } else {
-                lo = mid
-            }
-        }
-        short = hi;
-        if !accepted(long) {
-            let (mut lo, mut hi) = (middle, long);
+        // The accepted periods form one interval: its ends by bisection on a log scale, from an
+        // accepted period toward a refused one.
+        let end = |mut inside: f32, mut outside: f32| {
             for _ in 0..60 {
-                let mid = (lo * hi).sqrt();
+                let mid = (inside * outside).sqrt();
                 if accepted(mid) {
-                    lo = mid
+                    inside = mid
                 } else {
-                    hi = mid
+                    outside = mid
                 }
             }
-            long = lo;
-        }
+            inside
+        };
+        let middle = 1.0e-2_f32;
+        assert!(accepted(middle) && !accepted(1.0e-9));
+        let short = end(middle, 1.0e-9);
+        let long = if accepted(1.0e3) {
+            1.0e3
+        } else {
+            end(middle, 1.0e3)
+        };
         for dt in [short, middle, long] {
             let guidance = Guidance::new(Law::new(limits, Variant::Paper), dt).expect("accepted");
             periods += 1;
