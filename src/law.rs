@@ -380,7 +380,8 @@ impl<S: Scalar> Law<S> {
                 [pair(c, a, ca), pair(c, c, cc)],
             ],
         };
-        // A backend whose arithmetic left its range (fixed point) says so instead of guessing.
+        // An invalid entry (fixed point: a checked division or function that left the range; the
+        // envelope keeps its unchecked sums and products in range) ends the game, never guessed.
         if matrix
             .entries
             .iter()
