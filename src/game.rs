@@ -101,15 +101,7 @@ fn min_opt<S: Scalar>(a: Option<S>, b: Option<S>) -> Option<S> {
 impl<S: Scalar> MatrixGame<S> {
     /// The entry for a pursuer circle and an evader circle, seconds (`None` = infinity).
     pub fn entry(&self, pursuer: Direction, evader: Direction) -> Option<S> {
-        let [a_row, c_row] = self.entries;
-        let [a, c] = match pursuer {
-            Direction::Anticlockwise => a_row,
-            Direction::Clockwise => c_row,
-        };
-        match evader {
-            Direction::Anticlockwise => a,
-            Direction::Clockwise => c,
-        }
+        self.entries[pursuer as usize][evader as usize]
     }
 
     /// Value of the mixed extension, (ad - bc) / (a + d - b - c), in the law's time unit, where

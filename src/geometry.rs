@@ -6,13 +6,14 @@
 use crate::num::Scalar;
 use crate::status::Status;
 
-/// Turning direction of a minimum-radius circle.
+/// Turning direction of a minimum-radius circle. As a number (`as usize`), its index in Table 1's
+/// order: A = 0, C = 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Direction {
     /// The A circle: w = +w_max, sigma = +1.
-    Anticlockwise,
+    Anticlockwise = 0,
     /// The C circle: w = -w_max, sigma = -1.
-    Clockwise,
+    Clockwise = 1,
 }
 
 impl Direction {
@@ -483,15 +484,8 @@ impl<S: Scalar> CirclePairs<S> {
     /// The valid tangent from the pursuer's `pursuer` circle to the evader's `evader` circle, or
     /// `None` where it does not exist.
     pub fn tangent(&self, pursuer: Direction, evader: Direction) -> Option<ValidTangent<S>> {
-        let [a_row, c_row] = &self.pairs;
-        let [a, c] = match pursuer {
-            Direction::Anticlockwise => a_row,
-            Direction::Clockwise => c_row,
-        };
-        let terms = match evader {
-            Direction::Anticlockwise => a,
-            Direction::Clockwise => c,
-        };
+        // Indexed, not matched: an address computation where a match is two compares and selects.
+        let terms = &self.pairs[pursuer as usize][evader as usize];
         ValidTangent::from_terms(terms.length_sq, terms.d.x, terms.d.y, terms.k)
     }
 }

@@ -80,15 +80,7 @@ impl<S: Scalar> GameReport<S> {
 
     /// The pair of a pursuer circle and an evader circle, if it has a valid tangent.
     pub fn pair(&self, pursuer: Direction, evader: Direction) -> Option<&PairOutcome<S>> {
-        let [a_row, c_row] = &self.pairs;
-        let [a, c] = match pursuer {
-            Direction::Anticlockwise => a_row,
-            Direction::Clockwise => c_row,
-        };
-        match evader {
-            Direction::Anticlockwise => a.as_ref(),
-            Direction::Clockwise => c.as_ref(),
-        }
+        self.pairs[pursuer as usize][evader as usize].as_ref()
     }
 
     /// Whether the game's prediction holds: a saddle (upper and lower within the tie band or

@@ -110,7 +110,7 @@ pub fn atan2(y: f32, x: f32) -> f32 {
 
 /// Square root of a non-negative value (0 for negative input): VSQRT on a Cortex-M with a
 /// single-precision FPU. (Rust's `sreg` operands need the double-precision `vfp2` feature, which
-/// these FPUs lack, so the value passes through a core register and s0 is saved around it.)
+/// these FPUs lack, so the value passes through a core register and s0 is declared clobbered.)
 #[cfg(all(target_arch = "arm", target_abi = "eabihf"))]
 #[allow(unsafe_code)]
 pub fn sqrt(x: f32) -> f32 {
@@ -118,18 +118,17 @@ pub fn sqrt(x: f32) -> f32 {
         return 0.0;
     }
     let bits: u32;
-    // SAFETY: touches only s0, which it saves and restores on the stack, and the two operand
-    // registers; VSQRT.F32 exists on every eabihf Cortex-M FPU.
+    // SAFETY: writes only s0, declared clobbered, and the two operand registers; VSQRT.F32
+    // exists on every eabihf Cortex-M FPU.
     unsafe {
         core::arch::asm!(
-            "vpush {{s0}}",
             "vmov s0, {x}",
             "vsqrt.f32 s0, s0",
             "vmov {r}, s0",
-            "vpop {{s0}}",
             x = in(reg) x.to_bits(),
             r = lateout(reg) bits,
-            options(pure, nomem, preserves_flags),
+            out("s0") _,
+            options(pure, nomem, nostack, preserves_flags),
         );
     }
     f32::from_bits(bits)
