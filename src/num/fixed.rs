@@ -21,8 +21,8 @@
 //! `cargo test -p host-tests --test fixed_math`:
 //! - [`Scalar::sin_cos`]: absolute error <= 2e-4 (quarter-wave reduction, Taylor polynomials to
 //!   degree 7 in Q15);
-//! - [`Scalar::atan2`]: absolute error <= 3e-4 rad (octant reduction, the degree-9 odd polynomial
-//!   of Abramowitz and Stegun 4.4.49, |error| <= 1e-5 on [-1, 1]);
+//! - [`Scalar::atan2`]: absolute error <= 3e-4 rad (octant reduction, the ratio to within two
+//!   units of 2^-15, atan interpolated in a table of 64 steps, within 4.8e-5 rad on [0, 1]);
 //! - [`Scalar::sqrt`]: error <= 2^-14 + 2^-15 relative (the exact integer square root of the
 //!   value shifted into 32 bits, by Newton steps from a table and an integer correction).
 
@@ -160,15 +160,24 @@ fn q15_to_q14(v: i32) -> i32 {
     (v + 1) >> 1
 }
 
-/// atan(t) for t in [0, 1], t and the result in Q15 (Abramowitz and Stegun 4.4.49).
-fn atan_unit_q15(t: i32) -> i32 {
-    let z = mul_q15(t, t);
-    let p = 32_764
-        - mul_q15(
-            z,
-            10_823 - mul_q15(z, 5_903 - mul_q15(z, 2_790 - mul_q15(z, 683))),
-        );
-    mul_q15(t, p)
+/// atan(i / 64) in Q15 for i = 0..=64, rounded, and the last once more, so that the interpolation
+/// at t = 1 reads within the table.
+const ATAN_Q15: [u16; 66] = [
+    0, 512, 1024, 1535, 2045, 2555, 3063, 3570, 4075, 4578, 5079, 5578, 6073, 6567, 7057, 7544,
+    8027, 8508, 8984, 9456, 9925, 10389, 10849, 11305, 11756, 12203, 12645, 13082, 13514, 13941,
+    14363, 14781, 15193, 15600, 16002, 16398, 16790, 17176, 17557, 17933, 18304, 18670, 19030,
+    19386, 19736, 20081, 20421, 20756, 21086, 21411, 21732, 22047, 22358, 22664, 22966, 23262,
+    23555, 23842, 24126, 24405, 24679, 24950, 25216, 25478, 25736, 25736,
+];
+
+/// atan(t) for t in [0, 1], t and the result in Q15: linear interpolation in a table of 64
+/// steps, within 4.8e-5 rad (the second derivative's bound h^2 / 8 max|atan''| = 2.0e-5 plus
+/// the roundings); one product where a polynomial takes five.
+fn atan_unit_q15(t: u32) -> i32 {
+    let t = t.min(1 << 15);
+    let i = (t >> 9) as usize;
+    let (a, b) = (i32::from(ATAN_Q15[i]), i32::from(ATAN_Q15[i + 1]));
+    a + (((b - a) * (t & 511) as i32 + 256) >> 9)
 }
 
 /// floor(x / (pi/2)) for x in Q14: by subtraction within a few quarter turns (at most 16 steps),
@@ -196,30 +205,31 @@ const RECIPROCAL: [u32; 16] = [
     36_792, 35_545, 34_380, 33_288,
 ];
 
-/// floor(low 2^15 / high) for 0 <= low <= high < 2^17, high > 0 (0 for high = 0): the ratio in
-/// Q15, at most 2^15. A reciprocal of high from a table and two Newton steps r (2 - h r)
-/// (multiplications only), the quotient from it, then an exact correction by products: the 32-bit
-/// division is a library call of about 150 instructions on a Cortex-M0.
+/// low 2^15 / high for 0 <= low <= high, high > 0 (0 for high = 0): the ratio in Q15, at most
+/// 2^15, within two units of the exact quotient (test `ratio_is_within_two_units_of_the_quotient`).
+/// Both shifted alike so that high is in [2^16, 2^17) (by compares: a count of leading zeros is
+/// a library call on a Cortex-M0), then low times a reciprocal of high from a table and two
+/// Newton steps r (2 - h r) (multiplications only: the 32-bit division is a library call of
+/// about 150 instructions).
 pub fn ratio_q15(low: u32, high: u32) -> u32 {
     if high == 0 {
         return 0;
     }
-    // Both shifted alike so that h is in [2^16, 2^17): the ratio is unchanged.
-    let (mut h, mut l) = (high, low);
-    if h < 1 << 1 {
+    let (mut h, mut l) = (high, low.min(high));
+    if h < 1 << 16 {
         (h, l) = (h << 16, l << 16);
     }
-    if h < 1 << 9 {
-        (h, l) = (h << 8, l << 8);
+    if h >= 1 << 24 {
+        (h, l) = (h >> 8, l >> 8);
     }
-    if h < 1 << 13 {
-        (h, l) = (h << 4, l << 4);
+    if h >= 1 << 20 {
+        (h, l) = (h >> 4, l >> 4);
     }
-    if h < 1 << 15 {
-        (h, l) = (h << 2, l << 2);
+    if h >= 1 << 18 {
+        (h, l) = (h >> 2, l >> 2);
     }
-    if h < 1 << 16 {
-        (h, l) = (h << 1, l << 1);
+    if h >= 1 << 17 {
+        (h, l) = (h >> 1, l >> 1);
     }
     // r = 2^31 / (h / 2), within one part in 2^15 after two steps; every product below 2^32.
     let half = h >> 1;
@@ -231,20 +241,9 @@ pub fn ratio_q15(low: u32, high: u32) -> u32 {
     r = (r * (error >> 16)) >> 15;
     let error = 0u32.wrapping_sub(half * r);
     r = (r * (error >> 16)) >> 15;
-    let r = r.min(1 << 16);
-    // After one step Newton's reciprocal is at most 1 / h (1/h - r' = h (1/h - r)^2), and every
-    // truncation lowers it: the estimate is at most the ratio (<= 2^15), so quotient * high stays
-    // below 2^32 (test `ratio_is_the_exact_quotient` checks every high at low = high).
-    let mut quotient = ((l >> 1) * r) >> 16;
-    // Exact: the largest q with q high <= low 2^15 (low 2^15 < 2^32, q <= 2^15).
-    let dividend = low << 15;
-    while quotient * high > dividend {
-        quotient -= 1;
-    }
-    while quotient < 1 << 15 && (quotient + 1) * high <= dividend {
-        quotient += 1;
-    }
-    quotient
+    // (l / 2) r + 2^15 < 2^32 (l / 2 < 2^16, r <= 2^16 - 1 after the bound); rounded.
+    let r = r.min((1 << 16) - 1);
+    (((l >> 1) * r + (1 << 15)) >> 16).min(1 << 15)
 }
 
 /// 2^14 / sqrt((i + 0.5) / 16) for i = 4..=15, rounded: 1 / sqrt(X) in Q14 at the middle of each
@@ -408,22 +407,8 @@ impl Scalar for Fixed {
         if ax == 0 && ay == 0 {
             return Fixed(0);
         }
-        let (mut low, mut high) = if ay <= ax { (ay, ax) } else { (ax, ay) };
-        // Bring the larger below 2^17 so that low << 15 fits 32 bits; the ratio keeps 15 bits.
-        // By compares (a count of leading zeros is a library call on a Cortex-M0).
-        if high >= 1 << 24 {
-            (low, high) = (low >> 8, high >> 8);
-        }
-        if high >= 1 << 20 {
-            (low, high) = (low >> 4, high >> 4);
-        }
-        if high >= 1 << 18 {
-            (low, high) = (low >> 2, high >> 2);
-        }
-        if high >= 1 << 17 {
-            (low, high) = (low >> 1, high >> 1);
-        }
-        let atan = atan_unit_q15(ratio_q15(low, high) as i32);
+        let (low, high) = if ay <= ax { (ay, ax) } else { (ax, ay) };
+        let atan = atan_unit_q15(ratio_q15(low, high));
         let a = if ay <= ax { atan } else { FRAC_PI_2_Q15 - atan };
         let a = if x.0 < 0 { PI_Q15 - a } else { a };
         let a = q15_to_q14(a);
