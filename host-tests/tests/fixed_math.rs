@@ -14,7 +14,10 @@ fn fixed(raw: i32) -> Fixed {
 #[test]
 fn sin_cos_within_2e_4_for_headings_up_to_1e4_rad() {
     let mut worst: f64 = 0.0;
-    for raw in (-163_840_000..=163_840_000).step_by(997) {
+    // A stride up to 1e4 rad, and every value within a turn and a bit either side of 0 (where
+    // the quarter turns are found by compares).
+    let near = -120_000..=120_000;
+    for raw in (-163_840_000..=163_840_000).step_by(997).chain(near) {
         let (s, c) = fixed(raw).sin_cos();
         let x = f64::from(raw) * LSB;
         worst = worst

@@ -180,22 +180,25 @@ fn atan_unit_q15(t: u32) -> i32 {
     a + (((b - a) * (t & 511) as i32 + 256) >> 9)
 }
 
-/// floor(x / (pi/2)) for x in Q14: by subtraction within a few quarter turns (at most 16 steps),
-/// by division beyond.
+/// floor(x / (pi/2)) for x in Q14: by three compares within a turn either side of 0 (the law's
+/// headings, reduced to [-pi, pi]; a loop of subtractions here is turned into a division by
+/// the compiler, a library call on a Cortex-M0), by division beyond.
 fn quarter_turns(x: i32) -> i32 {
-    if x.unsigned_abs() >= 16 * FRAC_PI_2_Q14 as u32 {
+    if x.unsigned_abs() >= TAU_Q14 as u32 {
         return x.div_euclid(FRAC_PI_2_Q14);
     }
-    let (mut rest, mut k) = (x, 0);
-    while rest < 0 {
-        rest += FRAC_PI_2_Q14;
-        k -= 1;
+    // rest in [0, 2 pi) and k its quarter turns below x.
+    let (k, rest) = if x < 0 { (-4, x + TAU_Q14) } else { (0, x) };
+    let (k, rest) = if rest >= PI_Q14 {
+        (k + 2, rest - PI_Q14)
+    } else {
+        (k, rest)
+    };
+    if rest >= FRAC_PI_2_Q14 {
+        k + 1
+    } else {
+        k
     }
-    while rest >= FRAC_PI_2_Q14 {
-        rest -= FRAC_PI_2_Q14;
-        k += 1;
-    }
-    k
 }
 
 /// 2^20 / (16 + i + 0.5) for i = 0..=15, rounded: 2^31 / h at the middle of each sixteenth of
@@ -246,28 +249,26 @@ pub fn ratio_q15(low: u32, high: u32) -> u32 {
     (((l >> 1) * r + (1 << 15)) >> 16).min(1 << 15)
 }
 
-/// 2^14 / sqrt((i + 0.5) / 16) for i = 4..=15, rounded: 1 / sqrt(X) in Q14 at the middle of each
-/// sixteenth of X in [1/4, 1), the start of [`isqrt_normalised`]'s Newton iteration.
-const RSQRT_Q14: [u32; 12] = [
-    30_894, 27_945, 25_705, 23_930, 22_479, 21_263, 20_225, 19_326, 18_536, 17_837, 17_211, 16_646,
+/// 2^14 / sqrt((i + 0.5) / 64) for i = 16..=63, rounded: 1 / sqrt(X) in Q14 at the middle of each
+/// sixty-fourth of X in [1/4, 1), the start of [`isqrt_normalised`]'s Newton step.
+const RSQRT_Q14: [u16; 48] = [
+    32268, 31332, 30474, 29682, 28949, 28268, 27632, 27038, 26481, 25956, 25462, 24994, 24552,
+    24132, 23733, 23354, 22992, 22646, 22315, 21999, 21695, 21404, 21124, 20855, 20596, 20346,
+    20106, 19873, 19649, 19431, 19221, 19018, 18821, 18630, 18444, 18264, 18090, 17920, 17755,
+    17594, 17438, 17285, 17137, 16992, 16851, 16714, 16579, 16448,
 ];
 
 /// Largest integer whose square is at most m, for m in [2^30, 2^32): y = 1 / sqrt(m / 2^32) from a
-/// table and two Newton steps y (3 - X y^2) / 2 (multiplications only: a division, and the
+/// table and one Newton step y (3 - X y^2) / 2 (multiplications only: a division, and the
 /// bit-by-bit square root, cost a hundred-odd instructions on a Cortex-M0), then the root
 /// m y / 2^32, one Newton step on the root, and a last exact correction by integer squares.
 fn isqrt_normalised(m: u32) -> u32 {
     // X = m / 2^32 in Q16; every product below stays under 2^32 (X y^2 is near 1).
     let x = m >> 16;
-    let mut y = RSQRT_Q14
-        .get(((m >> 28) as usize).saturating_sub(4))
-        .copied()
-        .unwrap_or(1 << 14);
-    for _ in 0..2 {
-        let y_sq = (y * y) >> 14;
-        let x_y_sq = (x * y_sq) >> 16;
-        y = (y * ((3 << 14) - x_y_sq.min(3 << 14))) >> 15;
-    }
+    let mut y = u32::from(RSQRT_Q14[((m >> 26) as usize).saturating_sub(16)]);
+    let y_sq = (y * y) >> 14;
+    let x_y_sq = (x * y_sq) >> 16;
+    y = (y * ((3 << 14) - x_y_sq.min(3 << 14))) >> 15;
     // sqrt(X) 2^16, within a few units; then r += (m - r^2) / (2 r) with 1 / r = y / 2^30.
     let mut root = ((x * y) >> 14).min(0xFFFF);
     let residual = m.wrapping_sub(root * root) as i32;
