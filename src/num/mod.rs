@@ -157,6 +157,7 @@ impl Scalar for f32 {
     fn sin_cos(self) -> (Self, Self) {
         f32_math::sin_cos(self)
     }
+    #[inline(always)]
     fn atan2(y: Self, x: Self) -> Self {
         f32_math::atan2(y, x)
     }
