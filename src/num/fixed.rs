@@ -351,34 +351,30 @@ impl Scalar for Fixed {
         if a == 0 {
             return Fixed(0);
         }
-        // sqrt(raw / 2^14) * 2^14 = sqrt(raw * 2^14): shift raw left by the even s that brings
+        // sqrt(raw / 2^14) * 2^14 = sqrt(raw * 2^14): shift raw left by the even 2 h that brings
         // it to [2^30, 2^32) (compares, not a count of leading zeros: a library call on a
-        // Cortex-M0), and the root left by (14 - s) / 2, or right by (s - 14) / 2 (the floor of
-        // a floor: the same root as of raw 2^14 itself).
-        let (mut m, mut shift) = (a, 0);
+        // Cortex-M0), and the root by 7 - h: root 2^7 / 2^h, floored (the floor of a floor: the
+        // same root as of raw 2^14 itself).
+        let (mut m, mut half_shift) = (a, 0);
         if m < 1 << 16 {
             m <<= 16;
-            shift += 16;
+            half_shift += 8;
         }
         if m < 1 << 24 {
             m <<= 8;
-            shift += 8;
+            half_shift += 4;
         }
         if m < 1 << 28 {
             m <<= 4;
-            shift += 4;
+            half_shift += 2;
         }
         if m < 1 << 30 {
             m <<= 2;
-            shift += 2;
+            half_shift += 1;
         }
+        // root < 2^16, so root 2^7 < 2^23: in range.
         let root = isqrt_normalised(m);
-        let root = if shift <= FRAC {
-            root << ((FRAC - shift) / 2)
-        } else {
-            root >> ((shift - FRAC) / 2)
-        };
-        Fixed::from_wide(i64::from(root))
+        Fixed(((root << 7) >> half_shift) as i32)
     }
     fn sin_cos(self) -> (Self, Self) {
         if self.is_invalid() {
