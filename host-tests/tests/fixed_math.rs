@@ -93,9 +93,9 @@ fn sqrt_is_the_integer_root_of_the_shifted_raw_value() {
     }
 }
 
-/// The ratio behind `atan2` is within two units of the floor of low 2^15 / high:
-/// at low = high for every high below 2^17 (where the estimate is largest), on a stride of lows
-/// below, and on a stride of highs up to 2^32 (shifted down before the reciprocal).
+/// The ratio behind `atan2` is within two units of the floor of low 2^15 / high: at low = high
+/// for every high below 2^17 (where the estimate is largest), on a stride of lows below, and on a
+/// stride of highs up to 2^32 (shifted down before the reciprocal).
 #[test]
 fn ratio_is_within_two_units_of_the_quotient() {
     let small = 1u32..1 << 17;
