@@ -232,3 +232,77 @@ fn the_configure_message_selects_the_policy() {
         "{replies:?}"
     );
 }
+
+/// The bench's session of the serial loop (`twocars::bench::main_loop`, which `cargo xtask bench`
+/// times on the Cortex-M4F): `firmware::serve` over the scripted port answers it as the unit
+/// answers it byte by byte, ends at its Shutdown, and the script holds what it says: two
+/// Configures, a Command for each State, four refusals, Counters.
+#[test]
+fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
+    use embedded_io::Write;
+    use twocars::bench::main_loop::{
+        script, ScriptedPort, StillClock, SCRIPT_CAPACITY, STATE_FRAMES,
+    };
+    for with_states in [true, false] {
+        let mut bytes = [0u8; SCRIPT_CAPACITY];
+        let n = script(with_states, &mut bytes).expect("the script fits its capacity");
+        let script = &bytes[..n];
+        let mut unit = Unit::new();
+        let mut written = Vec::new();
+        for &b in script {
+            if let Some(r) = unit.receive(b, 0) {
+                written.extend_from_slice(r.as_bytes());
+            }
+        }
+        let replies: Vec<Reply> = ReplyDecoder::default()
+            .feed(&written)
+            .into_iter()
+            .map(|r| r.expect("valid reply"))
+            .collect();
+        let states = if with_states { STATE_FRAMES } else { 0 };
+        assert_eq!(replies.len(), 2 + states + 4 + 2, "{replies:?}");
+        let commands = replies
+            .iter()
+            .filter(|r| matches!(r, Reply::Command(s, c) if *s > 0 && c.status == 0))
+            .count();
+        // Every bench state has a game (status Ok) except the one without a valid tangent
+        // (status 5), under each policy.
+        let no_tangent = replies
+            .iter()
+            .filter(|r| matches!(r, Reply::Command(_, c) if c.status == 5))
+            .count();
+        assert_eq!(commands + no_tangent, states, "{replies:?}");
+        assert_eq!(no_tangent, if with_states { 2 } else { 0 });
+        let refused: Vec<_> = replies
+            .iter()
+            .filter_map(|r| match r {
+                Reply::Error(_, e) => WireError::from_code(e.code),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            refused,
+            [
+                WireError::UnknownType,
+                WireError::Truncated,
+                WireError::NonFiniteField,
+                WireError::BadCrc
+            ]
+        );
+        assert!(matches!(replies[replies.len() - 2], Reply::Counters(..)));
+        assert!(matches!(replies[replies.len() - 1], Reply::ShutdownAck(_)));
+
+        let mut expected = ScriptedPort::new(&[]);
+        expected
+            .write_all(&written)
+            .expect("the port takes every byte");
+        let mut port = ScriptedPort::new(script);
+        let mut served = Unit::new();
+        let stop = twocars::firmware::serve(&mut port, &StillClock, &mut served);
+        assert_eq!(stop, twocars::firmware::Stop::Shutdown);
+        assert_eq!(port.replies as usize, replies.len());
+        assert_eq!(port.digest, expected.digest);
+        assert_eq!(port.replies, expected.replies);
+        assert_eq!(served.counters(), unit.counters());
+    }
+}

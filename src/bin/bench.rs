@@ -8,6 +8,10 @@
 //! With `bench-empty` the law is replaced by nothing: its ticks are the call overhead, its image
 //! the baseline of the law's flash. The numeric backend: f32, or `Fixed` with `bench-fixed`, or
 //! micromath with `bench-micromath`.
+//!
+//! With `bench-loop` it runs the firmware's serial loop instead (`twocars::firmware::serve` over
+//! the script of `twocars::bench::main_loop`, with and without the bench states) and prints one
+//! `loop` line per session: its ticks, the loop's stack and a digest of its replies.
 #![no_std]
 #![no_main]
 
@@ -16,6 +20,7 @@ use core::hint::black_box;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_semihosting::debug::{exit, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
+#[cfg(not(feature = "bench-loop"))]
 use twocars::bench::STATES;
 
 const PAINT: u32 = 0xA5A5_5A5A;
@@ -26,16 +31,22 @@ const PAINT_BYTES: usize = 4096;
 type Number = twocars::num::fixed::Fixed;
 #[cfg(all(feature = "bench-micromath", not(feature = "bench-fixed")))]
 type Number = twocars::num::micro::Micro;
-#[cfg(not(any(feature = "bench-fixed", feature = "bench-micromath")))]
+#[cfg(not(any(
+    feature = "bench-fixed",
+    feature = "bench-micromath",
+    feature = "bench-loop"
+)))]
 type Number = f32;
 
 /// The law and one bench state, prepared outside the timed region.
+#[cfg(not(feature = "bench-loop"))]
 type Prepared = (
     twocars::Guidance<Number>,
     twocars::VehicleState<Number>,
     twocars::VehicleState<Number>,
 );
 
+#[cfg(not(feature = "bench-loop"))]
 fn prepare(i: usize) -> Option<Prepared> {
     let &(p, e) = STATES.get(i)?;
     let [v_pm, w_pm, v_em, w_em] = twocars::bench::LIMITS;
@@ -47,14 +58,15 @@ fn prepare(i: usize) -> Option<Prepared> {
 }
 
 /// What the timed region returns: the decision, or with `bench-report` the whole evaluation.
-#[cfg(not(feature = "bench-report"))]
+#[cfg(not(any(feature = "bench-loop", feature = "bench-report")))]
 type Output = twocars::Decision<Number>;
-#[cfg(feature = "bench-report")]
+#[cfg(all(not(feature = "bench-loop"), feature = "bench-report"))]
 type Output = twocars::Evaluation<Number>;
 
 /// The timed region: one `Guidance::decide` (or `Guidance::step`), returned in the caller's
 /// slot. With `bench-empty` only a safe evaluation is returned there (the call and return
 /// overhead).
+#[cfg(not(feature = "bench-loop"))]
 #[inline(never)]
 fn evaluate(prepared: &mut Prepared) -> Output {
     #[cfg(feature = "bench-empty")]
@@ -76,6 +88,7 @@ fn evaluate(prepared: &mut Prepared) -> Output {
 }
 
 /// Upper value (s) and both commands (1/m) as f32 bit patterns (infinity without a game).
+#[cfg(not(feature = "bench-loop"))]
 fn outputs(ev: impl Into<twocars::Decision<Number>>) -> [u32; 3] {
     let ev: twocars::Decision<Number> = ev.into();
     let units = ev.units;
@@ -125,6 +138,24 @@ fn main() -> ! {
     cp.SYST.set_reload(0x00FF_FFFF);
     cp.SYST.clear_current();
     cp.SYST.enable_counter();
+    #[cfg(not(feature = "bench-loop"))]
+    bench_law();
+    #[cfg(feature = "bench-loop")]
+    bench_loop();
+    exit(EXIT_SUCCESS);
+    loop {
+        cortex_m::asm::nop();
+    }
+}
+
+/// SysTick ticks from `start` to now (the counter counts down, 24 bits).
+fn ticks_since(start: u32) -> u32 {
+    start.wrapping_sub(cortex_m::peripheral::SYST::get_current()) & 0x00FF_FFFF
+}
+
+/// One `state` line per bench state.
+#[cfg(not(feature = "bench-loop"))]
+fn bench_law() {
     for i in 0..STATES.len() {
         let Some(mut prepared) = prepare(black_box(i)) else {
             hprintln!("state {} unusable", i);
@@ -133,10 +164,8 @@ fn main() -> ! {
         let bottom = paint();
         let start = cortex_m::peripheral::SYST::get_current();
         let out = evaluate(black_box(&mut prepared));
-        let end = cortex_m::peripheral::SYST::get_current();
+        let ticks = ticks_since(start);
         let stack = used(bottom);
-        // SysTick counts down, 24 bits.
-        let ticks = start.wrapping_sub(end) & 0x00FF_FFFF;
         let [upper, w_p, w_e] = outputs(black_box(out));
         hprintln!(
             "state {} {} {} {:08x} {:08x} {:08x}",
@@ -148,9 +177,68 @@ fn main() -> ! {
             w_e
         );
     }
-    exit(EXIT_SUCCESS);
-    loop {
-        cortex_m::asm::nop();
+}
+
+/// What one session of the serial loop left: whether it ended with Shutdown, the replies and
+/// their digest, the unit's accepted and refused counts.
+#[cfg(feature = "bench-loop")]
+struct Session {
+    shutdown: bool,
+    replies: u32,
+    digest: u32,
+    accepted: u32,
+    refused: u32,
+}
+
+/// The firmware's main loop over `script`: the unit and the port live in this frame, as in the
+/// firmware's `main`.
+#[cfg(feature = "bench-loop")]
+#[inline(never)]
+fn serve_script(script: &[u8]) -> Session {
+    use twocars::bench::main_loop::{ScriptedPort, StillClock};
+    let mut port = ScriptedPort::new(script);
+    let mut unit = twocars::unit::Unit::new();
+    let stop = twocars::firmware::serve(&mut port, &StillClock, &mut unit);
+    let counters = unit.counters();
+    Session {
+        shutdown: matches!(stop, twocars::firmware::Stop::Shutdown),
+        replies: port.replies,
+        digest: port.digest,
+        accepted: counters.accepted,
+        refused: counters.errors.iter().fold(0, |a, &b| a.wrapping_add(b)),
+    }
+}
+
+/// One `loop` line per session (with the bench states, then without):
+/// `loop <with states> <ticks> <stack bytes> <replies> <digest> <accepted> <refused>`.
+#[cfg(feature = "bench-loop")]
+fn bench_loop() {
+    use twocars::bench::main_loop::{script, SCRIPT_CAPACITY};
+    let mut bytes = [0u8; SCRIPT_CAPACITY];
+    for with_states in [true, false] {
+        let Some(script) = script(with_states, &mut bytes).and_then(|n| bytes.get(..n)) else {
+            hprintln!("script does not fit");
+            continue;
+        };
+        let bottom = paint();
+        let start = cortex_m::peripheral::SYST::get_current();
+        let session = serve_script(black_box(script));
+        let ticks = ticks_since(start);
+        let stack = used(bottom);
+        if !session.shutdown {
+            hprintln!("session ended without Shutdown");
+            continue;
+        }
+        hprintln!(
+            "loop {} {} {} {} {:08x} {} {}",
+            u8::from(with_states),
+            ticks,
+            stack,
+            session.replies,
+            session.digest,
+            session.accepted,
+            session.refused
+        );
     }
 }
 

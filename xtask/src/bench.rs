@@ -77,34 +77,7 @@ pub struct Measured {
 /// Builds the bench image with `features` for `cpu`, runs it in QEMU with `-icount` and reads
 /// its per-state lines.
 pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
-    let elf = build(cpu, features)?;
-    let flash = crate::size::of(&elf)?.flash();
-    let mut child = cpu
-        .qemu(&elf)?
-        .args(["-icount", "shift=6"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .map_err(|e| e.to_string())?;
-    let deadline = Instant::now() + Duration::from_secs(120);
-    let status = loop {
-        if let Some(s) = child.try_wait().map_err(|e| e.to_string())? {
-            break s;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            return Err(format!("bench on {} timed out", cpu.name));
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let mut out = String::new();
-    if let Some(mut stdout) = child.stdout.take() {
-        std::io::Read::read_to_string(&mut stdout, &mut out).map_err(|e| e.to_string())?;
-    }
-    if !status.success() {
-        return Err(format!("bench on {} exited with {status}", cpu.name));
-    }
+    let (out, flash) = build_and_print(cpu, features)?;
     let mut m = Measured {
         ticks: Vec::new(),
         stack: Vec::new(),
@@ -133,6 +106,40 @@ pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
         ));
     }
     Ok(m)
+}
+
+/// Builds the bench image with `features` for `cpu` and runs it in QEMU with `-icount`: what it
+/// printed, and its flash.
+fn build_and_print(cpu: Cpu, features: &str) -> Result<(String, u64), String> {
+    let elf = build(cpu, features)?;
+    let flash = crate::size::of(&elf)?.flash();
+    let mut child = cpu
+        .qemu(&elf)?
+        .args(["-icount", "shift=6"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .map_err(|e| e.to_string())?;
+    let deadline = Instant::now() + Duration::from_secs(120);
+    let status = loop {
+        if let Some(s) = child.try_wait().map_err(|e| e.to_string())? {
+            break s;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!("bench on {} timed out", cpu.name));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut out = String::new();
+    if let Some(mut stdout) = child.stdout.take() {
+        std::io::Read::read_to_string(&mut stdout, &mut out).map_err(|e| e.to_string())?;
+    }
+    if !status.success() {
+        return Err(format!("bench on {} exited with {status}", cpu.name));
+    }
+    Ok((out, flash))
 }
 
 /// Builds the bench image with `features` for `cpu`; returns the ELF's path.
@@ -164,6 +171,100 @@ pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
         .join(cpu.target)
         .join("release")
         .join("twocars-bench"))
+}
+
+/// What one session of the serial loop left: replies, their digest, accepted and refused inputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Session {
+    replies: u32,
+    digest: u32,
+    accepted: u32,
+    refused: u32,
+}
+
+/// The session of `twocars::bench::main_loop` served on the host.
+fn host_session(with_states: bool) -> Result<Session, String> {
+    use twocars::bench::main_loop::{script, ScriptedPort, StillClock, SCRIPT_CAPACITY};
+    let mut bytes = [0u8; SCRIPT_CAPACITY];
+    let n = script(with_states, &mut bytes).ok_or("the script does not fit")?;
+    let mut port = ScriptedPort::new(&bytes[..n]);
+    let mut unit = twocars::unit::Unit::new();
+    let stop = twocars::firmware::serve(&mut port, &StillClock, &mut unit);
+    if stop != twocars::firmware::Stop::Shutdown {
+        return Err(format!("the host's session ended with {stop:?}"));
+    }
+    let counters = unit.counters();
+    Ok(Session {
+        replies: port.replies,
+        digest: port.digest,
+        accepted: counters.accepted,
+        refused: counters.errors.iter().sum(),
+    })
+}
+
+/// The firmware's serial loop on the Cortex-M4F (`bench-loop` image), its replies checked
+/// against the host's.
+#[derive(Clone, Copy, Debug)]
+pub struct LoopMeasured {
+    /// Instructions per State frame: deframing, CRC, parsing, the law for both roles, the
+    /// Command encoded and written (the session with the states minus the one without, over
+    /// its State frames).
+    pub per_state: f64,
+    /// Instructions of the session without the states (two Configures, four refused inputs,
+    /// ReadCounters, Shutdown).
+    pub rest: f64,
+    /// Stack high-water mark of the loop (its unit, buffers and the law), bytes.
+    pub stack: u64,
+    /// Replies of the session with the states.
+    pub replies: u32,
+}
+
+/// Runs the serial loop's bench session on the Cortex-M4F; an error where its replies, their
+/// digest or its counters differ from the host's.
+pub fn measure_loop() -> Result<LoopMeasured, String> {
+    let (out, _) = build_and_print(M4F, "bench-loop")?;
+    let mut ticks = [None, None];
+    let mut stack = 0;
+    let mut replies = 0;
+    for line in out.lines() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let ["loop", with, t, s, r, d, a, x] = fields.as_slice() else {
+            continue;
+        };
+        let bad = || format!("bad line {line}");
+        let with_states = *with == "1";
+        let got = Session {
+            replies: r.parse().map_err(|_| bad())?,
+            digest: u32::from_str_radix(d, 16).map_err(|_| bad())?,
+            accepted: a.parse().map_err(|_| bad())?,
+            refused: x.parse().map_err(|_| bad())?,
+        };
+        let want = host_session(with_states)?;
+        if got != want {
+            return Err(format!(
+                "serial loop (with states: {with_states}): Cortex-M4F {got:?}, host {want:?}"
+            ));
+        }
+        ticks[usize::from(with_states)] = Some(t.parse::<f64>().map_err(|_| bad())?);
+        if with_states {
+            stack = s.parse().map_err(|_| bad())?;
+            replies = got.replies;
+        }
+    }
+    let (Some(without), Some(with)) = (ticks[0], ticks[1]) else {
+        return Err(format!(
+            "the serial loop's image did not report both sessions:\n{out}"
+        ));
+    };
+    let per_instruction = M4F.ticks_per_instruction;
+    Ok(LoopMeasured {
+        per_state: (with - without)
+            / per_instruction
+            / twocars::bench::main_loop::STATE_FRAMES as f64,
+        rest: without / per_instruction,
+        stack,
+        replies,
+    })
 }
 
 /// Instructions per evaluation (mean, min, max), the law's stack and flash on one CPU.
@@ -351,6 +452,27 @@ pub fn run() -> i32 {
         value_error::<Micro>(),
         value_error::<Fixed>()
     );
+    match measure_loop() {
+        Ok(l) => {
+            let _ = writeln!(
+                md,
+                "Main loop (Cortex-M4F, f32; `bench-loop` image: `twocars::firmware::serve`, the \
+                 firmware's loop, over the script of `src/bench/main_loop.rs` from memory instead \
+                 of a UART: the bench states as State frames under each policy, {} replies, all \
+                 equal to the host's): **{:.0} instructions per State frame** (deframe, CRC, \
+                 parse, the law for both roles, the Command encoded and written: the session \
+                 minus the same session without its State frames, {:.0} instructions); **stack \
+                 {} B** (the unit, its buffers and the law below the loop's frame, as in the \
+                 firmware's `main`; an interrupt adds its exception frame, 104 B with the FPU \
+                 context (108 B when realigned), and its handler's).\n",
+                l.replies, l.per_state, l.rest, l.stack
+            );
+        }
+        Err(e) => {
+            eprintln!("xtask bench: {e}");
+            ok = false;
+        }
+    }
     let firmware = firmware_sizes();
     let _ = writeln!(md, "{firmware}");
     let (law_rate, decode_rate) = host_throughput();

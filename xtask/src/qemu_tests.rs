@@ -199,6 +199,17 @@ fn fixed_point_on_cortex_m0() -> Outcome {
     ))
 }
 
+/// The firmware's serial loop on the Cortex-M4F (the bench's `bench-loop` image, QEMU
+/// mps2-an386): the bench session's replies (their count and digest) and the unit's counters
+/// equal the host's.
+fn serial_loop_on_cortex_m4f() -> Outcome {
+    let l = crate::bench::measure_loop()?;
+    Ok(format!(
+        "{} replies equal to the host's; {:.0} instructions per State frame, stack {} B",
+        l.replies, l.per_state, l.stack
+    ))
+}
+
 /// Runs the QEMU tests; returns (passed, failed).
 pub fn run() -> (u64, u64) {
     println!("== xtask test: firmware in QEMU (mps2-an386)");
@@ -234,6 +245,11 @@ pub fn run() -> (u64, u64) {
     for (name, test) in tests {
         record(name, test(&elf));
     }
+    println!("== xtask test: the serial loop's bench session in QEMU (mps2-an386)");
+    record(
+        "qemu::serial_loop_bench_session_on_cortex_m4f_equals_the_host",
+        serial_loop_on_cortex_m4f(),
+    );
     println!("== xtask test: fixed-point law in QEMU (micro:bit, Cortex-M0)");
     record(
         "qemu::fixed_point_law_on_cortex_m0_equals_the_host_and_the_paper",

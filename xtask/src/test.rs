@@ -119,6 +119,7 @@ pub fn run() -> i32 {
         ("bench-fixed", "fixed-point bench"),
         ("bench-micromath", "micromath bench"),
         ("bench-report", "report bench"),
+        ("bench-loop", "serial loop bench"),
     ] {
         let firmware_clippy = [
             "clippy",

@@ -1,0 +1,176 @@
+//! The main loop's bench session: the firmware's serial loop ([`crate::firmware::serve`]) fed a
+//! fixed byte script from memory instead of a UART, so that `cargo xtask bench` can count its
+//! instructions per State frame and paint its stack in QEMU, and the host can run the same
+//! session and compare the replies.
+//!
+//! The script configures the paper's limits at [`DT`] for both roles, sends the bench [`STATES`]
+//! under the paper policy, configures again under the near-field policy and sends them again,
+//! then four inputs the unit refuses or answers with a safe command (a bad CRC, an unknown type,
+//! a short State, a State with a NaN heading), ReadCounters and Shutdown. Without the states it is
+//! the same session less its State frames: the difference of the two is the State frames' cost.
+
+use crate::firmware::Clock;
+use crate::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use crate::wire::{cobs_encode, crc16, encode_frame, Writer, MAX_FRAME, VERSION};
+
+use super::{DT, LIMITS, STATES};
+
+/// Bytes the longest script takes, with room to spare.
+pub const SCRIPT_CAPACITY: usize = 2048;
+
+/// State frames in the script with the states: the bench states under each policy.
+pub const STATE_FRAMES: usize = 2 * STATES.len();
+
+/// The session's script written into `out`, with or without the bench states; its length, or
+/// `None` if `out` is shorter than [`SCRIPT_CAPACITY`] needs.
+pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
+    let mut len = 0;
+    let mut sequence: u16 = 0;
+    let mut frame = |message_type: u8, payload: &dyn Fn(&mut Writer<'_>) -> Option<()>| {
+        sequence = sequence.wrapping_add(1);
+        let n = encode_frame(message_type, sequence, payload, out.get_mut(len..)?)?;
+        len += n;
+        Some(sequence)
+    };
+    for policy in [0, 1] {
+        let configure = Configure {
+            limits: LIMITS,
+            dt: DT,
+            watchdog: 1.0,
+            roles: ROLE_PURSUER | ROLE_EVADER,
+            variant: 0,
+            policy,
+        };
+        frame(kind::CONFIGURE, &|w| configure.emit(w))?;
+        if with_states {
+            for (i, &(pursuer, evader)) in STATES.iter().enumerate() {
+                let state = StateMsg {
+                    time_ms: 10 * i as u32,
+                    pursuer,
+                    evader,
+                };
+                frame(kind::STATE, &|w| state.emit(w))?;
+            }
+        }
+    }
+    let state = StateMsg {
+        time_ms: 1_000,
+        pursuer: [0.0; 3],
+        evader: [5.0, 5.0, 0.0],
+    };
+    frame(0x7E, &|_| Some(()))?;
+    frame(kind::STATE, &|w| w.u32(state.time_ms))?;
+    let lost = StateMsg {
+        evader: [5.0, 5.0, f32::NAN],
+        ..state
+    };
+    frame(kind::STATE, &|w| lost.emit(w))?;
+    // A State whose CRC is one bit off.
+    let mut raw = [0u8; MAX_FRAME];
+    let body = {
+        let mut w = Writer::new(&mut raw);
+        w.u8(VERSION)?;
+        w.u8(kind::STATE)?;
+        w.u16(0xBAD)?;
+        state.emit(&mut w)?;
+        w.len()
+    };
+    let crc = crc16(raw.get(..body)?) ^ 1;
+    let total = body + 2;
+    raw.get_mut(body..total)?
+        .copy_from_slice(&crc.to_le_bytes());
+    len += cobs_encode(raw.get(..total)?, out.get_mut(len..)?)?;
+    let mut frame = |message_type: u8| {
+        sequence = sequence.wrapping_add(1);
+        let n = encode_frame(message_type, sequence, |_| Some(()), out.get_mut(len..)?)?;
+        len += n;
+        Some(())
+    };
+    frame(kind::READ_COUNTERS)?;
+    frame(kind::SHUTDOWN)?;
+    Some(len)
+}
+
+/// The script ran out before a Shutdown: the loop's only way to end without one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ScriptEnded;
+
+impl embedded_io::Error for ScriptEnded {
+    fn kind(&self) -> embedded_io::ErrorKind {
+        embedded_io::ErrorKind::Other
+    }
+}
+
+/// A serial port that reads a script and keeps a digest of what is written to it: the number of
+/// replies (frame delimiters) and a rotate-and-xor hash of their bytes (a few instructions a
+/// byte, as a UART's status poll and data write cost; enough to tell two reply streams apart).
+#[derive(Debug)]
+pub struct ScriptedPort<'a> {
+    script: &'a [u8],
+    /// Reply frames written.
+    pub replies: u32,
+    /// Hash of every byte written: `digest.rotate_left(5) ^ byte`, from 0.
+    pub digest: u32,
+}
+
+impl<'a> ScriptedPort<'a> {
+    /// A port that delivers `script`, then reports [`ScriptEnded`].
+    pub fn new(script: &'a [u8]) -> Self {
+        ScriptedPort {
+            script,
+            replies: 0,
+            digest: 0,
+        }
+    }
+}
+
+impl embedded_io::ErrorType for ScriptedPort<'_> {
+    type Error = ScriptEnded;
+}
+
+impl embedded_io::ReadReady for ScriptedPort<'_> {
+    fn read_ready(&mut self) -> Result<bool, ScriptEnded> {
+        if self.script.is_empty() {
+            Err(ScriptEnded)
+        } else {
+            Ok(true)
+        }
+    }
+}
+
+impl embedded_io::Read for ScriptedPort<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, ScriptEnded> {
+        let n = buf.len().min(self.script.len());
+        let (now, rest) = self.script.split_at(n);
+        if let Some(dst) = buf.get_mut(..n) {
+            dst.copy_from_slice(now);
+        }
+        self.script = rest;
+        Ok(n)
+    }
+}
+
+impl embedded_io::Write for ScriptedPort<'_> {
+    fn write(&mut self, buf: &[u8]) -> Result<usize, ScriptEnded> {
+        for &byte in buf {
+            self.digest = self.digest.rotate_left(5) ^ u32::from(byte);
+            if byte == 0 {
+                self.replies = self.replies.wrapping_add(1);
+            }
+        }
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> Result<(), ScriptEnded> {
+        Ok(())
+    }
+}
+
+/// A clock that stands still: the watchdog never fires during a session.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StillClock;
+
+impl Clock for StillClock {
+    fn now_ms(&self) -> u32 {
+        0
+    }
+}
