@@ -82,6 +82,13 @@ struct Configured {
 #[derive(Debug)]
 pub struct Unit {
     deframer: Deframer<MAX_FRAME>,
+    session: Session,
+}
+
+/// Everything but the deframer: a decoded frame borrows the deframer's buffer while the session
+/// handles it (no copy of the frame).
+#[derive(Debug)]
+struct Session {
     configured: Option<Configured>,
     counters: Counters,
     watchdog: Watchdog,
@@ -110,49 +117,41 @@ impl Unit {
     pub const fn new() -> Self {
         Unit {
             deframer: Deframer::new(),
-            configured: None,
-            counters: Counters {
-                accepted: 0,
-                stale: 0,
-                errors: [0; crate::wire::ERROR_KINDS],
+            session: Session {
+                configured: None,
+                counters: Counters {
+                    accepted: 0,
+                    stale: 0,
+                    errors: [0; crate::wire::ERROR_KINDS],
+                },
+                watchdog: Watchdog::Idle,
             },
-            watchdog: Watchdog::Idle,
         }
     }
 
     /// Counters so far.
     pub fn counters(&self) -> &Counters {
-        &self.counters
+        &self.session.counters
     }
 
     /// Feeds one received byte at device time `now_ms`; returns the reply to send, if any.
     pub fn receive(&mut self, byte: u8, now_ms: u32) -> Option<Reply> {
-        let outcome = match self.deframer.push(byte) {
+        let Unit { deframer, session } = self;
+        let result = match deframer.push(byte) {
             Feed::Pending => return None,
             Feed::Error(e) => Err((e, None)),
-            Feed::Frame(bytes) => {
-                let mut copy = [0u8; MAX_FRAME];
-                let n = bytes.len().min(MAX_FRAME);
-                if let (Some(dst), Some(src)) = (copy.get_mut(..n), bytes.get(..n)) {
-                    dst.copy_from_slice(src);
-                }
-                Ok((copy, n))
-            }
-        };
-        let result = match outcome {
-            Ok((copy, n)) => match Frame::new_checked(copy.get(..n).unwrap_or(&[])) {
-                Ok(frame) => self.handle(&frame, now_ms),
+            Feed::Frame(bytes) => match Frame::new_checked(bytes) {
+                Ok(frame) => session.handle(&frame, now_ms),
                 Err(e) => Err((e, None)),
             },
-            Err(e) => Err(e),
         };
         match result {
             Ok(reply) => {
-                self.counters.accepted = self.counters.accepted.saturating_add(1);
+                session.counters.accepted = session.counters.accepted.saturating_add(1);
                 reply
             }
             Err((error, sequence)) => {
-                self.counters.count(error);
+                session.counters.count(error);
                 let message = ErrorMsg {
                     code: error as u8,
                     sequence_known: u8::from(sequence.is_some()),
@@ -166,6 +165,13 @@ impl Unit {
     /// the configured time, latches and returns (once) the safe command with status
     /// `stale_input`.
     pub fn poll(&mut self, now_ms: u32) -> Option<Reply> {
+        self.session.poll(now_ms)
+    }
+}
+
+impl Session {
+    /// [`Unit::poll`].
+    fn poll(&mut self, now_ms: u32) -> Option<Reply> {
         let configured = self.configured?;
         match self.watchdog {
             Watchdog::Armed { arrived_ms, .. }
