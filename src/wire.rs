@@ -387,26 +387,46 @@ impl<'a> Writer<'a> {
 }
 
 /// Builds a complete wire frame: header, `payload` (written by the closure), CRC, COBS, delimiter.
-/// Returns the number of bytes to send, or `None` if `out` is too small.
+/// Returns the number of bytes to send, or `None` if `out` is too small or the frame is longer
+/// than [`MAX_FRAME`].
+///
+/// The frame is written at `out[1..]` and COBS-encoded where it lies: a frame below 254 bytes is
+/// one COBS block, whose encoding is the frame with each zero replaced by the distance to the
+/// next zero (or to the delimiter), one code byte in front and the delimiter behind. The same
+/// bytes as [`cobs_encode`] of the frame, without a second buffer or a copy.
 pub fn encode_frame(
     message_type: u8,
     sequence: u16,
     payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
     out: &mut [u8],
 ) -> Option<usize> {
-    let mut raw = [0u8; MAX_FRAME];
-    let mut w = Writer::new(&mut raw);
-    w.u8(VERSION)?;
-    w.u8(message_type)?;
-    w.u16(sequence)?;
-    payload(&mut w)?;
-    let body_len = w.len();
-    let crc = crc16(raw.get(..body_len)?);
-    let mut w = Writer {
-        bytes: &mut raw,
-        at: body_len,
+    const { assert!(MAX_FRAME < 254) };
+    let body_len = {
+        let mut w = Writer::new(out.get_mut(1..)?);
+        w.u8(VERSION)?;
+        w.u8(message_type)?;
+        w.u16(sequence)?;
+        payload(&mut w)?;
+        w.len()
     };
-    w.u16(crc)?;
-    let total = w.len();
-    cobs_encode(raw.get(..total)?, out)
+    let crc = crc16(out.get(1..1 + body_len)?);
+    let total = body_len + CRC_LEN;
+    if total > MAX_FRAME {
+        return None;
+    }
+    out.get_mut(1 + body_len..1 + total)?
+        .copy_from_slice(&crc.to_le_bytes());
+    // Zeros become distances, from the back; `next` is where the following zero (or the
+    // delimiter) is. Distances are at most MAX_FRAME + 1 < 256.
+    let mut next = total + 1;
+    for at in (1..=total).rev() {
+        let byte = out.get_mut(at)?;
+        if *byte == 0 {
+            *byte = (next - at) as u8;
+            next = at;
+        }
+    }
+    *out.get_mut(0)? = next as u8;
+    *out.get_mut(total + 1)? = 0;
+    Some(total + 2)
 }

@@ -1,7 +1,10 @@
 //! The wire format: golden bytes, round trips, and every refusal.
 
 use twocars::message::{CommandMsg, Configure, StateMsg};
-use twocars::wire::{cobs_decode_in_place, cobs_encode, crc16, Deframer, Feed, Frame, WireError};
+use twocars::wire::{
+    cobs_decode_in_place, cobs_encode, crc16, encode_frame, Deframer, Feed, Frame, WireError,
+    MAX_ENCODED, MAX_FRAME, VERSION,
+};
 
 #[test]
 fn crc16_ccitt_false_matches_its_check_value() {
@@ -38,6 +41,60 @@ fn cobs_round_trips_and_matches_known_encodings() {
     let mut buf = out[..n - 1].to_vec();
     let m = cobs_decode_in_place(&mut buf).unwrap();
     assert_eq!(&buf[..m], &long[..]);
+}
+
+/// `encode_frame` COBS-encodes in place; its bytes must be `cobs_encode` of the frame (header,
+/// payload, CRC) for every payload length it accepts and zeros anywhere (none, some, all), and it
+/// must refuse a frame longer than `MAX_FRAME` or an output buffer too short.
+#[test]
+fn encode_frame_is_cobs_of_the_frame_and_refuses_what_does_not_fit() {
+    for len in 0..=MAX_FRAME {
+        for pattern in 0..5u32 {
+            let payload: Vec<u8> = (0..len as u32)
+                .map(|i| match pattern {
+                    0 => 0,
+                    1 => (i as u8).wrapping_add(1).max(1),
+                    2 => {
+                        if i % 3 == 0 {
+                            0
+                        } else {
+                            i as u8 | 0x80
+                        }
+                    }
+                    3 => {
+                        if i == 0 || i + 1 == len as u32 {
+                            0
+                        } else {
+                            0x5A
+                        }
+                    }
+                    _ => (i.wrapping_mul(2_654_435_761) >> 24) as u8,
+                })
+                .collect();
+            let (message_type, sequence) = (pattern as u8, (len as u16) << 8);
+            let mut out = [0xEEu8; MAX_ENCODED + 8];
+            let got = encode_frame(message_type, sequence, |w| w.put(&payload), &mut out);
+            let mut frame = vec![VERSION, message_type];
+            frame.extend(sequence.to_le_bytes());
+            frame.extend(&payload);
+            let crc = crc16(&frame);
+            frame.extend(crc.to_le_bytes());
+            if frame.len() > MAX_FRAME {
+                assert_eq!(got, None, "{len} bytes of payload");
+                continue;
+            }
+            let n = got.expect("a frame within MAX_FRAME is encoded");
+            let mut want = [0u8; MAX_ENCODED + 8];
+            let m = cobs_encode(&frame, &mut want).unwrap();
+            assert_eq!(&out[..n], &want[..m], "payload {payload:?}");
+            // One byte too few for the encoding: refused, not truncated.
+            let mut short = vec![0u8; n - 1];
+            assert_eq!(
+                encode_frame(message_type, sequence, |w| w.put(&payload), &mut short),
+                None
+            );
+        }
+    }
 }
 
 #[test]
