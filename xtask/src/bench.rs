@@ -460,8 +460,9 @@ pub fn run() -> i32 {
                  firmware's loop, over the script of `src/bench/main_loop.rs` from memory instead \
                  of a UART: the bench states as State frames under each policy, {} replies, all \
                  equal to the host's): **{:.0} instructions per State frame** (deframe, CRC, \
-                 parse, the law for both roles, the Command encoded and written: the session \
-                 minus the same session without its State frames, {:.0} instructions); **stack \
+                 parse, the law for both roles, the Command encoded and written: the session's \
+                 instructions less those of the same session without its State frames, {:.0}, \
+                 over its State frames); **stack \
                  {} B** (the unit, its buffers and the law below the loop's frame, as in the \
                  firmware's `main`; an interrupt adds its exception frame, 104 B with the FPU \
                  context (108 B when realigned), and its handler's).\n",
