@@ -5,13 +5,13 @@
 //!
 //! The script configures the paper's limits at [`DT`] for both roles, sends the bench [`STATES`]
 //! under the paper policy, configures again under the near-field policy and sends them again,
-//! then four inputs the unit refuses or answers with a safe command (a bad CRC, an unknown type,
-//! a short State, a State with a NaN heading), ReadCounters and Shutdown. Without the states it is
+//! then four inputs the unit refuses (an unknown type, a short State, a State with a NaN heading,
+//! a bad CRC), ReadCounters and Shutdown. Without the states it is
 //! the same session less its State frames: the difference of the two is the State frames' cost.
 
 use crate::firmware::Clock;
 use crate::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
-use crate::wire::{cobs_encode, crc16, encode_frame, Writer, MAX_FRAME, VERSION};
+use crate::wire::{cobs_encode, crc16, encode_frame, Writer, CRC_LEN, MAX_FRAME, VERSION};
 
 use super::{DT, LIMITS, STATES};
 
@@ -30,7 +30,7 @@ pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
         sequence = sequence.wrapping_add(1);
         let n = encode_frame(message_type, sequence, payload, out.get_mut(len..)?)?;
         len += n;
-        Some(sequence)
+        Some(())
     };
     for policy in [0, 1] {
         let configure = Configure {
@@ -76,7 +76,7 @@ pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
         w.len()
     };
     let crc = crc16(raw.get(..body)?) ^ 1;
-    let total = body + 2;
+    let total = body + CRC_LEN;
     raw.get_mut(body..total)?
         .copy_from_slice(&crc.to_le_bytes());
     len += cobs_encode(raw.get(..total)?, out.get_mut(len..)?)?;
