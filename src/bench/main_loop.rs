@@ -9,8 +9,9 @@
 //! a bad CRC), ReadCounters and Shutdown. Without the states it is
 //! the same session less its State frames: the difference of the two is the State frames' cost.
 
-use crate::firmware::Clock;
+use crate::firmware::{serve, Clock, Stop};
 use crate::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use crate::unit::Unit;
 use crate::wire::{cobs_encode, crc16, encode_frame, Writer, CRC_LEN, MAX_FRAME, VERSION};
 
 use super::{DT, LIMITS, STATES};
@@ -172,5 +173,39 @@ pub struct StillClock;
 impl Clock for StillClock {
     fn now_ms(&self) -> u32 {
         0
+    }
+}
+
+/// What one session of the serial loop left: whether it ended at its Shutdown, the replies and
+/// their digest ([`ScriptedPort`]), the unit's accepted and refused inputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Outcome {
+    /// The loop returned at the script's Shutdown.
+    pub shutdown: bool,
+    /// Reply frames written.
+    pub replies: u32,
+    /// Digest of the replies' bytes.
+    pub digest: u32,
+    /// Inputs the unit accepted.
+    pub accepted: u32,
+    /// Inputs the unit refused, all kinds.
+    pub refused: u32,
+}
+
+/// The firmware's loop over `script`, with a fresh unit and a still clock. The unit and the port
+/// live in this frame, as in a firmware's `main`; out of line, so that the bench's stack paint
+/// sees them.
+#[inline(never)]
+pub fn serve_script(script: &[u8]) -> Outcome {
+    let mut port = ScriptedPort::new(script);
+    let mut unit = Unit::new();
+    let stop = serve(&mut port, &StillClock, &mut unit);
+    let counters = unit.counters();
+    Outcome {
+        shutdown: stop == Stop::Shutdown,
+        replies: port.replies,
+        digest: port.digest,
+        accepted: counters.accepted,
+        refused: counters.errors.iter().fold(0, |a, &b| a.wrapping_add(b)),
     }
 }

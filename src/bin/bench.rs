@@ -179,41 +179,11 @@ fn bench_law() {
     }
 }
 
-/// What one session of the serial loop left: whether it ended with Shutdown, the replies and
-/// their digest, the unit's accepted and refused counts.
-#[cfg(feature = "bench-loop")]
-struct Session {
-    shutdown: bool,
-    replies: u32,
-    digest: u32,
-    accepted: u32,
-    refused: u32,
-}
-
-/// The firmware's main loop over `script`: the unit and the port live in this frame, as in the
-/// firmware's `main`.
-#[cfg(feature = "bench-loop")]
-#[inline(never)]
-fn serve_script(script: &[u8]) -> Session {
-    use twocars::bench::main_loop::{ScriptedPort, StillClock};
-    let mut port = ScriptedPort::new(script);
-    let mut unit = twocars::unit::Unit::new();
-    let stop = twocars::firmware::serve(&mut port, &StillClock, &mut unit);
-    let counters = unit.counters();
-    Session {
-        shutdown: matches!(stop, twocars::firmware::Stop::Shutdown),
-        replies: port.replies,
-        digest: port.digest,
-        accepted: counters.accepted,
-        refused: counters.errors.iter().fold(0, |a, &b| a.wrapping_add(b)),
-    }
-}
-
 /// One `loop` line per session (with the bench states, then without):
 /// `loop <with states> <ticks> <stack bytes> <replies> <digest> <accepted> <refused>`.
 #[cfg(feature = "bench-loop")]
 fn bench_loop() {
-    use twocars::bench::main_loop::{script, SCRIPT_CAPACITY};
+    use twocars::bench::main_loop::{script, serve_script, SCRIPT_CAPACITY};
     let mut bytes = [0u8; SCRIPT_CAPACITY];
     for with_states in [true, false] {
         let Some(script) = script(with_states, &mut bytes).and_then(|n| bytes.get(..n)) else {

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use twocars::bench::main_loop::{script, serve_script, Outcome, SCRIPT_CAPACITY};
 use twocars::bench::{DT, LIMITS, STATES};
 use twocars::num::fixed::Fixed;
 use twocars::num::micro::Micro;
@@ -173,33 +174,15 @@ pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
         .join("twocars-bench"))
 }
 
-/// What one session of the serial loop left: replies, their digest, accepted and refused inputs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Session {
-    replies: u32,
-    digest: u32,
-    accepted: u32,
-    refused: u32,
-}
-
 /// The session of `twocars::bench::main_loop` served on the host.
-fn host_session(with_states: bool) -> Result<Session, String> {
-    use twocars::bench::main_loop::{script, ScriptedPort, StillClock, SCRIPT_CAPACITY};
+fn host_session(with_states: bool) -> Result<Outcome, String> {
     let mut bytes = [0u8; SCRIPT_CAPACITY];
     let n = script(with_states, &mut bytes).ok_or("the script does not fit")?;
-    let mut port = ScriptedPort::new(&bytes[..n]);
-    let mut unit = twocars::unit::Unit::new();
-    let stop = twocars::firmware::serve(&mut port, &StillClock, &mut unit);
-    if stop != twocars::firmware::Stop::Shutdown {
-        return Err(format!("the host's session ended with {stop:?}"));
+    let outcome = serve_script(&bytes[..n]);
+    if !outcome.shutdown {
+        return Err("the host's session ended without its Shutdown".to_string());
     }
-    let counters = unit.counters();
-    Ok(Session {
-        replies: port.replies,
-        digest: port.digest,
-        accepted: counters.accepted,
-        refused: counters.errors.iter().sum(),
-    })
+    Ok(outcome)
 }
 
 /// The firmware's serial loop on the Cortex-M4F (`bench-loop` image), its replies checked
@@ -233,7 +216,9 @@ pub fn measure_loop() -> Result<LoopMeasured, String> {
         };
         let bad = || format!("bad line {line}");
         let with_states = *with == "1";
-        let got = Session {
+        let got = Outcome {
+            // The image prints a line only for a session that ended at its Shutdown.
+            shutdown: true,
             replies: r.parse().map_err(|_| bad())?,
             digest: u32::from_str_radix(d, 16).map_err(|_| bad())?,
             accepted: a.parse().map_err(|_| bad())?,
