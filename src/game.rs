@@ -55,46 +55,54 @@ pub fn ties_within<S: Scalar>(a: S, b: S, floor: S) -> bool {
     (a - b).abs() <= band
 }
 
-/// Picks between the two options of one player. `prefer_smaller` for the pursuer's min, else the
-/// evader's max; `None` is infinity. Tied options go to `previous` if given, else to A.
+/// Picks between the two options of one player, values in seconds with [`Scalar::never`] for
+/// infinity. `prefer_smaller` for the pursuer's min, else the evader's max. Tied options go to
+/// `previous` if given, else to A. (Two infinities tie; an infinity and a time do not: the
+/// difference is far beyond the band.)
 fn pick<S: Scalar>(
-    options: [Option<S>; 2],
+    options: [S; 2],
     prefer_smaller: bool,
     previous: Option<Direction>,
     floor: S,
-) -> (Direction, Option<S>) {
+) -> (Direction, S) {
     let [a, c] = options;
-    let a_wins = match (a, c) {
-        (None, None) => None,
-        (Some(_), None) => Some(prefer_smaller),
-        (None, Some(_)) => Some(!prefer_smaller),
-        (Some(x), Some(y)) if ties_within(x, y, floor) => None,
-        (Some(x), Some(y)) => Some((x < y) == prefer_smaller),
+    let choice = if ties_within(a, c, floor) {
+        previous.unwrap_or(Direction::Anticlockwise)
+    } else if (a < c) == prefer_smaller {
+        Direction::Anticlockwise
+    } else {
+        Direction::Clockwise
     };
-    let choice = match a_wins {
-        Some(true) => Direction::Anticlockwise,
-        Some(false) => Direction::Clockwise,
-        None => previous.unwrap_or(Direction::Anticlockwise),
-    };
-    let value = match choice {
-        Direction::Anticlockwise => a,
-        Direction::Clockwise => c,
-    };
-    (choice, value)
+    (choice, options[choice as usize])
 }
 
-fn max_opt<S: Scalar>(a: Option<S>, b: Option<S>) -> Option<S> {
-    match (a, b) {
-        (Some(x), Some(y)) => Some(x.max(y)),
-        _ => None,
-    }
+/// A value of the game in seconds, `None` for [`Scalar::never`] (infinity).
+fn finite<S: Scalar>(value: S) -> Option<S> {
+    (value != S::never()).then_some(value)
 }
 
-fn min_opt<S: Scalar>(a: Option<S>, b: Option<S>) -> Option<S> {
-    match (a, b) {
-        (Some(x), Some(y)) => Some(x.min(y)),
-        (Some(x), None) | (None, Some(x)) => Some(x),
-        (None, None) => None,
+/// Solves the game of four times to capture `[pursuer circle][evader circle]` (seconds,
+/// [`Scalar::never`] where a pair has no valid tangent): the min-max row, the max-min column,
+/// options within the tie band or within `floor` seconds going to `previous` (A if none). The one
+/// solver: [`MatrixGame::solve_sampled`] and the law both call it. An infinity is a number here,
+/// so that the max and min of the rows and columns are plain compares.
+pub(crate) fn solve_values<S: Scalar>(
+    values: [[S; 2]; 2],
+    previous: Option<(Direction, Direction)>,
+    floor: S,
+) -> GameSolution<S> {
+    let [[aa, ac], [ca, cc]] = values;
+    let row_worst = [aa.max(ac), ca.max(cc)];
+    let col_best = [aa.min(ca), ac.min(cc)];
+    let (row, upper) = pick(row_worst, true, previous.map(|p| p.0), floor);
+    let (col, lower) = pick(col_best, false, previous.map(|p| p.1), floor);
+    GameSolution {
+        row,
+        col,
+        upper: finite(upper),
+        lower: finite(lower),
+        // Two infinities tie; an infinity and a time do not.
+        saddle: ties(upper, lower),
     }
 }
 
@@ -132,22 +140,9 @@ impl<S: Scalar> MatrixGame<S> {
         previous: Option<(Direction, Direction)>,
         floor: S,
     ) -> GameSolution<S> {
-        let [[aa, ac], [ca, cc]] = self.entries;
-        let row_worst = [max_opt(aa, ac), max_opt(ca, cc)];
-        let col_best = [min_opt(aa, ca), min_opt(ac, cc)];
-        let (row, upper) = pick(row_worst, true, previous.map(|p| p.0), floor);
-        let (col, lower) = pick(col_best, false, previous.map(|p| p.1), floor);
-        let saddle = match (upper, lower) {
-            (Some(u), Some(l)) => ties(u, l),
-            (None, None) => true,
-            _ => false,
-        };
-        GameSolution {
-            row,
-            col,
-            upper,
-            lower,
-            saddle,
-        }
+        let values = self
+            .entries
+            .map(|row| row.map(|v| v.unwrap_or_else(S::never)));
+        solve_values(values, previous, floor)
     }
 }

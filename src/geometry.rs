@@ -41,15 +41,15 @@ impl Direction {
     /// direction to reach heading `psi`: (sigma (psi - theta)) mod 2 pi, for `theta` and `psi`
     /// both in [-pi, pi] ([`Scalar::wrap_signed`]), whose difference wraps with one addition. The
     /// vehicle is on the tangent (angle 0) when the angle is below the backend's resolution
-    /// `S::ARC_RESOLUTION`, or within `tolerance` of 2 pi: a hair past the tangent.
-    pub fn arc_to<S: Scalar>(self, theta: S, psi: S, tolerance: S) -> S {
+    /// `S::ARC_RESOLUTION`, or above `largest` (2 pi less a tolerance): a hair past the tangent.
+    pub fn arc_to<S: Scalar>(self, theta: S, psi: S, largest: S) -> S {
         let turn = self.signed(psi - theta);
         let alpha = if turn < S::zero() {
             turn + S::tau()
         } else {
             turn
         };
-        if alpha < S::from_f32(S::ARC_RESOLUTION) || alpha > S::tau() - tolerance {
+        if alpha < S::from_f32(S::ARC_RESOLUTION) || alpha > largest {
             S::zero()
         } else {
             alpha

@@ -4,7 +4,7 @@
 //! Commands are curvatures in 1/m (theta_dot = v w); a turn rate in rad/s is v_max w.
 
 use crate::capture::{capture_time, CaptureTime, Variant};
-use crate::game::{ties_within, GameSolution, MatrixGame};
+use crate::game::{solve_values, ties_within, GameSolution, MatrixGame};
 use crate::geometry::{
     CirclePairs, Direction, Limits, Units, ValidTangent, VehicleLimits, VehicleState,
 };
@@ -212,10 +212,11 @@ pub struct Observation {
 /// How the arcs to the tangent points are read and ties are broken.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sampling<S> {
-    /// Arc (radians) below 2 pi beyond which the pursuer counts as on its tangent.
-    pub pursuer_arc_tolerance: S,
-    /// Arc (radians) below 2 pi beyond which the evader counts as on its tangent.
-    pub evader_arc_tolerance: S,
+    /// Largest arc (radians, 2 pi less a tolerance) the pursuer still turns through: beyond it,
+    /// a hair short of a full turn, it counts as on its tangent ([`Direction::arc_to`]).
+    pub pursuer_largest_arc: S,
+    /// The same for the evader.
+    pub evader_largest_arc: S,
     /// A stateful caller's previous (pursuer, evader) circles, kept where options tie.
     pub previous: Option<(Direction, Direction)>,
     /// Absolute tie floor, seconds: for a sampled caller the capture-time equivalent of one
@@ -227,10 +228,10 @@ pub struct Sampling<S> {
 impl<S: Scalar> Sampling<S> {
     /// The instantaneous law: the backend's arc resolution, ties to A.
     pub fn instantaneous() -> Self {
-        let tolerance = S::from_f32(S::ARC_RESOLUTION);
+        let largest = S::tau() - S::from_f32(S::ARC_RESOLUTION);
         Sampling {
-            pursuer_arc_tolerance: tolerance,
-            evader_arc_tolerance: tolerance,
+            pursuer_largest_arc: largest,
+            evader_largest_arc: largest,
             previous: None,
             tie_floor: S::zero(),
         }
@@ -259,9 +260,9 @@ impl<S: Scalar> Law<S> {
 
     /// One pair of circles: its valid tangent (Algorithm 1) and the time to capture along it
     /// (Algorithm 2), written to `outcome` (`None` without a valid tangent); returns the time, the
-    /// matrix entry. Kept out of line: the law calls it four times, and four inlined copies cost
-    /// more flash than the calls cost time. The outcome is written where the report keeps it,
-    /// never moved.
+    /// matrix entry ([`Scalar::never`] without a valid tangent). Kept out of line: the law calls
+    /// it four times, and four inlined copies cost more flash than the calls cost time. The
+    /// outcome is written where the report keeps it, never moved.
     #[inline(never)]
     fn pair(
         &self,
@@ -270,24 +271,24 @@ impl<S: Scalar> Law<S> {
         col: Direction,
         sampling: &Sampling<S>,
         outcome: &mut Option<PairOutcome<S>>,
-    ) -> Option<S> {
+    ) -> S {
         let Some(tangent) = circles.tangent(row, col) else {
             *outcome = None;
-            return None;
+            return S::never();
         };
         let alpha_p = row.arc_to(
             circles.pursuer_heading,
             tangent.heading,
-            sampling.pursuer_arc_tolerance,
+            sampling.pursuer_largest_arc,
         );
         let alpha_e = col.arc_to(
             circles.evader_heading,
             tangent.heading,
-            sampling.evader_arc_tolerance,
+            sampling.evader_largest_arc,
         );
         let capture = capture_time(&self.limits, tangent.length, alpha_p, alpha_e, self.variant);
         *outcome = Some(PairOutcome { tangent, capture });
-        Some(capture.value)
+        capture.value
     }
 
     /// Evaluates the law with a caller's arc tolerances and previous choice; the command is the
@@ -366,24 +367,16 @@ impl<S: Scalar> Law<S> {
         let (a, c) = (Direction::Anticlockwise, Direction::Clockwise);
         let [[aa, ac], [ca, cc]] = &mut report.pairs;
         let pair = |row, col, outcome| self.pair(&circles, row, col, sampling, outcome);
-        let matrix = MatrixGame {
-            entries: [
-                [pair(a, a, aa), pair(a, c, ac)],
-                [pair(c, a, ca), pair(c, c, cc)],
-            ],
-        };
+        let values = [
+            [pair(a, a, aa), pair(a, c, ac)],
+            [pair(c, a, ca), pair(c, c, cc)],
+        ];
         // An invalid entry (fixed point: a checked division or function that left the range; the
         // envelope keeps its unchecked sums and products in range) ends the game, never guessed.
-        if matrix
-            .entries
-            .iter()
-            .flatten()
-            .flatten()
-            .any(|v| !v.is_valid())
-        {
+        if values.iter().flatten().any(|v| !v.is_valid()) {
             return Err(Status::OutOfRange);
         }
-        let solution = matrix.solve_sampled(sampling.previous, sampling.tie_floor);
+        let solution = solve_values(values, sampling.previous, sampling.tie_floor);
         report.solution = solution;
         if solution.upper.is_none() {
             return Ok((
@@ -461,18 +454,33 @@ impl<S: Scalar> Period<S> {
 /// sigma min(w_max, |to_go| / (v_max dt)), where `per_radian` is 1 / (v_max dt) ([`Period`]).
 /// Zero when nothing is left to turn.
 pub fn steer<S: Scalar>(to_go: S, limits: &VehicleLimits<S>, per_radian: Option<S>) -> S {
-    let zero = S::zero();
-    if to_go == zero {
-        return zero;
-    }
-    let magnitude = match per_radian {
-        Some(per_radian) => limits.w_max().min(to_go.abs() * per_radian),
-        None => limits.w_max(),
-    };
-    if to_go > zero {
-        magnitude
+    let direction = if to_go > S::zero() {
+        Direction::Anticlockwise
     } else {
-        -magnitude
+        Direction::Clockwise
+    };
+    match per_radian {
+        Some(per_radian) => steer_along(direction, to_go.abs(), limits, per_radian),
+        None if to_go == S::zero() => S::zero(),
+        None => direction.signed(limits.w_max()),
+    }
+}
+
+/// Curvature (1/m) that turns a vehicle through `arc` radians (>= 0) in `direction` within one
+/// control period: sigma min(w_max, arc / (v_max dt)), `per_radian` being 1 / (v_max dt)
+/// ([`Period`]); +0 for a zero arc. The sampled command toward a chosen tangent, whose arc is
+/// already a magnitude: no sign to take apart and put back.
+pub fn steer_along<S: Scalar>(
+    direction: Direction,
+    arc: S,
+    limits: &VehicleLimits<S>,
+    per_radian: S,
+) -> S {
+    let magnitude = limits.w_max().min(arc * per_radian);
+    match direction {
+        Direction::Anticlockwise => magnitude,
+        // 0 - m, not -m: a zero arc gives +0 on either circle, as straight ahead is written.
+        Direction::Clockwise => S::zero() - magnitude,
     }
 }
 

@@ -12,8 +12,8 @@
 
 use crate::geometry::{Limits, TurningCircle, VehicleLimits, VehicleState};
 use crate::law::{
-    bearing, fallback_command, steer, Command, Decision, Evaluation, GameReport, Law, Period,
-    Sampling,
+    bearing, fallback_command, steer, steer_along, Command, Decision, Evaluation, GameReport, Law,
+    Period, Sampling,
 };
 use crate::num::Scalar;
 use crate::status::Status;
@@ -90,8 +90,8 @@ impl<S: Scalar> Guidance<S> {
             return Err(InvalidPeriod);
         }
         // An arc within one period's full turn of 2 pi is a hair past the tangent.
-        let arc_tolerance = |limits: &VehicleLimits<S>| {
-            (limits.max_turn_rate() * dt).max(S::from_f32(S::ARC_RESOLUTION))
+        let largest_arc = |limits: &VehicleLimits<S>| {
+            S::tau() - (limits.max_turn_rate() * dt).max(S::from_f32(S::ARC_RESOLUTION))
         };
         Ok(Guidance {
             law,
@@ -99,8 +99,8 @@ impl<S: Scalar> Guidance<S> {
             dt,
             period,
             sampling: Sampling {
-                pursuer_arc_tolerance: arc_tolerance(&law.limits.pursuer),
-                evader_arc_tolerance: arc_tolerance(&law.limits.evader),
+                pursuer_largest_arc: largest_arc(&law.limits.pursuer),
+                evader_largest_arc: largest_arc(&law.limits.evader),
                 previous: None,
                 tie_floor,
             },
@@ -185,15 +185,17 @@ impl<S: Scalar> Guidance<S> {
                 self.sampling.previous = Some((s.row, s.col));
                 match report.chosen_pair() {
                     Some(pair) => Command {
-                        pursuer: steer(
-                            s.row.sigma::<S>() * pair.capture.pursuer_arc,
+                        pursuer: steer_along(
+                            s.row,
+                            pair.capture.pursuer_arc,
                             &limits.pursuer,
-                            Some(self.period.pursuer),
+                            self.period.pursuer,
                         ),
-                        evader: steer(
-                            s.col.sigma::<S>() * pair.capture.evader_arc,
+                        evader: steer_along(
+                            s.col,
+                            pair.capture.evader_arc,
                             &limits.evader,
-                            Some(self.period.evader),
+                            self.period.evader,
                         ),
                     },
                     // A finite upper value with an infinite chosen entry cannot happen (the chosen

@@ -4,6 +4,7 @@ mod common;
 
 use common::{scene, seeded_runner, Scene};
 use host_tests::reference;
+use proptest::prelude::*;
 use twocars::{game::ties, Direction, Law, Scalar, Status, VehicleState};
 
 const CASES: u32 = 2000;
@@ -280,4 +281,88 @@ fn f32_law_value_is_within_1e_4_relative_of_the_independent_reference() {
         checked > CASES as usize / 2,
         "too few states checked: {checked}"
     );
+}
+
+/// The matrix game by its definition, `None` as infinity: the pursuer's min over rows of each
+/// row's max, the evader's max over columns of each column's min; options tied within the band
+/// or `floor` go to `previous`, else A.
+fn game_by_definition<S: Scalar>(
+    entries: [[Option<S>; 2]; 2],
+    previous: Option<(Direction, Direction)>,
+    floor: S,
+) -> twocars::GameSolution<S> {
+    use twocars::game::ties_within;
+    let choose = |options: [Option<S>; 2], smaller: bool, previous: Option<Direction>| {
+        let a_wins = match options {
+            [None, None] => None,
+            [Some(_), None] => Some(smaller),
+            [None, Some(_)] => Some(!smaller),
+            [Some(x), Some(y)] if ties_within(x, y, floor) => None,
+            [Some(x), Some(y)] => Some((x < y) == smaller),
+        };
+        let choice = match a_wins {
+            Some(true) => Direction::Anticlockwise,
+            Some(false) => Direction::Clockwise,
+            None => previous.unwrap_or(Direction::Anticlockwise),
+        };
+        (choice, options[choice as usize])
+    };
+    let [[aa, ac], [ca, cc]] = entries;
+    let worst = |a: Option<S>, b: Option<S>| a.zip(b).map(|(a, b)| a.max(b));
+    let best = |a: Option<S>, b: Option<S>| match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+    let (row, upper) = choose([worst(aa, ac), worst(ca, cc)], true, previous.map(|p| p.0));
+    let (col, lower) = choose([best(aa, ca), best(ac, cc)], false, previous.map(|p| p.1));
+    let saddle = match (upper, lower) {
+        (Some(u), Some(l)) => ties(u, l),
+        (u, l) => u.is_none() && l.is_none(),
+    };
+    twocars::GameSolution {
+        row,
+        col,
+        upper,
+        lower,
+        saddle,
+    }
+}
+
+/// Every pattern of infinite entries, ties and previous choices, on each backend: the solver
+/// (which carries infinity as [`Scalar::never`]) gives the game's definition. Values span each
+/// backend's capture times, fixed point's extremes included (debug builds check its arithmetic
+/// for overflow).
+fn matrix_game_matches_its_definition<S: Scalar>() {
+    let times = prop::sample::select(vec![
+        -2.6e4f32, -0.258, 0.0, 1.0, 1.000_05, 1.01, 5.0, 6.5e3,
+    ]);
+    let entry = prop::option::weighted(0.7, times);
+    let direction = prop::sample::select(vec![Direction::Anticlockwise, Direction::Clockwise]);
+    let strategy = (
+        [entry.clone(), entry.clone(), entry.clone(), entry],
+        prop::option::of((direction.clone(), direction)),
+        prop::sample::select(vec![0.0f32, 0.02]),
+    );
+    seeded_runner(CASES)
+        .run(&strategy, |([aa, ac, ca, cc], previous, floor)| {
+            let s = |v: Option<f32>| v.map(S::from_f32);
+            let entries = [[s(aa), s(ac)], [s(ca), s(cc)]];
+            let floor = S::from_f32(floor);
+            let game = twocars::MatrixGame { entries };
+            let got = game.solve_sampled(previous, floor);
+            assert_eq!(
+                got,
+                game_by_definition(entries, previous, floor),
+                "{entries:?}"
+            );
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn matrix_game_with_infinite_entries_is_solved_as_defined_on_every_backend() {
+    matrix_game_matches_its_definition::<f32>();
+    matrix_game_matches_its_definition::<f64>();
+    matrix_game_matches_its_definition::<twocars::num::fixed::Fixed>();
 }

@@ -338,6 +338,11 @@ impl Scalar for Fixed {
     fn pi() -> Self {
         Fixed(PI_Q14)
     }
+    fn never() -> Self {
+        // 2^16 time units: capture times stay within [-2.6e4, 6.5e3] (`docs/numeric.md`), so
+        // `never` minus any of them, 9.2e4 at most, stays below 2^17.
+        Fixed(1 << 30)
+    }
     fn tau() -> Self {
         Fixed(TAU_Q14)
     }

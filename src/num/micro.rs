@@ -55,6 +55,9 @@ impl Scalar for Micro {
     fn pi() -> Self {
         Micro(core::f32::consts::PI)
     }
+    fn never() -> Self {
+        Micro(f32::MAX)
+    }
     fn tau() -> Self {
         Micro(core::f32::consts::TAU)
     }

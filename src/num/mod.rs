@@ -92,6 +92,11 @@ pub trait Scalar:
         }
     }
 
+    /// A time (seconds) beyond every capture time the law computes inside this backend's
+    /// envelope, with room to subtract any of them: the matrix game's infinity, the entry of a
+    /// pair without a valid tangent.
+    fn never() -> Self;
+
     /// Zero.
     fn zero() -> Self {
         Self::from_f32(0.0)
@@ -144,6 +149,9 @@ impl Scalar for f32 {
     }
     fn pi() -> Self {
         core::f32::consts::PI
+    }
+    fn never() -> Self {
+        f32::MAX
     }
     fn tau() -> Self {
         core::f32::consts::TAU
@@ -198,6 +206,9 @@ impl Scalar for f64 {
     }
     fn pi() -> Self {
         core::f64::consts::PI
+    }
+    fn never() -> Self {
+        f64::MAX
     }
     fn tau() -> Self {
         core::f64::consts::TAU
