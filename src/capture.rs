@@ -32,11 +32,9 @@ impl<S: Scalar> CaptureTime<S> {
     /// Times the pursuer and the evader spend on their circles, t_p = r_p alpha_p / v_pm and
     /// t_e = r_e alpha_e / v_em, seconds.
     pub fn turn_times(&self, limits: &Limits<S>) -> (S, S) {
-        let p = &limits.pursuer;
-        let e = &limits.evader;
         (
-            p.seconds_per_radian() * self.pursuer_arc,
-            e.seconds_per_radian() * self.evader_arc,
+            limits.pursuer_turn_time(self.pursuer_arc),
+            limits.evader.seconds_per_radian() * self.evader_arc,
         )
     }
 }
@@ -50,7 +48,6 @@ pub fn capture_time<S: Scalar>(
     evader_arc: S,
     variant: Variant,
 ) -> CaptureTime<S> {
-    let p = &limits.pursuer;
     let e = &limits.evader;
     let mut result = CaptureTime {
         value: S::zero(),
@@ -65,7 +62,7 @@ pub fn capture_time<S: Scalar>(
         t_p + (tangent_length + e.v_max() * (t_p - t_e)) * per_metre
     } else {
         // The pursuer is on the tangent first and closes v_pm (t_e - t_p) before the evader leaves.
-        let gap = tangent_length - p.v_max() * (t_e - t_p);
+        let gap = tangent_length - limits.pursuer_run(t_e - t_p);
         result.overshoot = gap < S::zero();
         match (result.overshoot, variant) {
             (true, Variant::Clamped) => t_e,

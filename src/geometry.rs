@@ -214,7 +214,7 @@ impl<S: Scalar> Limits<S> {
         }
         let units = if S::NORMALISED {
             Units {
-                metres: 1.0 / w_pm,
+                metres: length_unit(w_pm),
                 metres_per_second: v_pm,
             }
         } else {
@@ -232,7 +232,21 @@ impl<S: Scalar> Limits<S> {
                 seconds_per_radian: radius / v_max,
             }
         };
-        let (pursuer, evader) = (vehicle(v_pm, w_pm), vehicle(v_em, w_em));
+        let pursuer = if S::NORMALISED {
+            // The units themselves: exactly one, so that the law skips its products by them
+            // ([`Limits::pursuer_radius_times`], [`Limits::pursuer_turn_time`],
+            // [`Limits::pursuer_run`]).
+            let one = S::one();
+            VehicleLimits {
+                v_max: one,
+                w_max: one,
+                radius: one,
+                seconds_per_radian: one,
+            }
+        } else {
+            vehicle(v_pm, w_pm)
+        };
+        let evader = vehicle(v_em, w_em);
         let seconds_per_metre_closed = S::one() / (pursuer.v_max - evader.v_max);
         let derived = [
             pursuer.seconds_per_radian,
@@ -286,6 +300,39 @@ impl<S: Scalar> Limits<S> {
         ))
     }
 
+    /// r_p x, metres for x in radians (or r_p times any factor): x itself on a normalised backend,
+    /// whose unit of length is r_p (a product is a dozen instructions on a Cortex-M0).
+    #[inline(always)]
+    pub fn pursuer_radius_times(&self, x: S) -> S {
+        if S::NORMALISED {
+            x
+        } else {
+            self.pursuer.radius * x
+        }
+    }
+
+    /// t_p = r_p alpha / v_pm, seconds: the time the pursuer turns through `arc` radians at full
+    /// speed; `arc` itself on a normalised backend, whose unit of time is r_p / v_pm.
+    #[inline(always)]
+    pub fn pursuer_turn_time(&self, arc: S) -> S {
+        if S::NORMALISED {
+            arc
+        } else {
+            self.pursuer.seconds_per_radian * arc
+        }
+    }
+
+    /// v_pm t, metres: how far the pursuer runs in `t` seconds; `t` itself on a normalised
+    /// backend, whose unit of speed is v_pm.
+    #[inline(always)]
+    pub fn pursuer_run(&self, t: S) -> S {
+        if S::NORMALISED {
+            t
+        } else {
+            self.pursuer.v_max * t
+        }
+    }
+
     /// 1 / (v_pm - v_em), s/m: the time the pursuer needs to close one metre on a common line.
     pub fn seconds_per_metre_closed(&self) -> S {
         self.seconds_per_metre_closed
@@ -296,6 +343,18 @@ impl<S: Scalar> Limits<S> {
     pub fn theorem_threshold(&self) -> S {
         let r_e = self.evader.radius;
         r_e + r_e + S::tau() * r_e * self.pursuer.v_max / self.evader.v_max
+    }
+}
+
+/// The normalised backends' unit of length, metres: 1 / w_pm rounded up to an f32, so that one
+/// unit of curvature, the pursuer's w_max there, is within the true w_pm.
+fn length_unit(w_pm: f32) -> f32 {
+    let metres = 1.0 / w_pm;
+    if f64::from(metres) * f64::from(w_pm) < 1.0 {
+        // The next f32 up (metres is positive and finite).
+        f32::from_bits(metres.to_bits() + 1)
+    } else {
+        metres
     }
 }
 
@@ -377,7 +436,7 @@ impl<S: Scalar> TurningCircle<S> {
 
     /// sigma r: the signed radius along the left normal, metres.
     fn signed_radius(&self) -> S {
-        self.direction.sigma::<S>() * self.radius
+        self.direction.signed(self.radius)
     }
 
     /// Centre of the circle, metres: position + sigma r (-sin theta, cos theta).
@@ -432,23 +491,18 @@ struct PairTerms<S> {
 
 impl<S: Scalar> CirclePairs<S> {
     /// The shared terms of a pursuer and an evader.
-    pub fn new(
-        pursuer: &VehicleState<S>,
-        pursuer_limits: &VehicleLimits<S>,
-        evader: &VehicleState<S>,
-        evader_limits: &VehicleLimits<S>,
-    ) -> Self {
+    pub fn new(pursuer: &VehicleState<S>, evader: &VehicleState<S>, limits: &Limits<S>) -> Self {
         let (sin_p, cos_p) = pursuer.theta.sin_cos();
         let (sin_e, cos_e) = evader.theta.sin_cos();
-        let (r_p, r_e) = (pursuer_limits.radius, evader_limits.radius);
+        let (r_p, r_e) = (limits.pursuer.radius, limits.evader.radius);
         let delta = Point {
             x: evader.x - pursuer.x,
             y: evader.y - pursuer.y,
         };
         // r_p n_p and r_e n_e, metres.
         let pursuer_offset = Point {
-            x: -(r_p * sin_p),
-            y: r_p * cos_p,
+            x: -limits.pursuer_radius_times(sin_p),
+            y: limits.pursuer_radius_times(cos_p),
         };
         let evader_offset = Point {
             x: -(r_e * sin_e),
@@ -460,7 +514,7 @@ impl<S: Scalar> CirclePairs<S> {
         let delta_evader = delta.x * evader_offset.x + delta.y * evader_offset.y;
         // r_e r_p |n_e - n_p|^2, square metres.
         let (dn_x, dn_y) = (cos_p - cos_e, sin_e - sin_p);
-        let normals = r_e * r_p * (dn_x * dn_x + dn_y * dn_y);
+        let normals = limits.pursuer_radius_times(r_e) * (dn_x * dn_x + dn_y * dn_y);
         let terms = |pursuer: Direction, evader: Direction| {
             let cross = if pursuer == evader { normals } else { -normals };
             let linear = evader.signed(delta_evader) - pursuer.signed(delta_pursuer);

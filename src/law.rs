@@ -358,12 +358,14 @@ impl<S: Scalar> Law<S> {
     ) -> Result<(Status, Command<S>), Status> {
         let p_lim = &self.limits.pursuer;
         let e_lim = &self.limits.evader;
-        let capture_radius = S::from_f32(CAPTURE_RADIUS_FRACTION) * p_lim.radius();
+        let capture_radius = self
+            .limits
+            .pursuer_radius_times(S::from_f32(CAPTURE_RADIUS_FRACTION));
         let gap_squared = pursuer.position().distance_squared(evader.position());
         if gap_squared.is_valid() && gap_squared <= capture_radius * capture_radius {
             return Err(Status::Captured);
         }
-        let circles = CirclePairs::new(pursuer, p_lim, evader, e_lim);
+        let circles = CirclePairs::new(pursuer, evader, &self.limits);
         let (a, c) = (Direction::Anticlockwise, Direction::Clockwise);
         let [[aa, ac], [ca, cc]] = &mut report.pairs;
         let pair = |row, col, outcome| self.pair(&circles, row, col, sampling, outcome);
@@ -373,7 +375,9 @@ impl<S: Scalar> Law<S> {
         ];
         // An invalid entry (fixed point: a checked division or function that left the range; the
         // envelope keeps its unchecked sums and products in range) ends the game, never guessed.
-        if values.iter().flatten().any(|v| !v.is_valid()) {
+        // Written out: an iterator over the four is a loop on a Cortex-M0 (about 40 instructions).
+        let [[v_aa, v_ac], [v_ca, v_cc]] = values;
+        if !(v_aa.is_valid() && v_ac.is_valid() && v_ca.is_valid() && v_cc.is_valid()) {
             return Err(Status::OutOfRange);
         }
         let solution = solve_values(values, sampling.previous, sampling.tie_floor);
@@ -387,8 +391,8 @@ impl<S: Scalar> Law<S> {
         Ok((
             Status::Ok,
             Command {
-                pursuer: solution.row.sigma::<S>() * p_lim.w_max(),
-                evader: solution.col.sigma::<S>() * e_lim.w_max(),
+                pursuer: solution.row.signed(p_lim.w_max()),
+                evader: solution.col.signed(e_lim.w_max()),
             },
         ))
     }

@@ -213,3 +213,37 @@ fn products_are_the_exact_product_rounded_half_up() {
     }
     assert!(checked > 100_000, "{checked}");
 }
+
+/// The normalised backend's units make the pursuer's limits exactly one (the law skips its
+/// products by them), and one unit of curvature, the pursuer's full turn, is within the true
+/// w_pm: the unit of length is 1 / w_pm rounded up, never down.
+#[test]
+fn the_pursuer_is_the_unit_and_its_full_curvature_stays_within_w_pm() {
+    let mut rounded_up = 0;
+    for i in 0..20_000u32 {
+        // w_pm from 2e-4 to 1e4 1/m, spaced geometrically, and every f32 near a few round values.
+        let w_pm = if i < 19_000 {
+            2.0e-4_f32 * 5.0e7_f32.powf(i as f32 / 19_000.0)
+        } else {
+            f32::from_bits(3.0_f32.to_bits() - 500 + (i - 19_000))
+        };
+        let Ok(limits) = twocars::Limits::<Fixed>::new(2.0, w_pm, 1.0, w_pm / 2.0) else {
+            continue;
+        };
+        let p = &limits.pursuer;
+        assert_eq!(
+            [p.w_max(), p.radius(), p.v_max(), p.seconds_per_radian()],
+            [Fixed::one(); 4],
+            "{w_pm}"
+        );
+        let full = limits.units.curvature(Fixed::one());
+        assert!(full <= f64::from(w_pm), "{w_pm}: {full}");
+        assert!(full >= f64::from(w_pm) * (1.0 - 1.2e-7), "{w_pm}: {full}");
+        assert!((full as f32) <= w_pm);
+        if f64::from(1.0 / w_pm) * f64::from(w_pm) < 1.0 {
+            rounded_up += 1;
+        }
+    }
+    // The rounding up is exercised, not only exact reciprocals.
+    assert!(rounded_up > 1000, "{rounded_up}");
+}
