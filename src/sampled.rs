@@ -233,7 +233,14 @@ impl<S: Scalar> Guidance<S> {
             self.near_field.pursuing = true;
         }
         if self.near_field.pursuing {
-            command.pursuer = lead_pursuit(pursuer, evader, &limits, self.dt, self.period.pursuer);
+            command.pursuer = lead_pursuit(
+                pursuer,
+                evader,
+                distance,
+                &limits,
+                self.dt,
+                self.period.pursuer,
+            );
         }
     }
 }
@@ -262,17 +269,18 @@ impl<S: Scalar> Guidance<S> {
 /// turning circle on that side and more than one period's turn off the nose, where turning cannot
 /// bring it ahead: then it goes straight to open the distance. The lead point is where the evader
 /// would be, holding its course, after half the time the pursuer needs to reach the evader's
-/// present position (a full lead overshoots an evader that turns). A bearing within half a
-/// period's turn counts as on course (straight), except within four periods' travel.
+/// present position (a full lead overshoots an evader that turns); `distance` is the players',
+/// metres. A bearing within half a period's turn counts as on course (straight), except within
+/// four periods' travel.
 fn lead_pursuit<S: Scalar>(
     pursuer: &VehicleState<S>,
     evader: &VehicleState<S>,
+    distance: S,
     limits: &Limits<S>,
     dt: S,
     per_radian: S,
 ) -> S {
     let p = &limits.pursuer;
-    let distance = pursuer.position().distance(evader.position());
     let lead = limits.evader.v_max() * distance / (p.v_max() + p.v_max());
     let (sin, cos) = evader.theta.sin_cos();
     let to_go = bearing(pursuer, evader.x + lead * cos, evader.y + lead * sin);
@@ -282,8 +290,8 @@ fn lead_pursuit<S: Scalar>(
     // Within a few periods' travel a heading error is a miss distance: aim exactly there.
     let close = distance < S::from_f32(4.0) * p.v_max() * dt;
     let on_course = !close && to_go.abs() + to_go.abs() <= period_turn;
-    let out_of_reach =
-        to_go.abs() > period_turn && side.centre().distance(evader.position()) < side.radius;
+    let out_of_reach = to_go.abs() > period_turn
+        && side.centre().distance_squared(evader.position()) < side.radius * side.radius;
     if on_course || out_of_reach {
         S::zero()
     } else {
