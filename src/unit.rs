@@ -56,18 +56,25 @@ impl Reply {
         self.message_type == kind::SHUTDOWN_ACK
     }
 
-    fn build(
+    /// No reply yet: the place a reply is written into.
+    const EMPTY: Reply = Reply {
+        bytes: [0; MAX_ENCODED],
+        len: 0,
+        message_type: 0,
+    };
+
+    /// Writes the reply frame of `message_type` in place (the payload written by the closure);
+    /// false, and no reply, if it does not fit (no message of ours is that long).
+    fn write(
+        &mut self,
         message_type: u8,
         sequence: u16,
         payload: impl FnOnce(&mut crate::wire::Writer<'_>) -> Option<()>,
-    ) -> Option<Reply> {
-        let mut bytes = [0; MAX_ENCODED];
-        let len = encode_frame(message_type, sequence, payload, &mut bytes)?;
-        Some(Reply {
-            bytes,
-            len,
-            message_type,
-        })
+    ) -> bool {
+        let written = encode_frame(message_type, sequence, payload, &mut self.bytes);
+        self.len = written.unwrap_or(0);
+        self.message_type = message_type;
+        written.is_some()
     }
 }
 
@@ -78,11 +85,14 @@ struct Configured {
     watchdog_ms: u32,
 }
 
-/// The unit's state: configuration, deframer, counters, watchdog.
+/// The unit's state: configuration, deframer, counters, watchdog, and its last reply.
 #[derive(Debug)]
 pub struct Unit {
     deframer: Deframer<MAX_FRAME>,
     session: Session,
+    /// Written in place and lent to the caller: a reply by value was copied (76 bytes) at each
+    /// of its moves.
+    reply: Reply,
 }
 
 /// Everything but the deframer: a decoded frame borrows the deframer's buffer while the session
@@ -126,6 +136,7 @@ impl Unit {
                 },
                 watchdog: Watchdog::Idle,
             },
+            reply: Reply::EMPTY,
         }
     }
 
@@ -135,20 +146,24 @@ impl Unit {
     }
 
     /// Feeds one received byte at device time `now_ms`; returns the reply to send, if any.
-    pub fn receive(&mut self, byte: u8, now_ms: u32) -> Option<Reply> {
-        let Unit { deframer, session } = self;
+    pub fn receive(&mut self, byte: u8, now_ms: u32) -> Option<&Reply> {
+        let Unit {
+            deframer,
+            session,
+            reply,
+        } = self;
         let result = match deframer.push(byte) {
             Feed::Pending => return None,
             Feed::Error(e) => Err((e, None)),
             Feed::Frame(bytes) => match Frame::new_checked(bytes) {
-                Ok(frame) => session.handle(&frame, now_ms),
+                Ok(frame) => session.handle(&frame, now_ms, reply),
                 Err(e) => Err((e, None)),
             },
         };
-        match result {
-            Ok(reply) => {
+        let written = match result {
+            Ok(written) => {
                 session.counters.accepted = session.counters.accepted.saturating_add(1);
-                reply
+                written
             }
             Err((error, sequence)) => {
                 session.counters.count(error);
@@ -156,33 +171,38 @@ impl Unit {
                     code: error as u8,
                     sequence_known: u8::from(sequence.is_some()),
                 };
-                Reply::build(kind::ERROR, sequence.unwrap_or(0), |w| message.emit(w))
+                reply.write(kind::ERROR, sequence.unwrap_or(0), |w| message.emit(w))
             }
-        }
+        };
+        written.then_some(&*reply)
     }
 
     /// Checks the watchdog at device time `now_ms`: when no valid State arrived for longer than
     /// the configured time, latches and returns (once) the safe command with status
     /// `stale_input`.
-    pub fn poll(&mut self, now_ms: u32) -> Option<Reply> {
-        self.session.poll(now_ms)
+    pub fn poll(&mut self, now_ms: u32) -> Option<&Reply> {
+        self.session
+            .poll(now_ms, &mut self.reply)
+            .then_some(&self.reply)
     }
 }
 
 impl Session {
-    /// [`Unit::poll`].
-    fn poll(&mut self, now_ms: u32) -> Option<Reply> {
-        let configured = self.configured?;
+    /// [`Unit::poll`]: whether the stale reply was written into `reply`.
+    fn poll(&mut self, now_ms: u32, reply: &mut Reply) -> bool {
+        let Some(configured) = self.configured else {
+            return false;
+        };
         match self.watchdog {
             Watchdog::Armed { arrived_ms, .. }
                 if now_ms.wrapping_sub(arrived_ms) > configured.watchdog_ms =>
             {
                 self.latch();
-                Reply::build(kind::COMMAND, 0, |w| {
+                reply.write(kind::COMMAND, 0, |w| {
                     stale_command(configured.roles).emit(w)
                 })
             }
-            _ => None,
+            _ => false,
         }
     }
 
@@ -191,11 +211,14 @@ impl Session {
         self.counters.stale = self.counters.stale.saturating_add(1);
     }
 
+    /// Handles a checked frame, its reply written into `reply`: whether one was written, or the
+    /// error to refuse the frame with (and its sequence number where known).
     fn handle(
         &mut self,
         frame: &Frame<'_>,
         now_ms: u32,
-    ) -> Result<Option<Reply>, (WireError, Option<u16>)> {
+        reply: &mut Reply,
+    ) -> Result<bool, (WireError, Option<u16>)> {
         let sequence = frame.sequence();
         let refuse = |e: WireError| (e, Some(sequence));
         match frame.message_type() {
@@ -203,7 +226,7 @@ impl Session {
                 let message = Configure::parse(frame.payload()).map_err(refuse)?;
                 self.configured = Some(configure(&message).map_err(refuse)?);
                 self.watchdog = Watchdog::Idle;
-                Ok(Reply::build(kind::CONFIGURE_ACK, sequence, |_| Some(())))
+                Ok(reply.write(kind::CONFIGURE_ACK, sequence, |_| Some(())))
             }
             kind::STATE => {
                 let message = StateMsg::parse(frame.payload()).map_err(refuse)?;
@@ -233,24 +256,24 @@ impl Session {
                     if self.watchdog != Watchdog::Latched {
                         self.latch();
                     }
-                    return Ok(Reply::build(kind::COMMAND, sequence, |w| {
-                        stale_command(roles).emit(w)
-                    }));
+                    return Ok(
+                        reply.write(kind::COMMAND, sequence, |w| stale_command(roles).emit(w))
+                    );
                 }
                 let decision = configured.guidance.decide(&pursuer, &evader);
-                let reply = command_message(&decision, configured);
+                let command = command_message(&decision, configured);
                 self.watchdog = Watchdog::Armed {
                     arrived_ms: now_ms,
                     stamp_ms: message.time_ms,
                 };
-                Ok(Reply::build(kind::COMMAND, sequence, |w| reply.emit(w)))
+                Ok(reply.write(kind::COMMAND, sequence, |w| command.emit(w)))
             }
             kind::READ_COUNTERS => {
                 if !frame.payload().is_empty() {
                     return Err(refuse(WireError::Oversized));
                 }
                 let counters = self.counters;
-                Ok(Reply::build(kind::COUNTERS, sequence, |w| counters.emit(w)))
+                Ok(reply.write(kind::COUNTERS, sequence, |w| counters.emit(w)))
             }
             kind::RESET => {
                 if !frame.payload().is_empty() {
@@ -260,13 +283,13 @@ impl Session {
                 if let Some(c) = self.configured.as_mut() {
                     c.guidance.reset();
                 }
-                Ok(Reply::build(kind::RESET_ACK, sequence, |_| Some(())))
+                Ok(reply.write(kind::RESET_ACK, sequence, |_| Some(())))
             }
             kind::SHUTDOWN => {
                 if !frame.payload().is_empty() {
                     return Err(refuse(WireError::Oversized));
                 }
-                Ok(Reply::build(kind::SHUTDOWN_ACK, sequence, |_| Some(())))
+                Ok(reply.write(kind::SHUTDOWN_ACK, sequence, |_| Some(())))
             }
             _ => Err(refuse(WireError::UnknownType)),
         }

@@ -22,7 +22,7 @@ fn host_replies(bytes: &[u8], unit: &mut Unit) -> Vec<Reply> {
     let mut decoder = ReplyDecoder::default();
     bytes
         .iter()
-        .filter_map(|&b| unit.receive(b, 0))
+        .filter_map(|&b| unit.receive(b, 0).copied())
         .flat_map(|r| decoder.feed(r.as_bytes()))
         .filter_map(Result::ok)
         .collect()
