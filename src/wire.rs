@@ -132,39 +132,6 @@ pub fn cobs_encode(input: &[u8], out: &mut [u8]) -> Option<usize> {
     len.checked_add(1)
 }
 
-/// Decodes one COBS frame (without its delimiter) in place; returns the decoded length.
-///
-/// # Errors
-/// [`WireError::BadFraming`] for a zero byte inside the frame or a code running past its end.
-pub fn cobs_decode_in_place(buf: &mut [u8]) -> Result<usize, WireError> {
-    let mut read: usize = 0;
-    let mut write: usize = 0;
-    let len = buf.len();
-    let step = |i: usize| i.checked_add(1).ok_or(WireError::BadFraming);
-    while read < len {
-        let code = usize::from(*buf.get(read).ok_or(WireError::BadFraming)?);
-        let end = read.checked_add(code).ok_or(WireError::BadFraming)?;
-        if code == 0 || end > len {
-            return Err(WireError::BadFraming);
-        }
-        read = step(read)?;
-        while read < end {
-            let byte = *buf.get(read).ok_or(WireError::BadFraming)?;
-            if byte == 0 {
-                return Err(WireError::BadFraming);
-            }
-            *buf.get_mut(write).ok_or(WireError::BadFraming)? = byte;
-            write = step(write)?;
-            read = step(read)?;
-        }
-        if code < 0xFF && read < len {
-            *buf.get_mut(write).ok_or(WireError::BadFraming)? = 0;
-            write = step(write)?;
-        }
-    }
-    Ok(write)
-}
-
 /// Outcome of feeding one byte to a [`Deframer`].
 #[derive(Debug, PartialEq, Eq)]
 pub enum Feed<'a> {
@@ -176,13 +143,19 @@ pub enum Feed<'a> {
     Error(WireError),
 }
 
-/// Accumulates UART bytes into frames; resynchronises on every 0x00 delimiter, so garbage costs
-/// at most the frame it lands in.
+/// Accumulates UART bytes into frames, COBS-decoding each byte as it arrives (no second pass
+/// over the frame); resynchronises on every 0x00 delimiter, so garbage costs at most the frame it
+/// lands in. Holds up to `N` decoded bytes.
 #[derive(Debug)]
 pub struct Deframer<const N: usize> {
     buf: [u8; N],
+    /// Decoded bytes so far; beyond `N` once the frame overflowed (until its delimiter).
     len: usize,
-    overflowed: bool,
+    /// Data bytes still to come in the current COBS block (0: the next byte is a code byte).
+    block_left: u8,
+    /// The current block ends in an implied zero (its code is below 0xFF), written when another
+    /// block follows: the last block's zero is the delimiter itself.
+    zero_after_block: bool,
 }
 
 impl<const N: usize> Default for Deframer<N> {
@@ -197,40 +170,57 @@ impl<const N: usize> Deframer<N> {
         Deframer {
             buf: [0; N],
             len: 0,
-            overflowed: false,
+            block_left: 0,
+            zero_after_block: false,
+        }
+    }
+
+    /// Appends one decoded byte, or marks the frame overflowed (`len` beyond `N`).
+    fn append(&mut self, byte: u8) {
+        match self.buf.get_mut(self.len) {
+            Some(slot) => {
+                *slot = byte;
+                // Below N after a successful `get_mut`: cannot wrap.
+                self.len = self.len.wrapping_add(1);
+            }
+            None => self.len = N.wrapping_add(1),
         }
     }
 
     /// Feeds one byte.
     pub fn push(&mut self, byte: u8) -> Feed<'_> {
         if byte != 0 {
-            match self.buf.get_mut(self.len) {
-                Some(slot) if !self.overflowed => {
-                    *slot = byte;
-                    // Below N after a successful `get_mut`: cannot saturate.
-                    self.len = self.len.saturating_add(1);
+            if self.block_left > 0 {
+                self.block_left -= 1;
+                self.append(byte);
+            } else {
+                // A code byte: the previous block's zero, then `byte - 1` data bytes.
+                if self.zero_after_block {
+                    self.append(0);
                 }
-                _ => self.overflowed = true,
+                self.zero_after_block = byte != 0xFF;
+                self.block_left = byte - 1;
             }
             return Feed::Pending;
         }
         let len = core::mem::take(&mut self.len);
-        if core::mem::take(&mut self.overflowed) {
+        let block_left = core::mem::take(&mut self.block_left);
+        let zero_after_block = core::mem::take(&mut self.zero_after_block);
+        if len > N {
             return Feed::Error(WireError::Oversized);
         }
-        if len == 0 {
-            // Back-to-back delimiters: an empty frame, used by senders to resynchronise.
+        if len == 0 && block_left == 0 && !zero_after_block {
+            // Back-to-back delimiters (no code byte between): an empty frame, used by senders to
+            // resynchronise.
             return Feed::Pending;
         }
-        let Some(frame) = self.buf.get_mut(..len) else {
-            return Feed::Error(WireError::Oversized);
-        };
-        match cobs_decode_in_place(frame) {
-            Ok(n) => match frame.get(..n) {
-                Some(decoded) => Feed::Frame(decoded),
-                None => Feed::Error(WireError::BadFraming),
-            },
-            Err(e) => Feed::Error(e),
+        if block_left > 0 {
+            // The last block's code ran past the delimiter.
+            return Feed::Error(WireError::BadFraming);
+        }
+        match self.buf.get(..len) {
+            Some(decoded) => Feed::Frame(decoded),
+            None => Feed::Error(WireError::Oversized),
         }
     }
 }

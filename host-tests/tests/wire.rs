@@ -2,9 +2,24 @@
 
 use twocars::message::{CommandMsg, Configure, StateMsg};
 use twocars::wire::{
-    cobs_decode_in_place, cobs_encode, crc16, encode_frame, Deframer, Feed, Frame, WireError,
-    MAX_ENCODED, MAX_FRAME, VERSION,
+    cobs_encode, crc16, encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
+    VERSION,
 };
+
+/// The one frame a deframer of `N` decoded bytes makes of `encoded` (delimiter included), or its
+/// refusal; panics unless exactly the last byte ends it.
+fn deframe<const N: usize>(encoded: &[u8]) -> Result<Vec<u8>, WireError> {
+    let mut d = Deframer::<N>::new();
+    let (last, body) = encoded.split_last().expect("a delimiter");
+    for &b in body {
+        assert_eq!(d.push(b), Feed::Pending, "ended before its delimiter");
+    }
+    match d.push(*last) {
+        Feed::Frame(f) => Ok(f.to_vec()),
+        Feed::Error(e) => Err(e),
+        Feed::Pending => panic!("no frame"),
+    }
+}
 
 #[test]
 fn crc16_ccitt_false_matches_its_check_value() {
@@ -30,22 +45,26 @@ fn cobs_round_trips_and_matches_known_encodings() {
         let mut out = [0u8; 16];
         let n = cobs_encode(plain, &mut out).unwrap();
         assert_eq!(&out[..n], encoded, "{plain:?}");
-        let mut buf = encoded[..encoded.len() - 1].to_vec();
-        let m = cobs_decode_in_place(&mut buf).unwrap();
-        assert_eq!(&buf[..m], plain);
+        assert_eq!(deframe::<16>(encoded).unwrap(), plain);
     }
     let long: Vec<u8> = (1..=255u8).chain(1..=20).collect();
     let mut out = [0u8; 300];
     let n = cobs_encode(&long, &mut out).unwrap();
     assert!(!out[..n - 1].contains(&0));
-    let mut buf = out[..n - 1].to_vec();
-    let m = cobs_decode_in_place(&mut buf).unwrap();
-    assert_eq!(&buf[..m], &long[..]);
+    assert_eq!(deframe::<300>(&out[..n]).unwrap(), long);
+    // One decoded byte more than the deframer holds: refused, not truncated.
+    assert_eq!(deframe::<274>(&out[..n]), Err(WireError::Oversized));
+    // A code that runs past the delimiter.
+    assert_eq!(
+        deframe::<16>(&[0x03, 0x11, 0x00]),
+        Err(WireError::BadFraming)
+    );
 }
 
 /// `encode_frame` COBS-encodes in place; its bytes must be `cobs_encode` of the frame (header,
 /// payload, CRC) for every payload length it accepts and zeros anywhere (none, some, all), and it
-/// must refuse a frame longer than `MAX_FRAME` or an output buffer too short.
+/// must refuse a frame longer than `MAX_FRAME` or an output buffer too short; the deframer decodes
+/// every frame it makes.
 #[test]
 fn encode_frame_is_cobs_of_the_frame_and_refuses_what_does_not_fit() {
     for len in 0..=MAX_FRAME {
@@ -87,6 +106,8 @@ fn encode_frame_is_cobs_of_the_frame_and_refuses_what_does_not_fit() {
             let mut want = [0u8; MAX_ENCODED + 8];
             let m = cobs_encode(&frame, &mut want).unwrap();
             assert_eq!(&out[..n], &want[..m], "payload {payload:?}");
+            // And the unit's deframer gives the frame back, up to MAX_FRAME bytes.
+            assert_eq!(deframe::<MAX_FRAME>(&out[..n]), Ok(frame.clone()));
             // One byte too few for the encoding: refused, not truncated.
             let mut short = vec![0u8; n - 1];
             assert_eq!(
@@ -106,9 +127,7 @@ fn golden_state_frame() {
     };
     let bytes = host_tests::link::state(0x0102, &state);
     // version 1, type 2, seq 0x0102 LE, t = 1 LE, then f32s; zeros stuffed by COBS.
-    let mut decoded = bytes[..bytes.len() - 1].to_vec();
-    let n = cobs_decode_in_place(&mut decoded).unwrap();
-    let decoded = &decoded[..n];
+    let decoded = &deframe::<MAX_FRAME>(&bytes).unwrap()[..];
     assert_eq!(
         &decoded[..8],
         &[0x01, 0x02, 0x02, 0x01, 0x01, 0x00, 0x00, 0x00]
@@ -205,6 +224,10 @@ fn deframer_resynchronises_after_garbage_and_overflow() {
         }
     }
     assert_eq!(seen.len(), 3, "{seen:?}");
+    // Back-to-back delimiters are no frame at all; a lone code byte is an empty one.
+    assert!((0..3).all(|_| d.push(0) == Feed::Pending));
+    assert_eq!(d.push(0x01), Feed::Pending);
+    assert_eq!(d.push(0), Feed::Frame(&[]));
     assert!(seen[0].is_err());
     assert_eq!(seen[1], Err(WireError::Oversized));
     assert_eq!(seen[2], Ok(state));
