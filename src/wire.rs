@@ -408,15 +408,17 @@ pub fn encode_frame(
         .copy_from_slice(&crc.to_le_bytes());
     // Zeros become distances, from the back; `next` is where the following zero (or the
     // delimiter) is. Distances are at most MAX_FRAME + 1 < 256.
-    let mut next = total + 1;
-    for at in (1..=total).rev() {
-        let byte = out.get_mut(at)?;
+    // Counted in a u8 down from the delimiter, over the frame's slice (no index checks).
+    let mut distance: u8 = 1;
+    for byte in out.get_mut(1..=total)?.iter_mut().rev() {
         if *byte == 0 {
-            *byte = (next - at) as u8;
-            next = at;
+            *byte = distance;
+            distance = 1;
+        } else {
+            distance = distance.wrapping_add(1);
         }
     }
-    *out.get_mut(0)? = next as u8;
+    *out.get_mut(0)? = distance;
     *out.get_mut(total + 1)? = 0;
     Some(total + 2)
 }
