@@ -59,6 +59,9 @@ pub fn ties_within<S: Scalar>(a: S, b: S, floor: S) -> bool {
 /// infinity. `prefer_smaller` for the pursuer's min, else the evader's max. Tied options go to
 /// `previous` if given, else to A. (Two infinities tie; an infinity and a time do not: the
 /// difference is far beyond the band.)
+// Inlined into the solver's two calls: on a Cortex-M0 the compiler kept it out of line, and the
+// calls cost more than the second copy's 40 B (M0 2,507 -> 2,469 instructions per evaluation).
+#[inline(always)]
 fn pick<S: Scalar>(
     options: [S; 2],
     prefer_smaller: bool,

@@ -285,6 +285,22 @@ fn isqrt_normalised(m: u32) -> u32 {
     root
 }
 
+impl Fixed {
+    /// [`Scalar::wrap_signed`] of an angle beyond [-pi, pi], or the invalid value (itself).
+    #[inline(never)]
+    fn wrap_signed_beyond_pi(self) -> Self {
+        if self.is_invalid() {
+            return self;
+        }
+        let positive = self.wrap_positive();
+        if positive.0 > PI_Q14 {
+            Fixed(positive.0 - TAU_Q14)
+        } else {
+            positive
+        }
+    }
+}
+
 impl Scalar for Fixed {
     /// In units of the pursuer's turning radius, relative to the pursuer.
     const MAX_COORDINATE: f32 = 200.0;
@@ -422,17 +438,14 @@ impl Scalar for Fixed {
             Fixed(a)
         }
     }
+    // Inlined: the law's headings arrive reduced ([`crate::Limits::states`]), and one comparison
+    // in the caller is a tenth of a call.
+    #[inline(always)]
     fn wrap_signed(self) -> Self {
-        // The law's headings arrive reduced ([`crate::Limits::states`]): one comparison.
-        if self.is_invalid() || self.0.unsigned_abs() <= PI_Q14 as u32 {
+        if self.0.unsigned_abs() <= PI_Q14 as u32 {
             return self;
         }
-        let positive = self.wrap_positive();
-        if positive.0 > PI_Q14 {
-            Fixed(positive.0 - TAU_Q14)
-        } else {
-            positive
-        }
+        self.wrap_signed_beyond_pi()
     }
     fn wrap_positive(self) -> Self {
         if self.is_invalid() {
