@@ -63,16 +63,18 @@ where
             Ok(n) => n,
             Err(e) => return Stop::Serial(e),
         };
-        for &byte in buf.get(..n).unwrap_or(&[]) {
-            let Some(reply) = unit.receive(byte, now) else {
-                continue;
-            };
-            if let Err(e) = send(port, reply.as_bytes()) {
-                return Stop::Serial(e);
+        let mut bytes = buf.get(..n).unwrap_or(&[]);
+        while !bytes.is_empty() {
+            let (taken, reply) = unit.receive_slice(bytes, now);
+            if let Some(reply) = reply {
+                if let Err(e) = send(port, reply.as_bytes()) {
+                    return Stop::Serial(e);
+                }
+                if reply.is_shutdown() {
+                    return Stop::Shutdown;
+                }
             }
-            if reply.is_shutdown() {
-                return Stop::Shutdown;
-            }
+            bytes = bytes.get(taken..).unwrap_or(&[]);
         }
     }
 }

@@ -147,13 +147,21 @@ impl Unit {
 
     /// Feeds one received byte at device time `now_ms`; returns the reply to send, if any.
     pub fn receive(&mut self, byte: u8, now_ms: u32) -> Option<&Reply> {
+        self.receive_slice(&[byte], now_ms).1
+    }
+
+    /// Feeds received bytes at device time `now_ms`, up to and including the first that ends a
+    /// frame: how many it took, and the reply to send, if any. Feed the rest after sending it.
+    /// (The firmware's loop: the deframer runs over the bytes without storing its state per byte.)
+    pub fn receive_slice(&mut self, bytes: &[u8], now_ms: u32) -> (usize, Option<&Reply>) {
         let Unit {
             deframer,
             session,
             reply,
         } = self;
-        let result = match deframer.push(byte) {
-            Feed::Pending => return None,
+        let (taken, feed) = deframer.push_slice(bytes);
+        let result = match feed {
+            Feed::Pending => return (taken, None),
             Feed::Error(e) => Err((e, None)),
             Feed::Frame(bytes) => match Frame::new_checked(bytes) {
                 Ok(frame) => session.handle(&frame, now_ms, reply),
@@ -174,7 +182,7 @@ impl Unit {
                 reply.write(kind::ERROR, sequence.unwrap_or(0), |w| message.emit(w))
             }
         };
-        written.then_some(&*reply)
+        (taken, written.then_some(&*reply))
     }
 
     /// Checks the watchdog at device time `now_ms`: when no valid State arrived for longer than

@@ -175,37 +175,57 @@ impl<const N: usize> Deframer<N> {
         }
     }
 
-    /// Appends one decoded byte, or marks the frame overflowed (`len` beyond `N`).
-    fn append(&mut self, byte: u8) {
-        match self.buf.get_mut(self.len) {
-            Some(slot) => {
-                *slot = byte;
-                // Below N after a successful `get_mut`: cannot wrap.
-                self.len = self.len.wrapping_add(1);
-            }
-            None => self.len = N.wrapping_add(1),
-        }
-    }
-
     /// Feeds one byte.
     pub fn push(&mut self, byte: u8) -> Feed<'_> {
-        if byte != 0 {
-            if self.block_left > 0 {
-                self.block_left -= 1;
-                self.append(byte);
+        self.push_slice(&[byte]).1
+    }
+
+    /// Feeds `bytes` up to and including the first delimiter: how many it took, and the outcome
+    /// (`Pending` when it took them all without a delimiter). The decoder's state stays in
+    /// registers over the bytes (fed one at a time it is loaded and stored per byte).
+    pub fn push_slice(&mut self, bytes: &[u8]) -> (usize, Feed<'_>) {
+        let (mut len, mut block_left, mut zero_after_block) =
+            (self.len, self.block_left, self.zero_after_block);
+        let mut taken = 0;
+        for &byte in bytes {
+            taken += 1;
+            if byte == 0 {
+                self.len = 0;
+                self.block_left = 0;
+                self.zero_after_block = false;
+                return (taken, self.end_frame(len, block_left, zero_after_block));
+            }
+            let decoded = if block_left > 0 {
+                block_left -= 1;
+                Some(byte)
             } else {
                 // A code byte: the previous block's zero, then `byte - 1` data bytes.
-                if self.zero_after_block {
-                    self.append(0);
+                let zero = zero_after_block.then_some(0);
+                zero_after_block = byte != 0xFF;
+                block_left = byte - 1;
+                zero
+            };
+            if let Some(decoded) = decoded {
+                match self.buf.get_mut(len) {
+                    Some(slot) => {
+                        *slot = decoded;
+                        // Below N after a successful `get_mut`: cannot wrap.
+                        len = len.wrapping_add(1);
+                    }
+                    // Overflowed: `len` stays beyond N until the delimiter.
+                    None => len = N.wrapping_add(1),
                 }
-                self.zero_after_block = byte != 0xFF;
-                self.block_left = byte - 1;
             }
-            return Feed::Pending;
         }
-        let len = core::mem::take(&mut self.len);
-        let block_left = core::mem::take(&mut self.block_left);
-        let zero_after_block = core::mem::take(&mut self.zero_after_block);
+        self.len = len;
+        self.block_left = block_left;
+        self.zero_after_block = zero_after_block;
+        (taken, Feed::Pending)
+    }
+
+    /// The outcome of a delimiter after `len` decoded bytes (beyond N: overflowed), with
+    /// `block_left` data bytes of the last block missing and its pending zero.
+    fn end_frame(&self, len: usize, block_left: u8, zero_after_block: bool) -> Feed<'_> {
         if len > N {
             return Feed::Error(WireError::Oversized);
         }

@@ -241,3 +241,42 @@ fn error_codes_are_stable_and_distinct() {
     }
     assert_eq!(WireError::from_code(0), None);
 }
+
+/// `push_slice` (the firmware's loop) and `push` (one byte at a time) make the same frames and
+/// refusals of the same stream, cut into slices of every length from 1 to past the stream's.
+#[test]
+fn deframing_slices_gives_what_deframing_bytes_gives() {
+    let state = StateMsg {
+        time_ms: 3,
+        pursuer: [0.0, -2.5, 1.0],
+        evader: [7.0, 0.0, -3.0],
+    };
+    let mut stream = vec![0x13, 0x37, 0xFF, 0x00, 0x00];
+    stream.extend(host_tests::link::state(1, &state));
+    stream.extend(std::iter::repeat_n(0x55, 100));
+    stream.push(0);
+    stream.extend([0x01, 0x00, 0x03, 0x11, 0x00]);
+    stream.extend(host_tests::link::state(2, &state));
+    let owned = |feed: Feed<'_>| match feed {
+        Feed::Pending => None,
+        Feed::Frame(f) => Some(Ok(f.to_vec())),
+        Feed::Error(e) => Some(Err(e)),
+    };
+    let mut d = Deframer::<MAX_FRAME>::new();
+    let by_byte: Vec<_> = stream.iter().filter_map(|&b| owned(d.push(b))).collect();
+    assert_eq!(by_byte.len(), 6, "{by_byte:?}");
+    for cut in 1..=stream.len() + 1 {
+        let mut d = Deframer::<MAX_FRAME>::new();
+        let mut by_slice = Vec::new();
+        for chunk in stream.chunks(cut) {
+            let mut rest = chunk;
+            while !rest.is_empty() {
+                let (taken, feed) = d.push_slice(rest);
+                assert!(taken >= 1 && taken <= rest.len());
+                by_slice.extend(owned(feed));
+                rest = &rest[taken..];
+            }
+        }
+        assert_eq!(by_slice, by_byte, "slices of {cut}");
+    }
+}
