@@ -561,11 +561,15 @@ impl<S: Scalar> ValidTangent<S> {
     fn from_terms(length_sq: S, dx: S, dy: S, k: S) -> Option<Self> {
         let zero = S::zero();
         // No tangent inside the other circle (L^2 < 0), nor for coincident circles (D = 0, so
-        // L = k = 0; without a product: k is r_e +- r_p, never 0 under Assumption 1).
-        if length_sq < zero || (length_sq == zero && k == zero) {
+        // L = k = 0; without a product: k is r_e +- r_p, never 0 under Assumption 1). The
+        // common case first: on a Cortex-M4F the square root's own guard then folds away.
+        let length = if length_sq > zero {
+            length_sq.sqrt()
+        } else if length_sq == zero && k != zero {
+            zero
+        } else {
             return None;
-        }
-        let length = length_sq.sqrt();
+        };
         // Direction (L D + k D_perp) / |D|^2; atan2 needs no normalisation.
         let cos_psi = length * dx + k * dy;
         let sin_psi = length * dy - k * dx;
