@@ -285,6 +285,34 @@ fn isqrt_normalised(m: u32) -> u32 {
     root
 }
 
+/// The raw Q14 square root of the positive raw value `a`. sqrt(a / 2^14) 2^14 = sqrt(a 2^14):
+/// `a` shifted left by the even 2 h that brings it to [2^30, 2^32) (compares, not a count of
+/// leading zeros: a library call on a Cortex-M0), and the root by 7 - h: root 2^7 / 2^h, floored
+/// (the floor of a floor: the same root as of a 2^14 itself).
+#[inline(never)]
+fn sqrt_of_positive(a: u32) -> i32 {
+    let (mut m, mut half_shift) = (a, 0);
+    if m < 1 << 16 {
+        m <<= 16;
+        half_shift += 8;
+    }
+    if m < 1 << 24 {
+        m <<= 8;
+        half_shift += 4;
+    }
+    if m < 1 << 28 {
+        m <<= 4;
+        half_shift += 2;
+    }
+    if m < 1 << 30 {
+        m <<= 2;
+        half_shift += 1;
+    }
+    // root < 2^16, so root 2^7 < 2^23: in range.
+    let root = isqrt_normalised(m);
+    ((root << 7) >> half_shift) as i32
+}
+
 impl Fixed {
     /// [`Scalar::wrap_signed`] of an angle beyond [-pi, pi], or the invalid value (itself).
     #[inline(never)]
@@ -362,40 +390,17 @@ impl Scalar for Fixed {
     fn tau() -> Self {
         Fixed(TAU_Q14)
     }
+    // Inlined check, out-of-line root: where the caller has tested the value positive (Algorithm
+    // 1's L^2 > 0), the check folds away.
+    #[inline(always)]
     fn sqrt(self) -> Self {
-        if self.is_invalid() {
-            return self;
+        if self.0 > 0 {
+            Fixed(sqrt_of_positive(self.0.unsigned_abs()))
+        } else if self.is_invalid() {
+            self
+        } else {
+            Fixed(0)
         }
-        let Ok(a) = u32::try_from(self.0) else {
-            return Fixed(0);
-        };
-        if a == 0 {
-            return Fixed(0);
-        }
-        // sqrt(raw / 2^14) * 2^14 = sqrt(raw * 2^14): shift raw left by the even 2 h that brings
-        // it to [2^30, 2^32) (compares, not a count of leading zeros: a library call on a
-        // Cortex-M0), and the root by 7 - h: root 2^7 / 2^h, floored (the floor of a floor: the
-        // same root as of raw 2^14 itself).
-        let (mut m, mut half_shift) = (a, 0);
-        if m < 1 << 16 {
-            m <<= 16;
-            half_shift += 8;
-        }
-        if m < 1 << 24 {
-            m <<= 8;
-            half_shift += 4;
-        }
-        if m < 1 << 28 {
-            m <<= 4;
-            half_shift += 2;
-        }
-        if m < 1 << 30 {
-            m <<= 2;
-            half_shift += 1;
-        }
-        // root < 2^16, so root 2^7 < 2^23: in range.
-        let root = isqrt_normalised(m);
-        Fixed(((root << 7) >> half_shift) as i32)
     }
     fn sin_cos(self) -> (Self, Self) {
         if self.is_invalid() {
