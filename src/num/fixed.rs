@@ -222,18 +222,21 @@ pub fn ratio_q15(low: u32, high: u32) -> u32 {
     if h < 1 << 16 {
         (h, l) = (h << 16, l << 16);
     }
+    // One running shift for both, applied once.
+    let mut shift = 0;
     if h >= 1 << 24 {
-        (h, l) = (h >> 8, l >> 8);
+        shift = 8;
     }
-    if h >= 1 << 20 {
-        (h, l) = (h >> 4, l >> 4);
+    if h >> shift >= 1 << 20 {
+        shift += 4;
     }
-    if h >= 1 << 18 {
-        (h, l) = (h >> 2, l >> 2);
+    if h >> shift >= 1 << 18 {
+        shift += 2;
     }
-    if h >= 1 << 17 {
-        (h, l) = (h >> 1, l >> 1);
+    if h >> shift >= 1 << 17 {
+        shift += 1;
     }
+    (h, l) = (h >> shift, l >> shift);
     // r = 2^31 / (h / 2), within one part in 2^15 after two steps; every product below 2^32.
     let half = h >> 1;
     let mut r = RECIPROCAL
@@ -291,26 +294,23 @@ fn isqrt_normalised(m: u32) -> u32 {
 /// (the floor of a floor: the same root as of a 2^14 itself).
 #[inline(never)]
 fn sqrt_of_positive(a: u32) -> i32 {
-    let (mut m, mut half_shift) = (a, 0);
-    if m < 1 << 16 {
-        m <<= 16;
-        half_shift += 8;
+    // One running shift (the compiler kept each step's test on the stack to redo the half shift).
+    let mut shift = 0;
+    if a < 1 << 16 {
+        shift = 16;
     }
-    if m < 1 << 24 {
-        m <<= 8;
-        half_shift += 4;
+    if a << shift < 1 << 24 {
+        shift += 8;
     }
-    if m < 1 << 28 {
-        m <<= 4;
-        half_shift += 2;
+    if a << shift < 1 << 28 {
+        shift += 4;
     }
-    if m < 1 << 30 {
-        m <<= 2;
-        half_shift += 1;
+    if a << shift < 1 << 30 {
+        shift += 2;
     }
     // root < 2^16, so root 2^7 < 2^23: in range.
-    let root = isqrt_normalised(m);
-    ((root << 7) >> half_shift) as i32
+    let root = isqrt_normalised(a << shift);
+    ((root << 7) >> (shift / 2)) as i32
 }
 
 impl Fixed {
