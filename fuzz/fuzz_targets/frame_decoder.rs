@@ -8,33 +8,12 @@ use libfuzzer_sys::fuzz_target;
 use twocars::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
 use twocars::wire::{Deframer, Feed, Frame, MAX_FRAME};
 
-/// A feed as a value: `None` for `Pending`.
-fn owned(feed: Feed<'_>) -> Option<Result<Vec<u8>, twocars::wire::WireError>> {
-    match feed {
-        Feed::Pending => None,
-        Feed::Frame(f) => Some(Ok(f.to_vec())),
-        Feed::Error(e) => Some(Err(e)),
-    }
-}
-
 fuzz_target!(|data: &[u8]| {
-    let cut = usize::from(data.first().copied().unwrap_or(1).max(1));
-    let mut by_slice = Vec::new();
-    let mut sliced = Deframer::<MAX_FRAME>::new();
-    for chunk in data.chunks(cut) {
-        let mut rest = chunk;
-        while !rest.is_empty() {
-            let (taken, feed) = sliced.push_slice(rest);
-            assert!(taken >= 1 && taken <= rest.len());
-            by_slice.extend(owned(feed));
-            rest = rest.get(taken..).unwrap_or(&[]);
-        }
-    }
-    let mut by_byte = Vec::new();
+    let cut = usize::from(data.first().copied().unwrap_or(1));
+    let by_slice = host_tests::link::deframe(data, Some(cut));
     let mut deframer = Deframer::<MAX_FRAME>::new();
     for &byte in data {
-        let feed = deframer.push(byte);
-        if let Feed::Frame(bytes) = feed {
+        if let Feed::Frame(bytes) = deframer.push(byte) {
             assert!(bytes.len() <= MAX_FRAME);
             if let Ok(frame) = Frame::new_checked(bytes) {
                 let payload = frame.payload();
@@ -48,7 +27,6 @@ fuzz_target!(|data: &[u8]| {
                 };
             }
         }
-        by_byte.extend(owned(feed));
     }
-    assert_eq!(by_slice, by_byte);
+    assert_eq!(by_slice, host_tests::link::deframe(data, None));
 });

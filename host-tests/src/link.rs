@@ -61,6 +61,39 @@ pub fn raw(message_type: u8, sequence: u16, payload: &[u8]) -> Vec<u8> {
     frame(message_type, sequence, |w| w.put(payload))
 }
 
+/// The frames (decoded) and refusals a deframer of `MAX_FRAME` bytes makes of `stream`: fed byte
+/// by byte (`cut` = `None`, [`Deframer::push`]) or in slices of `cut` bytes, each slice fed until
+/// the deframer has taken all of it ([`Deframer::push_slice`], the firmware's way).
+pub fn deframe(stream: &[u8], cut: Option<usize>) -> Vec<Result<Vec<u8>, WireError>> {
+    let owned = |feed: Feed<'_>| match feed {
+        Feed::Pending => None,
+        Feed::Frame(f) => Some(Ok(f.to_vec())),
+        Feed::Error(e) => Some(Err(e)),
+    };
+    let mut deframer = Deframer::<MAX_FRAME>::new();
+    let Some(cut) = cut else {
+        return stream
+            .iter()
+            .filter_map(|&b| owned(deframer.push(b)))
+            .collect();
+    };
+    let mut out = Vec::new();
+    for chunk in stream.chunks(cut.max(1)) {
+        let mut rest = chunk;
+        while !rest.is_empty() {
+            let (taken, feed) = deframer.push_slice(rest);
+            assert!(
+                (1..=rest.len()).contains(&taken),
+                "took {taken} of {}",
+                rest.len()
+            );
+            out.extend(owned(feed));
+            rest = &rest[taken..];
+        }
+    }
+    out
+}
+
 /// Decodes the unit's replies from a byte stream.
 #[derive(Default)]
 pub struct ReplyDecoder {

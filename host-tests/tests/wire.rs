@@ -257,26 +257,10 @@ fn deframing_slices_gives_what_deframing_bytes_gives() {
     stream.push(0);
     stream.extend([0x01, 0x00, 0x03, 0x11, 0x00]);
     stream.extend(host_tests::link::state(2, &state));
-    let owned = |feed: Feed<'_>| match feed {
-        Feed::Pending => None,
-        Feed::Frame(f) => Some(Ok(f.to_vec())),
-        Feed::Error(e) => Some(Err(e)),
-    };
-    let mut d = Deframer::<MAX_FRAME>::new();
-    let by_byte: Vec<_> = stream.iter().filter_map(|&b| owned(d.push(b))).collect();
+    let by_byte = host_tests::link::deframe(&stream, None);
     assert_eq!(by_byte.len(), 6, "{by_byte:?}");
     for cut in 1..=stream.len() + 1 {
-        let mut d = Deframer::<MAX_FRAME>::new();
-        let mut by_slice = Vec::new();
-        for chunk in stream.chunks(cut) {
-            let mut rest = chunk;
-            while !rest.is_empty() {
-                let (taken, feed) = d.push_slice(rest);
-                assert!(taken >= 1 && taken <= rest.len());
-                by_slice.extend(owned(feed));
-                rest = &rest[taken..];
-            }
-        }
+        let by_slice = host_tests::link::deframe(&stream, Some(cut));
         assert_eq!(by_slice, by_byte, "slices of {cut}");
     }
 }
