@@ -12,7 +12,7 @@
 use crate::firmware::{serve, Clock, Stop};
 use crate::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 use crate::unit::Unit;
-use crate::wire::{cobs_encode, crc16, encode_frame, Writer, CRC_LEN, MAX_FRAME, VERSION};
+use crate::wire::{cobs_encode, encode_frame, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME};
 
 use super::{DT, LIMITS, STATES};
 
@@ -22,16 +22,65 @@ pub const SCRIPT_CAPACITY: usize = 2048;
 /// State frames in the script with the states: the bench states under each policy.
 pub const STATE_FRAMES: usize = 2 * STATES.len();
 
+/// A script being written: its frames COBS-encoded one after another into `out`.
+struct Script<'a> {
+    out: &'a mut [u8],
+    len: usize,
+    sequence: u16,
+}
+
+impl Script<'_> {
+    /// Appends the frame of `message_type` with the next sequence number and `payload`.
+    fn frame(
+        &mut self,
+        message_type: u8,
+        payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
+    ) -> Option<()> {
+        self.sequence = self.sequence.wrapping_add(1);
+        self.encode(message_type, self.sequence, payload)
+    }
+
+    fn encode(
+        &mut self,
+        message_type: u8,
+        sequence: u16,
+        payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
+    ) -> Option<()> {
+        let rest = self.out.get_mut(self.len..)?;
+        self.len += encode_frame(message_type, sequence, payload, rest)?;
+        Some(())
+    }
+
+    /// Appends the frame of `message_type`, sequence 0xBAD (outside the count) and `payload`
+    /// with one bit of its CRC flipped: the frame encoded as the unit would get it, decoded, its
+    /// CRC's low bit flipped, re-encoded.
+    fn frame_with_bad_crc(
+        &mut self,
+        message_type: u8,
+        payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
+    ) -> Option<()> {
+        let start = self.len;
+        self.encode(message_type, 0xBAD, payload)?;
+        let mut deframer = Deframer::<MAX_FRAME>::new();
+        let (_, Feed::Frame(decoded)) = deframer.push_slice(self.out.get(start..self.len)?) else {
+            return None;
+        };
+        let mut plain = [0u8; MAX_FRAME];
+        let plain = plain.get_mut(..decoded.len())?;
+        plain.copy_from_slice(decoded);
+        *plain.get_mut(decoded.len().checked_sub(CRC_LEN)?)? ^= 1;
+        self.len = start + cobs_encode(plain, self.out.get_mut(start..)?)?;
+        Some(())
+    }
+}
+
 /// The session's script written into `out`, with or without the bench states; its length, or
 /// `None` if `out` is shorter than [`SCRIPT_CAPACITY`] needs.
 pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
-    let mut len = 0;
-    let mut sequence: u16 = 0;
-    let mut frame = |message_type: u8, payload: &dyn Fn(&mut Writer<'_>) -> Option<()>| {
-        sequence = sequence.wrapping_add(1);
-        let n = encode_frame(message_type, sequence, payload, out.get_mut(len..)?)?;
-        len += n;
-        Some(())
+    let mut script = Script {
+        out,
+        len: 0,
+        sequence: 0,
     };
     for policy in [0, 1] {
         let configure = Configure {
@@ -42,7 +91,7 @@ pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
             variant: 0,
             policy,
         };
-        frame(kind::CONFIGURE, &|w| configure.emit(w))?;
+        script.frame(kind::CONFIGURE, |w| configure.emit(w))?;
         if with_states {
             for (i, &(pursuer, evader)) in STATES.iter().enumerate() {
                 let state = StateMsg {
@@ -50,7 +99,7 @@ pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
                     pursuer,
                     evader,
                 };
-                frame(kind::STATE, &|w| state.emit(w))?;
+                script.frame(kind::STATE, |w| state.emit(w))?;
             }
         }
     }
@@ -59,37 +108,17 @@ pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
         pursuer: [0.0; 3],
         evader: [5.0, 5.0, 0.0],
     };
-    frame(0x7E, &|_| Some(()))?;
-    frame(kind::STATE, &|w| w.u32(state.time_ms))?;
+    script.frame(0x7E, |_| Some(()))?;
+    script.frame(kind::STATE, |w| w.u32(state.time_ms))?;
     let lost = StateMsg {
         evader: [5.0, 5.0, f32::NAN],
         ..state
     };
-    frame(kind::STATE, &|w| lost.emit(w))?;
-    // A State whose CRC is one bit off.
-    let mut raw = [0u8; MAX_FRAME];
-    let body = {
-        let mut w = Writer::new(&mut raw);
-        w.u8(VERSION)?;
-        w.u8(kind::STATE)?;
-        w.u16(0xBAD)?;
-        state.emit(&mut w)?;
-        w.len()
-    };
-    let crc = crc16(raw.get(..body)?) ^ 1;
-    let total = body + CRC_LEN;
-    raw.get_mut(body..total)?
-        .copy_from_slice(&crc.to_le_bytes());
-    len += cobs_encode(raw.get(..total)?, out.get_mut(len..)?)?;
-    let mut frame = |message_type: u8| {
-        sequence = sequence.wrapping_add(1);
-        let n = encode_frame(message_type, sequence, |_| Some(()), out.get_mut(len..)?)?;
-        len += n;
-        Some(())
-    };
-    frame(kind::READ_COUNTERS)?;
-    frame(kind::SHUTDOWN)?;
-    Some(len)
+    script.frame(kind::STATE, |w| lost.emit(w))?;
+    script.frame_with_bad_crc(kind::STATE, |w| state.emit(w))?;
+    script.frame(kind::READ_COUNTERS, |_| Some(()))?;
+    script.frame(kind::SHUTDOWN, |_| Some(()))?;
+    Some(script.len)
 }
 
 /// The script ran out before a Shutdown: the loop's only way to end without one.
