@@ -34,7 +34,10 @@ impl<S: Scalar> CaptureTime<S> {
     pub fn turn_times(&self, limits: &Limits<S>) -> (S, S) {
         (
             limits.pursuer_turn_time(self.pursuer_arc),
-            limits.evader.seconds_per_radian() * self.evader_arc,
+            limits
+                .evader
+                .seconds_per_radian()
+                .mul_small(self.evader_arc),
         )
     }
 }
@@ -59,7 +62,7 @@ pub fn capture_time<S: Scalar>(
     let per_metre = limits.seconds_per_metre_closed();
     result.value = if t_p > t_e {
         // The evader is on the tangent first and runs v_em (t_p - t_e) ahead along it.
-        t_p + (tangent_length + e.v_max() * (t_p - t_e)) * per_metre
+        t_p + (tangent_length + (t_p - t_e).mul_small(e.v_max())) * per_metre
     } else {
         // The pursuer is on the tangent first and closes v_pm (t_e - t_p) before the evader leaves.
         let gap = tangent_length - limits.pursuer_run(t_e - t_p);

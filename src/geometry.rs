@@ -505,16 +505,20 @@ impl<S: Scalar> CirclePairs<S> {
             y: limits.pursuer_radius_times(cos_p),
         };
         let evader_offset = Point {
-            x: -(r_e * sin_e),
-            y: r_e * cos_e,
+            x: -r_e.mul_small(sin_e),
+            y: r_e.mul_small(cos_e),
         };
         let delta_sq = delta.x * delta.x + delta.y * delta.y;
-        // Delta . r_p n_p and Delta . r_e n_e, square metres.
-        let delta_pursuer = delta.x * pursuer_offset.x + delta.y * pursuer_offset.y;
+        // Delta . r_p n_p and Delta . r_e n_e, square metres (r_p n_p is a unit vector on a
+        // normalised backend).
+        let delta_pursuer =
+            delta.x.mul_small(pursuer_offset.x) + delta.y.mul_small(pursuer_offset.y);
         let delta_evader = delta.x * evader_offset.x + delta.y * evader_offset.y;
         // r_e r_p |n_e - n_p|^2, square metres.
         let (dn_x, dn_y) = (cos_p - cos_e, sin_e - sin_p);
-        let normals = limits.pursuer_radius_times(r_e) * (dn_x * dn_x + dn_y * dn_y);
+        let normals = limits
+            .pursuer_radius_times(r_e)
+            .mul_small(dn_x.mul_small(dn_x) + dn_y.mul_small(dn_y));
         let terms = |pursuer: Direction, evader: Direction| {
             let cross = if pursuer == evader { normals } else { -normals };
             let linear = evader.signed(delta_evader) - pursuer.signed(delta_pursuer);

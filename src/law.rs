@@ -480,7 +480,7 @@ pub fn steer_along<S: Scalar>(
     limits: &VehicleLimits<S>,
     per_radian: S,
 ) -> S {
-    let magnitude = limits.w_max().min(arc * per_radian);
+    let magnitude = limits.w_max().min(per_radian.mul_small(arc));
     match direction {
         Direction::Anticlockwise => magnitude,
         // 0 - m, not -m: a zero arc gives +0 on either circle, as straight ahead is written.

@@ -181,7 +181,7 @@ fn overflowing_sums_and_products_panic_in_debug_builds() {
 }
 
 #[test]
-fn products_are_the_exact_product_rounded_half_up() {
+fn products_and_products_by_small_factors_are_the_exact_product_rounded_half_up() {
     // Raw operands of every size and sign.
     let mut state = 0x2CA5_2019_u64;
     let mut next = || {
@@ -197,7 +197,7 @@ fn products_are_the_exact_product_rounded_half_up() {
     let pairs = edges
         .iter()
         .flat_map(|&a| edges.iter().map(move |&b| (a, b)));
-    let mut checked = 0;
+    let (mut checked, mut small) = (0, 0);
     for (a, b) in (0..400_000).map(|_| (next(), next())).chain(pairs) {
         let exact = (i64::from(a) * i64::from(b) + (1 << 13)) >> 14;
         // Products that fit, short of the last 2^-7 of the range (the law's stay below 9.0e4,
@@ -210,8 +210,17 @@ fn products_are_the_exact_product_rounded_half_up() {
         }
         assert_eq!(fixed(a) * fixed(b), fixed(raw), "{a} * {b}");
         checked += 1;
+        // The two-product form for a factor below 8 gives the same rounded product.
+        if b.unsigned_abs() < 1 << 17 {
+            assert_eq!(
+                fixed(a).mul_small(fixed(b)),
+                fixed(raw),
+                "{a} mul_small {b}"
+            );
+            small += 1;
+        }
     }
-    assert!(checked > 100_000, "{checked}");
+    assert!(checked > 100_000 && small > 50_000, "{checked} {small}");
 }
 
 /// The normalised backend's units make the pursuer's limits exactly one (the law skips its

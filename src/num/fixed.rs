@@ -390,6 +390,19 @@ impl Scalar for Fixed {
     fn tau() -> Self {
         Fixed(TAU_Q14)
     }
+    // a f / 2^14 = a_h f + a_l f / 2^14 (a_h = a >> 14, a_l = a mod 2^14), rounded half up: the
+    // same as `Mul` (whose a_h b_h 2^14 + a_h b_l is a_h f here, and a_l b_h 2^14 + a_l b_l is
+    // a_l f), in two products; a_l f < 2^31 for |f| < 2^17 raw.
+    #[inline(always)]
+    fn mul_small(self, factor: Self) -> Self {
+        debug_assert!(
+            factor.0.unsigned_abs() < 1 << 17,
+            "mul_small factor {factor:?}"
+        );
+        let (a, f) = (self.0, factor.0);
+        let (a_high, a_low) = (a >> FRAC, a & (ONE - 1));
+        Fixed(a_high * f + ((a_low * f + (1 << (FRAC - 1))) >> FRAC))
+    }
     // Inlined check, out-of-line root: where the caller has tested the value positive (Algorithm
     // 1's L^2 > 0), the check folds away.
     #[inline(always)]

@@ -97,6 +97,15 @@ pub trait Scalar:
     /// pair without a valid tangent.
     fn never() -> Self;
 
+    /// `self * factor` for a `factor` below 8 in magnitude in the law's units: a sine or cosine,
+    /// an arc (radians, below 2 pi), a squared difference of unit normals (at most 4), the
+    /// evader's speed on a normalised backend (below v_pm = 1), the tie band. On fixed point two
+    /// integer multiplications where a product of any two values takes four; `*` elsewhere.
+    #[inline(always)]
+    fn mul_small(self, factor: Self) -> Self {
+        self * factor
+    }
+
     /// Zero.
     fn zero() -> Self {
         Self::from_f32(0.0)
