@@ -25,21 +25,19 @@ pub struct GameSolution<S> {
     pub upper: Option<S>,
     /// max over columns of min over rows, seconds; `None` = infinity.
     pub lower: Option<S>,
-    /// upper == lower within the tie band: a pure saddle point.
-    pub saddle: bool,
 }
 
-impl<S> GameSolution<S> {
-    /// The solution of a game without a valid tangent (every entry infinite): both circles A,
-    /// both values infinite, a saddle at infinity ([`MatrixGame::solve`] gives the same). The
-    /// place a solution is written into.
-    pub const NO_TANGENT: Self = GameSolution {
-        row: Direction::Anticlockwise,
-        col: Direction::Anticlockwise,
-        upper: None,
-        lower: None,
-        saddle: true,
-    };
+impl<S: Scalar> GameSolution<S> {
+    /// Whether upper == lower within the tie band: a pure saddle point (two infinite values
+    /// tie; an infinite and a finite one do not). Computed where it is asked for: the firmware
+    /// never reads it.
+    pub fn saddle(&self) -> bool {
+        match (self.upper, self.lower) {
+            (Some(upper), Some(lower)) => ties(upper, lower),
+            (None, None) => true,
+            _ => false,
+        }
+    }
 }
 
 /// Whether two values (seconds) tie within the backend's relative band `S::TIE_BAND`.
@@ -108,8 +106,6 @@ pub(crate) fn solve_values<S: Scalar>(
         col,
         upper: finite(upper),
         lower: finite(lower),
-        // Two infinities tie; an infinity and a time do not.
-        saddle: ties(upper, lower),
     }
 }
 
@@ -124,7 +120,7 @@ impl<S: Scalar> MatrixGame<S> {
     /// formed in f64, as the products of two capture times can leave a fixed-point range.
     pub fn mixed_value(&self) -> Option<f64> {
         let [[aa, ac], [ca, cc]] = self.entries;
-        match (self.solve().saddle, aa, ac, ca, cc) {
+        match (self.solve().saddle(), aa, ac, ca, cc) {
             (false, Some(a), Some(b), Some(c), Some(d)) => {
                 let [a, b, c, d] = [a, b, c, d].map(S::to_f64);
                 let denominator = a + d - b - c;

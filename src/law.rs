@@ -53,13 +53,21 @@ pub struct GameReport<S> {
 }
 
 impl<S: Scalar> GameReport<S> {
-    /// No pairs and no solution: the place a game is written into. (A function, not a
-    /// constant: a constant is copied whole from flash, where this stores four tags.)
+    /// No pairs, and a placeholder solution: the place a game is written into. Every game
+    /// overwrites the solution, and it is read only where the status has a game. (A function,
+    /// not a constant: a constant is copied whole from flash, where this stores a few tags. The
+    /// placeholder's row is C so that it is not all zero, which a Cortex-M build clears with a
+    /// `memclr` call.)
     #[inline]
     pub fn empty() -> Self {
         GameReport {
             pairs: [[None, None], [None, None]],
-            solution: GameSolution::NO_TANGENT,
+            solution: GameSolution {
+                row: Direction::Clockwise,
+                col: Direction::Anticlockwise,
+                upper: None,
+                lower: None,
+            },
         }
     }
 

@@ -115,7 +115,7 @@ fn case_three_has_no_pure_saddle_and_an_exact_double_tie() {
     let e = evaluate::<f32>(&paper_cases()[2], Variant::Paper);
     let r = e.report.expect("report");
     let s = r.solution;
-    assert!(!s.saddle);
+    assert!(!s.saddle());
     let lower = s.lower.expect("finite lower");
     assert!(
         (f64::from(lower) - 4.5123).abs() < TOLERANCE,

@@ -285,12 +285,13 @@ fn f32_law_value_is_within_1e_4_relative_of_the_independent_reference() {
 
 /// The matrix game by its definition, `None` as infinity: the pursuer's min over rows of each
 /// row's max, the evader's max over columns of each column's min; options tied within the band
-/// or `floor` go to `previous`, else A.
+/// or `floor` go to `previous`, else A. With it, whether it is a saddle: upper and lower tied
+/// within the band, or both infinite.
 fn game_by_definition<S: Scalar>(
     entries: [[Option<S>; 2]; 2],
     previous: Option<(Direction, Direction)>,
     floor: S,
-) -> twocars::GameSolution<S> {
+) -> (twocars::GameSolution<S>, bool) {
     use twocars::game::ties_within;
     let choose = |options: [Option<S>; 2], smaller: bool, previous: Option<Direction>| {
         let a_wins = match options {
@@ -319,13 +320,13 @@ fn game_by_definition<S: Scalar>(
         (Some(u), Some(l)) => ties(u, l),
         (u, l) => u.is_none() && l.is_none(),
     };
-    twocars::GameSolution {
+    let solution = twocars::GameSolution {
         row,
         col,
         upper,
         lower,
-        saddle,
-    }
+    };
+    (solution, saddle)
 }
 
 /// Every pattern of infinite entries, ties and previous choices, on each backend: the solver
@@ -350,11 +351,9 @@ fn matrix_game_matches_its_definition<S: Scalar>() {
             let floor = S::from_f32(floor);
             let game = twocars::MatrixGame { entries };
             let got = game.solve_sampled(previous, floor);
-            assert_eq!(
-                got,
-                game_by_definition(entries, previous, floor),
-                "{entries:?}"
-            );
+            let (solution, saddle) = game_by_definition(entries, previous, floor);
+            assert_eq!(got, solution, "{entries:?}");
+            assert_eq!(got.saddle(), saddle, "{entries:?}");
             Ok(())
         })
         .unwrap();

@@ -347,7 +347,7 @@ fn value_map(dir: &Path) -> Result<Vec<PathBuf>, String> {
                     (Direction::Clockwise, Direction::Clockwise) => "#b07aa1",
                 };
                 choice.cell(x0, y0, step, step, colour);
-                if !r.solution.saddle {
+                if !r.solution.saddle() {
                     choice.cell(
                         x0 + step * 0.3,
                         y0 + step * 0.3,

@@ -141,7 +141,7 @@ fn show_matrix<S: Scalar>(o: &RunOptions, case: &Case, options: &Options) -> boo
         s.col.letter(),
         f(s.upper).trim(),
         f(s.lower).trim(),
-        s.saddle,
+        s.saddle(),
         report
             .matrix()
             .mixed_value()
