@@ -43,10 +43,16 @@ pub fn floor(x: f32) -> f32 {
 /// the three parts of the sine's reduction, so a heading of 1e4 rad loses no more than one of
 /// pi/4 (a single f32 2 pi would be 3e-4 rad off there).
 pub fn wrap_signed(x: f32) -> f32 {
-    // Most headings arrive reduced already.
+    // Most headings arrive reduced already: one compare inline, the reduction out of line.
     if x.abs() <= PI {
         return x;
     }
+    wrap_signed_beyond_pi(x)
+}
+
+/// [`wrap_signed`] of an angle beyond [-pi, pi].
+#[inline(never)]
+fn wrap_signed_beyond_pi(x: f32) -> f32 {
     let k = round_to_i32(x * (0.25 * TWO_OVER_PI)) as f32;
     ((x - k * (4.0 * PIO2_HI)) - k * (4.0 * PIO2_MID)) - k * (4.0 * PIO2_LO)
 }
