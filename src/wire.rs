@@ -93,7 +93,10 @@ const fn crc_table() -> [u16; 256] {
     table
 }
 
-/// CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection, no final xor) of `bytes`.
+/// CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection, no final xor) of `bytes`. Out of
+/// line: inlined into the serial loop, its table's address competed for registers there and was
+/// reloaded on every byte.
+#[inline(never)]
 pub fn crc16(bytes: &[u8]) -> u16 {
     bytes.iter().fold(0xFFFF, |crc: u16, &b| {
         let index = usize::from((crc >> 8) as u8 ^ b);
