@@ -40,6 +40,35 @@ pub struct Guidance<S> {
     /// Arc tolerances and tie floor, fixed by the limits and dt; `previous` is the last choice.
     sampling: Sampling<S>,
     near_field: NearFieldMemory<S>,
+    near_field_terms: NearFieldTerms<S>,
+}
+
+/// What the near-field policy compares and scales by, fixed by the limits and dt (computed once
+/// in [`Guidance::new`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct NearFieldTerms<S> {
+    /// The theorem's distance threshold, metres ([`crate::Limits::theorem_threshold`]).
+    threshold: S,
+    /// Four periods' travel of the pursuer, 4 v_pm dt, metres: closer, a heading error is a
+    /// miss distance.
+    close: S,
+    /// The pursuer's full turn over one period, v_pm w_pm dt, radians.
+    period_turn: S,
+    /// The lead distance per metre between the players, v_em / (2 v_pm): how far the evader runs
+    /// in half the time the pursuer needs to cover that metre.
+    lead_per_metre: S,
+}
+
+impl<S: Scalar> NearFieldTerms<S> {
+    fn new(limits: &Limits<S>, dt: S) -> Self {
+        let p = &limits.pursuer;
+        NearFieldTerms {
+            threshold: limits.theorem_threshold(),
+            close: S::from_f32(4.0) * p.v_max() * dt,
+            period_turn: p.max_turn_rate() * dt,
+            lead_per_metre: limits.evader.v_max() / (p.v_max() + p.v_max()),
+        }
+    }
 }
 
 /// What the near-field policy remembers: the law's last upper value (seconds) and whether the
@@ -105,6 +134,7 @@ impl<S: Scalar> Guidance<S> {
                 tie_floor,
             },
             near_field: NearFieldMemory::FRESH,
+            near_field_terms: NearFieldTerms::new(&law.limits, dt),
         })
     }
 
@@ -223,9 +253,9 @@ impl<S: Scalar> Guidance<S> {
         evader: &VehicleState<S>,
         command: &mut Command<S>,
     ) {
-        let limits = self.law.limits;
+        let terms = &self.near_field_terms;
         let distance = pursuer.position().distance(evader.position());
-        if distance >= limits.theorem_threshold() {
+        if distance >= terms.threshold {
             self.near_field = NearFieldMemory::FRESH;
             return;
         }
@@ -237,8 +267,8 @@ impl<S: Scalar> Guidance<S> {
                 pursuer,
                 evader,
                 distance,
-                &limits,
-                self.dt,
+                &self.law.limits.pursuer,
+                &self.near_field_terms,
                 self.period.pursuer,
             );
         }
@@ -253,9 +283,8 @@ impl<S: Scalar> Guidance<S> {
     /// evader, as lead pursuit would). Records the upper value.
     fn near_field_lost(&mut self, report: &GameReport<S>, distance: S) -> bool {
         let upper = report.solution.upper;
-        let pursuer = &self.law.limits.pursuer;
         let lost = match (self.near_field.last_upper, upper) {
-            (_, None) => distance >= S::from_f32(4.0) * pursuer.v_max() * self.dt,
+            (_, None) => distance >= self.near_field_terms.close,
             (None, Some(_)) => !report.trusted(self.sampling.tie_floor),
             (Some(last), Some(now)) => now > last - self.dt + self.sampling.tie_floor,
         };
@@ -276,19 +305,18 @@ fn lead_pursuit<S: Scalar>(
     pursuer: &VehicleState<S>,
     evader: &VehicleState<S>,
     distance: S,
-    limits: &Limits<S>,
-    dt: S,
+    p: &VehicleLimits<S>,
+    terms: &NearFieldTerms<S>,
     per_radian: S,
 ) -> S {
-    let p = &limits.pursuer;
-    let lead = limits.evader.v_max() * distance / (p.v_max() + p.v_max());
+    let lead = distance.mul_small(terms.lead_per_metre);
     let (sin, cos) = evader.theta.sin_cos();
     let to_go = bearing(pursuer, evader.x + lead * cos, evader.y + lead * sin);
     let [a, c] = TurningCircle::both(pursuer, p);
     let side = if to_go >= S::zero() { a } else { c };
-    let period_turn = p.max_turn_rate() * dt;
+    let period_turn = terms.period_turn;
     // Within a few periods' travel a heading error is a miss distance: aim exactly there.
-    let close = distance < S::from_f32(4.0) * p.v_max() * dt;
+    let close = distance < terms.close;
     let on_course = !close && to_go.abs() + to_go.abs() <= period_turn;
     let out_of_reach = to_go.abs() > period_turn
         && side.centre().distance_squared(evader.position()) < side.radius * side.radius;
