@@ -97,10 +97,11 @@ pub trait Scalar:
     /// pair without a valid tangent.
     fn never() -> Self;
 
-    /// `self * factor` for a `factor` below 8 in magnitude in the law's units: a sine or cosine,
-    /// an arc (radians, below 2 pi), a squared difference of unit normals (at most 4), the
-    /// evader's speed on a normalised backend (below v_pm = 1), the tie band. On fixed point two
-    /// integer multiplications where a product of any two values takes four; `*` elsewhere.
+    /// `self * factor` for a `factor` below 8 in magnitude in the law's units on a normalised
+    /// backend: a sine or cosine (or one times r_p = 1), an angle of at most 2 pi (an arc, a
+    /// bearing's magnitude), a difference of unit normals or its square (at most 4), a speed
+    /// ratio (the evader's speed, below v_pm = 1), the tie band. On fixed point two integer
+    /// multiplications where a product of any two values takes four; `*` elsewhere.
     #[inline(always)]
     fn mul_small(self, factor: Self) -> Self {
         self * factor
