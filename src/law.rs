@@ -307,21 +307,40 @@ impl<S: Scalar> Law<S> {
         evader: &VehicleState<S>,
         sampling: &Sampling<S>,
     ) -> Evaluation<S> {
-        self.evaluate_with(pursuer, evader, sampling, |_, _, instantaneous| {
-            instantaneous
+        self.evaluate_with(pursuer, evader, sampling, |_, report| {
+            self.instantaneous_command(&report.solution, pursuer, evader)
         })
     }
 
+    /// The instantaneous command of a game's solution: each player at +-w_max of its chosen
+    /// circle, or, where no pursuer row has a finite value, the unsampled fallback
+    /// ([`fallback_command`]). Computed where a caller asks for it: a sampled caller (the
+    /// firmware) replaces it.
+    pub fn instantaneous_command(
+        &self,
+        solution: &GameSolution<S>,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+    ) -> Command<S> {
+        if solution.upper.is_none() {
+            return fallback_command(pursuer, evader, &self.limits, None);
+        }
+        Command {
+            pursuer: solution.row.signed(self.limits.pursuer.w_max()),
+            evader: solution.col.signed(self.limits.evader.w_max()),
+        }
+    }
+
     /// Evaluates the law, and where there is a game (`Ok`, `NoValidTangent`) lets `command`
-    /// choose the command from the status, the report and the instantaneous command (+-w_max
-    /// of each chosen circle, or the unsampled fallback). A command outside the backend's range
-    /// turns the evaluation into `OutOfRange` with the safe command.
+    /// choose the command from the status and the report (the instantaneous command is
+    /// [`Law::instantaneous_command`]). A command outside the backend's range turns the
+    /// evaluation into `OutOfRange` with the safe command.
     pub fn evaluate_with(
         &self,
         pursuer: &VehicleState<S>,
         evader: &VehicleState<S>,
         sampling: &Sampling<S>,
-        command: impl FnOnce(Status, &GameReport<S>, Command<S>) -> Command<S>,
+        command: impl FnOnce(Status, &GameReport<S>) -> Command<S>,
     ) -> Evaluation<S> {
         let mut report = GameReport::empty();
         let (status, command) = self.decide_into(pursuer, evader, sampling, &mut report, command);
@@ -338,11 +357,11 @@ impl<S: Scalar> Law<S> {
         evader: &VehicleState<S>,
         sampling: &Sampling<S>,
         report: &mut GameReport<S>,
-        command: impl FnOnce(Status, &GameReport<S>, Command<S>) -> Command<S>,
+        command: impl FnOnce(Status, &GameReport<S>) -> Command<S>,
     ) -> (Status, Command<S>) {
         match self.play(pursuer, evader, sampling, report) {
-            Ok((status, instantaneous)) => {
-                let command = command(status, report, instantaneous);
+            Ok(status) => {
+                let command = command(status, report);
                 if command.pursuer.is_valid() && command.evader.is_valid() {
                     (status, command)
                 } else {
@@ -354,18 +373,16 @@ impl<S: Scalar> Law<S> {
     }
 
     /// The game of one state, written into `report`: the four pairs and the solution. Returns
-    /// the status (`Ok` or `NoValidTangent`) and the instantaneous command, or the status that
-    /// ends the evaluation (`Captured`, or `OutOfRange` where a backend's arithmetic left its
-    /// range).
+    /// the status (`Ok`, or `NoValidTangent` where no pursuer row has a finite value), or the
+    /// status that ends the evaluation (`Captured`, or `OutOfRange` where a backend's arithmetic
+    /// left its range).
     fn play(
         &self,
         pursuer: &VehicleState<S>,
         evader: &VehicleState<S>,
         sampling: &Sampling<S>,
         report: &mut GameReport<S>,
-    ) -> Result<(Status, Command<S>), Status> {
-        let p_lim = &self.limits.pursuer;
-        let e_lim = &self.limits.evader;
+    ) -> Result<Status, Status> {
         let capture_radius = self
             .limits
             .pursuer_radius_times(S::from_f32(CAPTURE_RADIUS_FRACTION));
@@ -391,18 +408,9 @@ impl<S: Scalar> Law<S> {
         let solution = solve_values(values, sampling.previous, sampling.tie_floor);
         report.solution = solution;
         if solution.upper.is_none() {
-            return Ok((
-                Status::NoValidTangent,
-                fallback_command(pursuer, evader, &self.limits, None),
-            ));
+            return Ok(Status::NoValidTangent);
         }
-        Ok((
-            Status::Ok,
-            Command {
-                pursuer: solution.row.signed(p_lim.w_max()),
-                evader: solution.col.signed(e_lim.w_max()),
-            },
-        ))
+        Ok(Status::Ok)
     }
 }
 

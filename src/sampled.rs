@@ -182,15 +182,10 @@ impl<S: Scalar> Guidance<S> {
     ) -> (Status, Command<S>) {
         let sampling = self.sampling;
         let law = self.law;
-        let (status, command) = law.decide_into(
-            pursuer,
-            evader,
-            &sampling,
-            report,
-            |status, report, command| {
-                self.sampled_command(status, report, command, pursuer, evader)
-            },
-        );
+        let (status, command) =
+            law.decide_into(pursuer, evader, &sampling, report, |status, report| {
+                self.sampled_command(status, report, pursuer, evader)
+            });
         if !status.has_game() {
             self.near_field = NearFieldMemory::FRESH;
         }
@@ -204,7 +199,6 @@ impl<S: Scalar> Guidance<S> {
         &mut self,
         status: Status,
         report: &GameReport<S>,
-        instantaneous: Command<S>,
         pursuer: &VehicleState<S>,
         evader: &VehicleState<S>,
     ) -> Command<S> {
@@ -229,8 +223,8 @@ impl<S: Scalar> Guidance<S> {
                         ),
                     },
                     // A finite upper value with an infinite chosen entry cannot happen (the chosen
-                    // row's worst entry is finite); keep the instantaneous command if it ever did.
-                    None => instantaneous,
+                    // row's worst entry is finite); the instantaneous command if it ever did.
+                    None => self.law.instantaneous_command(&s, pursuer, evader),
                 }
             }
             _ => fallback_command(pursuer, evader, &limits, Some(&self.period)),
