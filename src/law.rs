@@ -300,7 +300,7 @@ impl<S: Scalar> Law<S> {
     }
 
     /// Evaluates the law with a caller's arc tolerances and previous choice; the command is the
-    /// instantaneous one (+-w_max of each chosen circle).
+    /// instantaneous one ([`Law::instantaneous_command`]).
     pub fn evaluate_sampled(
         &self,
         pursuer: &VehicleState<S>,
