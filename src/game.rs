@@ -32,8 +32,14 @@ impl<S: Scalar> GameSolution<S> {
     /// tie; an infinite and a finite one do not). Computed where it is asked for: the firmware
     /// never reads it.
     pub fn saddle(&self) -> bool {
+        self.saddle_within(S::zero())
+    }
+
+    /// Whether upper == lower within the tie band or within `floor` seconds (two infinite
+    /// values tie; an infinite and a finite one do not).
+    pub fn saddle_within(&self, floor: S) -> bool {
         match (self.upper, self.lower) {
-            (Some(upper), Some(lower)) => ties(upper, lower),
+            (Some(upper), Some(lower)) => ties_within(upper, lower, floor),
             (None, None) => true,
             _ => false,
         }

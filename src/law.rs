@@ -4,7 +4,7 @@
 //! Commands are curvatures in 1/m (theta_dot = v w); a turn rate in rad/s is v_max w.
 
 use crate::capture::{capture_time, CaptureTime, Variant};
-use crate::game::{solve_values, ties_within, GameSolution, MatrixGame};
+use crate::game::{solve_values, GameSolution, MatrixGame};
 use crate::geometry::{
     CirclePairs, Direction, Limits, Units, ValidTangent, VehicleLimits, VehicleState,
 };
@@ -97,11 +97,10 @@ impl<S: Scalar> GameReport<S> {
     /// realise). Below the theorem's threshold the near-field policy replaces the pursuer's
     /// command where this is false.
     pub fn trusted(&self, floor: S) -> bool {
-        let saddle = match (self.solution.upper, self.solution.lower) {
-            (Some(upper), Some(lower)) => ties_within(upper, lower, floor),
-            _ => false,
-        };
-        saddle && self.chosen_pair().is_some_and(|p| !p.capture.overshoot)
+        // A saddle at a finite value: at infinity there is no prediction to trust.
+        self.solution.upper.is_some()
+            && self.solution.saddle_within(floor)
+            && self.chosen_pair().is_some_and(|p| !p.capture.overshoot)
     }
 
     /// Predicted capture time, seconds: the upper value, the pursuer's min-max guarantee
