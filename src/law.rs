@@ -428,19 +428,13 @@ pub fn fallback_command<S: Scalar>(
     limits: &Limits<S>,
     period: Option<&Period<S>>,
 ) -> Command<S> {
-    let away_x = evader.x + evader.x - pursuer.x;
-    let away_y = evader.y + evader.y - pursuer.y;
+    // One direction for both: from the pursuer toward the evader, which is also the evader's
+    // direction away from the pursuer (one arctangent, not two).
+    let toward_evader = bearing(pursuer, evader.x, evader.y);
+    let away_from_pursuer = (toward_evader + pursuer.theta - evader.theta).wrap_signed();
     Command {
-        pursuer: steer(
-            bearing(pursuer, evader.x, evader.y),
-            &limits.pursuer,
-            period.map(|p| p.pursuer),
-        ),
-        evader: steer(
-            bearing(evader, away_x, away_y),
-            &limits.evader,
-            period.map(|p| p.evader),
-        ),
+        pursuer: steer(toward_evader, &limits.pursuer, period.map(|p| p.pursuer)),
+        evader: steer(away_from_pursuer, &limits.evader, period.map(|p| p.evader)),
     }
 }
 
