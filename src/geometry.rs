@@ -575,10 +575,8 @@ impl<S: Scalar> ValidTangent<S> {
             return None;
         };
         // Direction (L D + k D_perp) / |D|^2; atan2 needs no normalisation.
-        let cos_psi = length * dx + k * dy;
-        let sin_psi = length * dy - k * dx;
         Some(ValidTangent {
-            heading: S::atan2(sin_psi, cos_psi),
+            heading: S::tangent_heading(length, k, dx, dy),
             length,
         })
     }

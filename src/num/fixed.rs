@@ -8,8 +8,8 @@
 //! - r_e / r_p = w_pm / w_em <= 16 and 1/16 <= v_em / v_pm <= 15/16;
 //!
 //! inside it every intermediate of the law stays below 2^17 in magnitude: the largest are
-//! |D|^2 <= 9.0e4, L |D| <= 6.9e4 and capture times within +-2.6e4 (the bounds, term by term, are
-//! in `docs/numeric.md`), and [`crate::Guidance::new`] refuses a control period whose terms would
+//! |D|^2 <= 9.0e4 and capture times within +-2.6e4 (the bounds, term by term, are in
+//! `docs/numeric.md`), and [`crate::Guidance::new`] refuses a control period whose terms would
 //! leave it ([`Scalar::MAX_PERIOD_TERM`]). So `+`, `-` and `*` are not checked at run time: like
 //! Rust's integers they panic on overflow in debug builds (every host test and fuzz run) and wrap
 //! in release builds, where the envelope keeps them from overflowing. Conversions and divisions
@@ -23,6 +23,8 @@
 //!   degree 5 and 4 in Q15);
 //! - [`Scalar::atan2`]: absolute error <= 3e-4 rad (octant reduction, the ratio to within two
 //!   units of 2^-15, atan interpolated in a table of 64 steps, within 4.8e-5 rad on [0, 1]);
+//! - [`Scalar::tangent_heading`]: absolute error <= 3e-4 rad (the operands scaled alike to 16
+//!   bits, then [`Scalar::atan2`]);
 //! - [`Scalar::sqrt`]: error <= 2^-14 + 2^-15 relative (the integer square root of the value
 //!   shifted into 32 bits, to within one, by Newton steps from a table).
 
@@ -451,6 +453,30 @@ impl Scalar for Fixed {
         } else {
             Fixed(a)
         }
+    }
+    // The four scaled alike so that |d_x|, |d_y| < 2^15 (by compares, as in `ratio_q15`), each
+    // rounded: then L, |k| <= |D| < 2^15.5, each product is one 32-bit product below 2^30.5,
+    // halved before the sum. A scaled direction is within 1.5 / |D| rad (|D| >= 2^14 scaled) of
+    // the exact one; unscaled (|D| below about 2 r_p) the operands are exact.
+    #[inline(always)]
+    fn tangent_heading(length: Self, k: Self, dx: Self, dy: Self) -> Self {
+        let m = dx.0.unsigned_abs() | dy.0.unsigned_abs();
+        let mut shift = 0;
+        if m >= 1 << 18 {
+            shift = 4;
+        }
+        if m >> shift >= 1 << 16 {
+            shift += 2;
+        }
+        if m >> shift >= 1 << 15 {
+            shift += 1;
+        }
+        let half = (1 << shift) >> 1;
+        let scaled = |v: Self| (v.0 + half) >> shift;
+        let (l, k, dx, dy) = (scaled(length), scaled(k), scaled(dx), scaled(dy));
+        let cos_psi = ((l * dx) >> 1) + ((k * dy) >> 1);
+        let sin_psi = ((l * dy) >> 1) - ((k * dx) >> 1);
+        Self::atan2(Fixed(sin_psi), Fixed(cos_psi))
     }
     // Inlined: the law's headings arrive reduced ([`crate::Limits::states`]), and one comparison
     // in the caller is a tenth of a call.

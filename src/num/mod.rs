@@ -79,6 +79,13 @@ pub trait Scalar:
     fn sin_cos(self) -> (Self, Self);
     /// Angle of the vector `(x, y)` in radians, in (-pi, pi]; 0 for the zero vector.
     fn atan2(y: Self, x: Self) -> Self;
+    /// Angle (radians, in (-pi, pi]) of Algorithm 1's tangent direction L D + k D_perp =
+    /// (L d_x + k d_y, L d_y - k d_x), for L, |k| <= |D| (a valid tangent). Only the direction
+    /// counts, so a backend may scale the four alike before its products.
+    #[inline(always)]
+    fn tangent_heading(length: Self, k: Self, dx: Self, dy: Self) -> Self {
+        Self::atan2(length * dy - k * dx, length * dx + k * dy)
+    }
     /// The angle reduced to [0, 2 pi).
     fn wrap_positive(self) -> Self;
     /// The angle reduced to [-pi, pi] (the law's headings: one reduction per heading, so that a
