@@ -211,6 +211,27 @@ const RECIPROCAL: [u32; 16] = [
     36_792, 35_545, 34_380, 33_288,
 ];
 
+/// The smallest right shift that brings `m` below 2^`bits`, for m < 2^(bits + 15): by four
+/// compares of a running shift (8, 4, 2, 1), as a count of leading zeros is a library call on a
+/// Cortex-M0.
+#[inline(always)]
+fn shift_below(m: u32, bits: u32) -> u32 {
+    let mut shift = 0;
+    if m >= 1 << (bits + 7) {
+        shift = 8;
+    }
+    if m >> shift >= 1 << (bits + 3) {
+        shift += 4;
+    }
+    if m >> shift >= 1 << (bits + 1) {
+        shift += 2;
+    }
+    if m >> shift >= 1 << bits {
+        shift += 1;
+    }
+    shift
+}
+
 /// low 2^15 / high for 0 <= low <= high, high > 0 (0 for high = 0): the ratio in Q15, at most
 /// 2^15, within two units of the exact quotient (test `ratio_is_within_two_units_of_the_quotient`).
 /// Both shifted alike so that high is in [2^16, 2^17) (by compares: a count of leading zeros is
@@ -226,19 +247,7 @@ pub fn ratio_q15(low: u32, high: u32) -> u32 {
         (h, l) = (h << 16, l << 16);
     }
     // One running shift for both, applied once.
-    let mut shift = 0;
-    if h >= 1 << 24 {
-        shift = 8;
-    }
-    if h >> shift >= 1 << 20 {
-        shift += 4;
-    }
-    if h >> shift >= 1 << 18 {
-        shift += 2;
-    }
-    if h >> shift >= 1 << 17 {
-        shift += 1;
-    }
+    let shift = shift_below(h, 17);
     (h, l) = (h >> shift, l >> shift);
     // r = 2^31 / (h / 2), within one part in 2^15 after two steps; every product below 2^32.
     let half = h >> 1;
@@ -454,23 +463,13 @@ impl Scalar for Fixed {
             Fixed(a)
         }
     }
-    // The four scaled alike so that |d_x|, |d_y| < 2^15 (by compares, as in `ratio_q15`), each
-    // rounded: then L, |k| <= |D| < 2^15.5, each product is one 32-bit product below 2^30.5,
+    // The four scaled alike so that |d_x|, |d_y| < 2^15 (`shift_below`; below 2^22 in the
+    // envelope), each rounded: then L, |k| <= |D| < 2^15.5, each product is one 32-bit product below 2^30.5,
     // halved before the sum. A scaled direction is within 1.5 / |D| rad (|D| >= 2^14 scaled) of
     // the exact one; unscaled (|D| below about 2 r_p) the operands are exact.
     #[inline(always)]
     fn tangent_heading(length: Self, k: Self, dx: Self, dy: Self) -> Self {
-        let m = dx.0.unsigned_abs() | dy.0.unsigned_abs();
-        let mut shift = 0;
-        if m >= 1 << 18 {
-            shift = 4;
-        }
-        if m >> shift >= 1 << 16 {
-            shift += 2;
-        }
-        if m >> shift >= 1 << 15 {
-            shift += 1;
-        }
+        let shift = shift_below(dx.0.unsigned_abs() | dy.0.unsigned_abs(), 15);
         let half = (1 << shift) >> 1;
         let scaled = |v: Self| (v.0 + half) >> shift;
         let (l, k, dx, dy) = (scaled(length), scaled(k), scaled(dx), scaled(dy));
