@@ -574,7 +574,7 @@ impl<S: Scalar> ValidTangent<S> {
         } else {
             return None;
         };
-        // Direction (L D + k D_perp) / |D|^2; atan2 needs no normalisation.
+        // The heading of (L D + k D_perp) / |D|^2, which needs no normalisation.
         Some(ValidTangent {
             heading: S::tangent_heading(length, k, dx, dy),
             length,

@@ -464,9 +464,10 @@ impl Scalar for Fixed {
         }
     }
     // The four scaled alike so that |d_x|, |d_y| < 2^15 (`shift_below`; below 2^22 in the
-    // envelope), each rounded: then L, |k| <= |D| < 2^15.5, each product is one 32-bit product below 2^30.5,
-    // halved before the sum. A scaled direction is within 1.5 / |D| rad (|D| >= 2^14 scaled) of
-    // the exact one; unscaled (|D| below about 2 r_p) the operands are exact.
+    // envelope), each rounded: then L, |k| <= |D| < 2^15.5, and each product is one 32-bit
+    // product below 2^30.5, halved before the sum. A scaled direction is within about 1.5 / |D|
+    // rad (|D| >= 2^14 once scaled) of the exact one; unscaled (|D| below about 2 r_p), the
+    // operands are exact.
     #[inline(always)]
     fn tangent_heading(length: Self, k: Self, dx: Self, dy: Self) -> Self {
         let shift = shift_below(dx.0.unsigned_abs() | dy.0.unsigned_abs(), 15);
