@@ -109,6 +109,13 @@ pub fn advance(state: [f64; 3], v: f64, w: f64, t: f64) -> [f64; 3] {
     ]
 }
 
+/// The smallest angle (radians, in [0, pi]) between two headings: how far `got` is from `want`
+/// round the circle, so that -pi and pi are 0 apart.
+pub fn angle_error(got: f64, want: f64) -> f64 {
+    wrap_pi(got - want).abs()
+}
+
+/// An angle reduced to (-pi, pi], radians.
 fn wrap_pi(theta: f64) -> f64 {
     let t = theta.rem_euclid(std::f64::consts::TAU);
     if t > std::f64::consts::PI {

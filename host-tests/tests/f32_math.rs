@@ -1,6 +1,7 @@
 //! The f32 backend's own functions against f64, over the law's envelope, with the bounds stated
 //! in `src/num/f32_math.rs`.
 
+use host_tests::sim::angle_error;
 use twocars::num::f32_math::{atan2, floor, sin_cos, sqrt, wrap_signed};
 
 /// Evenly spaced f32 samples of [lo, hi].
@@ -38,11 +39,7 @@ fn atan2_within_3e_7_in_every_direction() {
             let (x, y) = ((r * angle.cos()) as f32, (r * angle.sin()) as f32);
             let want = f64::from(y).atan2(f64::from(x));
             let got = f64::from(atan2(y, x));
-            let mut err = (got - want).abs();
-            if err > std::f64::consts::PI {
-                err = std::f64::consts::TAU - err; // -pi vs pi
-            }
-            worst = worst.max(err);
+            worst = worst.max(angle_error(got, want));
         }
     }
     println!("atan2: worst absolute error {worst:.2e} rad");

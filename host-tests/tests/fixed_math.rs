@@ -2,6 +2,7 @@
 //! bounds stated in `src/num/fixed.rs`; its products exact; its invalid value from conversions and
 //! divisions; overflow of `+`, `-` and `*` a panic in debug builds, as for Rust's integers.
 
+use host_tests::sim::angle_error;
 use twocars::num::fixed::{ratio_q15, Fixed};
 use twocars::Scalar;
 
@@ -40,11 +41,7 @@ fn atan2_within_3e_4_rad_for_every_direction_and_magnitude() {
             );
             let want = f64::from(y).atan2(f64::from(x));
             let got = Fixed::atan2(fixed(y), fixed(x)).to_f64();
-            let mut err = (got - want).abs();
-            if err > std::f64::consts::PI {
-                err = std::f64::consts::TAU - err; // -pi vs pi
-            }
-            worst = worst.max(err);
+            worst = worst.max(angle_error(got, want));
         }
     }
     println!("fixed atan2: worst absolute error {worst:.2e} rad");
@@ -69,11 +66,7 @@ fn tangent_heading_within_the_atan2_bound_at_every_scale() {
                 let want = (l * dy_f - k_f * dx_f).atan2(l * dx_f + k_f * dy_f);
                 let got =
                     Fixed::tangent_heading(fixed(length), fixed(k), fixed(dx), fixed(dy)).to_f64();
-                let mut err = (got - want).abs();
-                if err > std::f64::consts::PI {
-                    err = std::f64::consts::TAU - err; // -pi vs pi
-                }
-                worst = worst.max(err);
+                worst = worst.max(angle_error(got, want));
             }
         }
     }
