@@ -19,8 +19,8 @@
 //!
 //! Resolution 2^-14 = 6.1e-5 (r_p, radians, r_p / v_pm). Error bounds, checked against f64 by
 //! `cargo test -p host-tests --test fixed_math`:
-//! - [`Scalar::sin_cos`]: absolute error <= 2e-4 (quarter-wave reduction, fitted polynomials of
-//!   degree 5 and 4 in Q15);
+//! - [`Scalar::sin_cos`]: absolute error <= 2e-4 (the angle as a binary angle, one turn = 2^32,
+//!   so that a wrapping product reduces it; a quarter-wave table of 128 steps interpolated);
 //! - [`Scalar::atan2`]: absolute error <= 3e-4 rad (octant reduction, the ratio to within two
 //!   units of 2^-15, atan interpolated in a table of 64 steps, within 4.8e-5 rad on [0, 1]);
 //! - [`Scalar::tangent_heading`]: absolute error <= 3e-4 rad (the operands scaled alike to 16
@@ -39,15 +39,10 @@ const ONE: i32 = 1 << FRAC;
 /// The invalid value: a conversion out of range, or an overflowing or zero division. Negation,
 /// division, square root, sine, cosine and atan2 propagate it.
 const INVALID: i32 = i32::MIN;
-/// pi / 2 in Q30 minus its Q14 value shifted to Q30: the correction that keeps the quadrant
-/// reduction of large angles accurate with 32-bit arithmetic only.
-const FRAC_PI_2_Q30_REST: i32 = 1_686_629_713 - (FRAC_PI_2_Q14 << 16);
-/// pi / 4, pi / 2, pi and 2 pi in Q14.
-const FRAC_PI_4_Q14: i32 = 12_868;
-const FRAC_PI_2_Q14: i32 = 25_736;
+/// pi and 2 pi in Q14.
 const PI_Q14: i32 = 51_472;
 const TAU_Q14: i32 = 102_944;
-/// pi / 2 and pi in Q15 (the internal precision of the polynomials).
+/// pi / 2 and pi in Q15 (the internal precision of `atan2`).
 const FRAC_PI_2_Q15: i32 = 51_472;
 const PI_Q15: i32 = 102_944;
 
@@ -140,22 +135,51 @@ impl Div for Fixed {
     }
 }
 
-/// Product of two Q15 numbers whose product fits an `i32`, rounded.
-fn mul_q15(a: i32, b: i32) -> i32 {
-    a.wrapping_mul(b).wrapping_add(1 << 14) >> 15
+/// sin(i pi / 256) in Q15 for i = 0..=128, rounded: a quarter wave in 128 steps, which
+/// [`quarter_sine`] interpolates.
+const SINE_Q15: [u16; 129] = [
+    0, 402, 804, 1206, 1608, 2009, 2411, 2811, 3212, 3612, 4011, 4410, 4808, 5205, 5602, 5998,
+    6393, 6787, 7180, 7571, 7962, 8351, 8740, 9127, 9512, 9896, 10_279, 10_660, 11_039, 11_417,
+    11_793, 12_167, 12_540, 12_910, 13_279, 13_646, 14_010, 14_373, 14_733, 15_091, 15_447, 15_800,
+    16_151, 16_500, 16_846, 17_190, 17_531, 17_869, 18_205, 18_538, 18_868, 19_195, 19_520, 19_841,
+    20_160, 20_475, 20_788, 21_097, 21_403, 21_706, 22_006, 22_302, 22_595, 22_884, 23_170, 23_453,
+    23_732, 24_008, 24_279, 24_548, 24_812, 25_073, 25_330, 25_583, 25_833, 26_078, 26_320, 26_557,
+    26_791, 27_020, 27_246, 27_467, 27_684, 27_897, 28_106, 28_311, 28_511, 28_707, 28_899, 29_086,
+    29_269, 29_448, 29_622, 29_792, 29_957, 30_118, 30_274, 30_425, 30_572, 30_715, 30_853, 30_986,
+    31_114, 31_238, 31_357, 31_471, 31_581, 31_686, 31_786, 31_881, 31_972, 32_058, 32_138, 32_214,
+    32_286, 32_352, 32_413, 32_470, 32_522, 32_568, 32_610, 32_647, 32_679, 32_706, 32_729, 32_746,
+    32_758, 32_766, 32_768,
+];
+
+/// One raw unit of angle, 2^-14 rad, in binary-angle units (one turn = 2^32): 2^18 / (2 pi) =
+/// 41,721.513, its integer part and its fraction in Q15.
+const BINARY_ANGLE_PER_RAW: u32 = 41_721;
+const BINARY_ANGLE_PER_RAW_FRAC_Q15: u32 = 16_823;
+
+/// The angle `raw` / 2^14 rad as a binary angle, turns times 2^32 modulo one turn: the wrapping
+/// product is the reduction, exact but for the constant's rounding (2^-16 units per raw unit,
+/// 4.8e-5 rad at the largest raw value). With raw = h 2^15 + l (l in [0, 2^15)), the fraction's
+/// product raw f / 2^15 is h f + l f / 2^15, each in 32 bits.
+fn binary_angle(raw: i32) -> u32 {
+    let high = (raw >> 15) as u32;
+    let low = raw as u32 & 0x7FFF;
+    (raw as u32)
+        .wrapping_mul(BINARY_ANGLE_PER_RAW)
+        .wrapping_add(high.wrapping_mul(BINARY_ANGLE_PER_RAW_FRAC_Q15))
+        .wrapping_add((low * BINARY_ANGLE_PER_RAW_FRAC_Q15 + (1 << 14)) >> 15)
 }
 
-/// sin and cos of r in [-pi/4, pi/4], both in Q15 (r in Q15): r (1 - a z + b z^2) and
-/// 1 - c z + d z^2 with z = r^2. The coefficients are a least-squares fit on [-pi/4, pi/4] moved
-/// by a unit or two of 2^-15 to the smallest largest error after rounding to Q14: within 6.1e-5
-/// and 5.9e-5 of sin and cos there (Taylor polynomials to degree 7 and 6: 6.1e-5 and 5.4e-5; the
-/// half unit of Q14, 3.1e-5, dominates).
-fn sin_cos_reduced_q15(r: i32) -> (i32, i32) {
-    // a = 0.16666, b = 0.0082092, c = 0.49985, d = 0.040558 in Q15.
-    let z = mul_q15(r, r);
-    let sin = mul_q15(r, 32_768 - mul_q15(z, 5_461 - mul_q15(z, 269)));
-    let cos = 32_768 - mul_q15(z, 16_379 - mul_q15(z, 1_329));
-    (sin, cos)
+/// The sine of `position` / 2^30 quarter turns (`position` < 2^30) in raw Q14: [`SINE_Q15`]
+/// interpolated linearly with a 16-bit fraction and rounded once (within 1.9e-5 of the sine
+/// between entries, the entries within 1.5e-5, the rounding 3.1e-5). Inlined: its callers' masks
+/// bound the index.
+#[inline(always)]
+fn quarter_sine(position: u32) -> i32 {
+    let i = (position >> 23) as usize;
+    let fraction = (position >> 7) & 0xFFFF;
+    let (a, b) = (u32::from(SINE_Q15[i]), u32::from(SINE_Q15[i + 1]));
+    // The sine rises over the quarter: b >= a, and a 2^16 + (b - a) 2^16 + 2^16 < 2^32.
+    (((a << 16) + (b - a) * fraction + (1 << 16)) >> 17) as i32
 }
 
 /// Q15 to Q14, rounded.
@@ -181,27 +205,6 @@ fn atan_unit_q15(t: u32) -> i32 {
     let i = (t >> 9) as usize;
     let (a, b) = (i32::from(ATAN_Q15[i]), i32::from(ATAN_Q15[i + 1]));
     a + (((b - a) * (t & 511) as i32 + 256) >> 9)
-}
-
-/// floor(x / (pi/2)) for x in Q14: by three compares within a turn either side of 0 (the law's
-/// headings, reduced to [-pi, pi]; a loop of subtractions here is turned into a division by
-/// the compiler, a library call on a Cortex-M0), by division beyond.
-fn quarter_turns(x: i32) -> i32 {
-    if x.unsigned_abs() >= TAU_Q14 as u32 {
-        return x.div_euclid(FRAC_PI_2_Q14);
-    }
-    // rest in [0, 2 pi) and k its quarter turns below x.
-    let (k, rest) = if x < 0 { (-4, x + TAU_Q14) } else { (0, x) };
-    let (k, rest) = if rest >= PI_Q14 {
-        (k + 2, rest - PI_Q14)
-    } else {
-        (k, rest)
-    };
-    if rest >= FRAC_PI_2_Q14 {
-        k + 1
-    } else {
-        k
-    }
 }
 
 /// 2^20 / (16 + i + 0.5) for i = 0..=15, rounded: 2^31 / h at the middle of each sixteenth of
@@ -426,16 +429,15 @@ impl Scalar for Fixed {
         if self.is_invalid() {
             return (self, self);
         }
-        // k = round(x / (pi/2)); r = x - k pi/2 with pi/2 to Q30 (its Q14 part plus the rest),
-        // so large angles keep their accuracy; all in 32 bits (|k| < 2^17).
-        let Some(shifted) = self.0.checked_add(FRAC_PI_4_Q14) else {
-            return (Fixed(INVALID), Fixed(INVALID));
-        };
-        let k = quarter_turns(shifted);
-        let r = ((self.0 - k * FRAC_PI_2_Q14) << 1) - ((k * FRAC_PI_2_Q30_REST) >> 15);
-        let (s, c) = sin_cos_reduced_q15(r);
-        let (s, c) = (Fixed(q15_to_q14(s)), Fixed(q15_to_q14(c)));
-        match k.rem_euclid(4) {
+        // The quarter turn and the position within it, from the binary angle; the cosine is
+        // the sine of the rest of the quarter, 2^30 - 1 - position (the complement of its 30
+        // bits; one unit short, 2^-30 of a quarter turn).
+        let angle = binary_angle(self.0);
+        let quarter = (1 << 30) - 1;
+        let position = angle & quarter;
+        let s = Fixed(quarter_sine(position));
+        let c = Fixed(quarter_sine(position ^ quarter));
+        match angle >> 30 {
             0 => (s, c),
             1 => (c, -s),
             2 => (-s, -c),
