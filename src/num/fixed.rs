@@ -207,11 +207,20 @@ fn atan_unit_q15(t: u32) -> i32 {
     a + (((b - a) * (t & 511) as i32 + 256) >> 9)
 }
 
-/// 2^20 / (16 + i + 0.5) for i = 0..=15, rounded: 2^31 / h at the middle of each sixteenth of
-/// h in [2^15, 2^16), the start of [`ratio_q15`]'s Newton iteration.
-const RECIPROCAL: [u32; 16] = [
-    63_550, 59_919, 56_680, 53_773, 51_150, 48_771, 46_603, 44_620, 42_799, 41_121, 39_569, 38_130,
-    36_792, 35_545, 34_380, 33_288,
+/// 2^23 / (128 + i + 0.5) for i = 0..=127, rounded: 2^31 / h at the middle of each 128th of
+/// h in [2^15, 2^16), the start of [`ratio_q15`]'s Newton step (within 1 / 514 of it).
+const RECIPROCAL: [u16; 128] = [
+    65_281, 64_777, 64_281, 63_792, 63_310, 62_836, 62_369, 61_909, 61_455, 61_008, 60_568, 60_133,
+    59_705, 59_283, 58_867, 58_457, 58_053, 57_654, 57_260, 56_872, 56_489, 56_111, 55_738, 55_370,
+    55_007, 54_649, 54_295, 53_946, 53_601, 53_261, 52_925, 52_593, 52_265, 51_942, 51_622, 51_306,
+    50_995, 50_686, 50_382, 50_081, 49_784, 49_490, 49_200, 48_913, 48_630, 48_349, 48_072, 47_798,
+    47_528, 47_260, 46_995, 46_733, 46_474, 46_218, 45_965, 45_714, 45_467, 45_222, 44_979, 44_739,
+    44_502, 44_267, 44_035, 43_805, 43_577, 43_352, 43_129, 42_908, 42_690, 42_474, 42_260, 42_048,
+    41_838, 41_631, 41_425, 41_222, 41_020, 40_820, 40_623, 40_427, 40_233, 40_041, 39_851, 39_662,
+    39_476, 39_291, 39_108, 38_926, 38_746, 38_568, 38_392, 38_217, 38_044, 37_872, 37_702, 37_533,
+    37_366, 37_200, 37_036, 36_873, 36_712, 36_552, 36_393, 36_236, 36_080, 35_926, 35_772, 35_620,
+    35_470, 35_320, 35_172, 35_026, 34_880, 34_735, 34_592, 34_450, 34_309, 34_169, 34_031, 33_893,
+    33_757, 33_622, 33_487, 33_354, 33_222, 33_091, 32_961, 32_832,
 ];
 
 /// The smallest right shift that brings `m` below 2^`bits`, for m < 2^(bits + 15): by four
@@ -235,35 +244,32 @@ fn shift_below(m: u32, bits: u32) -> u32 {
     shift
 }
 
-/// low 2^15 / high for 0 <= low <= high, high > 0 (0 for high = 0): the ratio in Q15, at most
-/// 2^15, within two units of the exact quotient (test `ratio_is_within_two_units_of_the_quotient`).
-/// Both shifted alike so that high is in [2^16, 2^17) (by compares: a count of leading zeros is
-/// a library call on a Cortex-M0), then low times a reciprocal of high from a table and two
-/// Newton steps r (2 - h r) (multiplications only: the 32-bit division is a library call of
-/// about 150 instructions).
+/// low 2^15 / high for 0 <= low <= high, high > 0 (the caller, `atan2`, orders them; debug
+/// builds panic otherwise): the ratio in Q15, within two units of the exact quotient (test
+/// `ratio_is_within_two_units_of_the_quotient`) and at most 2^15. Both shifted alike so that
+/// high is in [2^16, 2^17) (by compares: a count of leading zeros is a library call on a
+/// Cortex-M0), then low times a reciprocal of high from a table of 128 and one Newton step
+/// r (2 - h r) (multiplications only: the 32-bit division is a library call of about 150
+/// instructions).
 pub fn ratio_q15(low: u32, high: u32) -> u32 {
-    if high == 0 {
-        return 0;
-    }
-    let (mut h, mut l) = (high, low.min(high));
+    debug_assert!(low <= high && high > 0, "ratio_q15({low}, {high})");
+    let (mut h, mut l) = (high, low);
     if h < 1 << 16 {
         (h, l) = (h << 16, l << 16);
     }
     // One running shift for both, applied once.
     let shift = shift_below(h, 17);
     (h, l) = (h >> shift, l >> shift);
-    // r = 2^31 / (h / 2), within one part in 2^15 after two steps; every product below 2^32.
+    // r = 2^31 / (h / 2), within 1 / 514 from the table and within 2^-15 after one Newton step,
+    // which never rises above 2^31 / (h / 2) (nor does its truncation); every product below 2^32.
     let half = h >> 1;
     let mut r = RECIPROCAL
-        .get(((half >> 11) as usize).saturating_sub(16))
-        .copied()
-        .unwrap_or(1 << 15);
+        .get(((half >> 8) as usize).saturating_sub(128))
+        .map_or(1 << 15, |&r| u32::from(r));
     let error = 0u32.wrapping_sub(half * r);
     r = (r * (error >> 16)) >> 15;
-    let error = 0u32.wrapping_sub(half * r);
-    r = (r * (error >> 16)) >> 15;
-    // (l / 2) r + 2^15 < 2^32 (l / 2 < 2^16, r <= 2^16 - 1 after the bound); rounded.
-    let r = r.min((1 << 16) - 1);
+    // (l / 2) r + 2^15 <= (h / 2) r + 2^15 <= 2^31 + 2^15; rounded. (The bound here lets the
+    // compiler drop the caller's: `atan_unit_q15` reads the ratio's range across the call.)
     (((l >> 1) * r + (1 << 15)) >> 16).min(1 << 15)
 }
 
