@@ -62,14 +62,14 @@ pub fn capture_time<S: Scalar>(
     let per_metre = limits.seconds_per_metre_closed();
     result.value = if t_p > t_e {
         // The evader is on the tangent first and runs v_em (t_p - t_e) ahead along it.
-        t_p + (tangent_length + (t_p - t_e).mul_small(e.v_max())) * per_metre
+        t_p + (tangent_length + (t_p - t_e).mul_small(e.v_max())).mul_nonnegative(per_metre)
     } else {
         // The pursuer is on the tangent first and closes v_pm (t_e - t_p) before the evader leaves.
         let gap = tangent_length - limits.pursuer_run(t_e - t_p);
         result.overshoot = gap < S::zero();
         match (result.overshoot, variant) {
             (true, Variant::Clamped) => t_e,
-            _ => t_e + gap * per_metre,
+            _ => t_e + gap.mul_nonnegative(per_metre),
         }
     };
     result

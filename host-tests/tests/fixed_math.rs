@@ -224,7 +224,7 @@ fn products_and_products_by_small_factors_are_the_exact_product_rounded_half_up(
     let pairs = edges
         .iter()
         .flat_map(|&a| edges.iter().map(move |&b| (a, b)));
-    let (mut checked, mut small) = (0, 0);
+    let (mut checked, mut small, mut nonnegative) = (0, 0, 0);
     for (a, b) in (0..400_000).map(|_| (next(), next())).chain(pairs) {
         let exact = (i64::from(a) * i64::from(b) + (1 << 13)) >> 14;
         // Products that fit, short of the last 2^-7 of the range (the law's stay below 9.0e4,
@@ -246,8 +246,20 @@ fn products_and_products_by_small_factors_are_the_exact_product_rounded_half_up(
             );
             small += 1;
         }
+        // And the form for a factor in [0, 16], its low product unsigned.
+        if (0..=1 << 18).contains(&b) {
+            assert_eq!(
+                fixed(a).mul_nonnegative(fixed(b)),
+                fixed(raw),
+                "{a} mul_nonnegative {b}"
+            );
+            nonnegative += 1;
+        }
     }
-    assert!(checked > 100_000 && small > 50_000, "{checked} {small}");
+    assert!(
+        checked > 100_000 && small > 50_000 && nonnegative > 25_000,
+        "{checked} {small} {nonnegative}"
+    );
 }
 
 /// The normalised backend's units make the pursuer's limits exactly one (the law skips its

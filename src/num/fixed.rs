@@ -207,6 +207,26 @@ fn atan_unit_q15(t: u32) -> i32 {
     a + (((b - a) * (t & 511) as i32 + 256) >> 9)
 }
 
+/// The angle of the raw vector (x, y), raw Q14 radians in (-pi, pi]; 0 for the zero vector: the
+/// octant's angle from the ratio of the smaller component to the larger.
+#[inline(always)]
+fn angle_of(y: i32, x: i32) -> i32 {
+    let (ax, ay) = (x.unsigned_abs(), y.unsigned_abs());
+    if ax == 0 && ay == 0 {
+        return 0;
+    }
+    let (low, high) = if ay <= ax { (ay, ax) } else { (ax, ay) };
+    let atan = atan_unit_q15(ratio_q15(low, high));
+    let a = if ay <= ax { atan } else { FRAC_PI_2_Q15 - atan };
+    let a = if x < 0 { PI_Q15 - a } else { a };
+    let a = q15_to_q14(a);
+    if y < 0 {
+        -a
+    } else {
+        a
+    }
+}
+
 /// 2^23 / (128 + i + 0.5) for i = 0..=127, rounded: 2^31 / h at the middle of each 128th of
 /// h in [2^15, 2^16), the start of [`ratio_q15`]'s Newton step (within 1 / 514 of it).
 const RECIPROCAL: [u16; 128] = [
@@ -419,6 +439,18 @@ impl Scalar for Fixed {
         let (a_high, a_low) = (a >> FRAC, a & (ONE - 1));
         Fixed(a_high * f + ((a_low * f + (1 << (FRAC - 1))) >> FRAC))
     }
+    // As `mul_small`, with a_l f unsigned: below 2^14 2^18 = 2^32 for 0 <= f <= 2^18 raw (16).
+    #[inline(always)]
+    fn mul_nonnegative(self, factor: Self) -> Self {
+        debug_assert!(
+            (0..=16 << FRAC).contains(&factor.0),
+            "mul_nonnegative factor {factor:?}"
+        );
+        let (a, f) = (self.0, factor.0);
+        let (a_high, a_low) = (a >> FRAC, (a & (ONE - 1)) as u32);
+        let low = (a_low * f as u32 + (1 << (FRAC - 1))) >> FRAC;
+        Fixed(a_high * f + low as i32)
+    }
     // Inlined check, out-of-line root: where the caller has tested the value positive (Algorithm
     // 1's L^2 > 0), the check folds away.
     #[inline(always)]
@@ -456,20 +488,7 @@ impl Scalar for Fixed {
         if y.is_invalid() || x.is_invalid() {
             return Fixed(INVALID);
         }
-        let (ax, ay) = (x.0.unsigned_abs(), y.0.unsigned_abs());
-        if ax == 0 && ay == 0 {
-            return Fixed(0);
-        }
-        let (low, high) = if ay <= ax { (ay, ax) } else { (ax, ay) };
-        let atan = atan_unit_q15(ratio_q15(low, high));
-        let a = if ay <= ax { atan } else { FRAC_PI_2_Q15 - atan };
-        let a = if x.0 < 0 { PI_Q15 - a } else { a };
-        let a = q15_to_q14(a);
-        if y.0 < 0 {
-            Fixed(-a)
-        } else {
-            Fixed(a)
-        }
+        Fixed(angle_of(y.0, x.0))
     }
     // The four scaled alike so that |d_x|, |d_y| < 2^15 (`shift_below`; below 2^22 in the
     // envelope), each rounded: then L, |k| <= |D| < 2^15.5, and each product is one 32-bit
@@ -484,7 +503,8 @@ impl Scalar for Fixed {
         let (l, k, dx, dy) = (scaled(length), scaled(k), scaled(dx), scaled(dy));
         let cos_psi = ((l * dx) >> 1) + ((k * dy) >> 1);
         let sin_psi = ((l * dy) >> 1) - ((k * dx) >> 1);
-        Self::atan2(Fixed(sin_psi), Fixed(cos_psi))
+        // Products of 16-bit operands: never the invalid value, nothing to check.
+        Fixed(angle_of(sin_psi, cos_psi))
     }
     // Inlined: the law's headings arrive reduced ([`crate::Limits::states`]), and one comparison
     // in the caller is a tenth of a call.

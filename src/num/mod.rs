@@ -114,6 +114,15 @@ pub trait Scalar:
         self * factor
     }
 
+    /// `self * factor` for a `factor` in [0, 16] in the law's units on a normalised backend: the
+    /// closing time per metre 1 / (v_pm - v_em) (at most 16 where v_em <= 15/16 v_pm). On fixed
+    /// point two integer multiplications, as [`Scalar::mul_small`], the one of the low bits
+    /// unsigned; `*` elsewhere.
+    #[inline(always)]
+    fn mul_nonnegative(self, factor: Self) -> Self {
+        self * factor
+    }
+
     /// Zero.
     fn zero() -> Self {
         Self::from_f32(0.0)
