@@ -49,10 +49,10 @@ impl Direction {
         } else {
             turn
         };
-        if alpha < S::from_f32(S::ARC_RESOLUTION) || alpha > largest {
-            S::zero()
-        } else {
+        if alpha.between(S::from_f32(S::ARC_RESOLUTION), largest) {
             alpha
+        } else {
+            S::zero()
         }
     }
 

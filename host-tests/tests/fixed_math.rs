@@ -141,6 +141,29 @@ fn ratio_is_within_two_units_of_the_quotient() {
     println!("ratio: at most {worst} units from the quotient");
 }
 
+/// The arc test's `between` (one sign test of two differences) is `low <= x <= high`, at the
+/// bounds and across the law's angles.
+#[test]
+fn between_is_low_at_most_x_at_most_high() {
+    let (tau, resolution) = (Fixed::tau().raw(), Fixed::from_f32(1.0e-3).raw());
+    for (low, high) in [
+        (resolution, tau - resolution),
+        (resolution, resolution),
+        (5, -5),
+    ] {
+        for x in (-2 * tau..=2 * tau)
+            .step_by(7)
+            .chain([low - 1, low, high, high + 1])
+        {
+            assert_eq!(
+                fixed(x).between(fixed(low), fixed(high)),
+                low <= x && x <= high,
+                "{low} <= {x} <= {high}"
+            );
+        }
+    }
+}
+
 /// Headings reduce to [-pi, pi] by whole turns of the backend's 2 pi.
 #[test]
 fn wrap_signed_reduces_by_whole_turns_to_within_pi() {

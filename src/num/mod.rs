@@ -159,6 +159,12 @@ pub trait Scalar:
             self
         }
     }
+    /// Whether `low <= self <= high` (false for a NaN): the arc test of
+    /// [`crate::Direction::arc_to`].
+    #[inline(always)]
+    fn between(self, low: Self, high: Self) -> bool {
+        low <= self && self <= high
+    }
 }
 
 impl Scalar for f32 {
@@ -198,6 +204,7 @@ impl Scalar for f32 {
     fn wrap_signed(self) -> Self {
         f32_math::wrap_signed(self)
     }
+
     fn abs(self) -> Self {
         // VABS: one instruction where the default's compare and select are four.
         f32::abs(self)
