@@ -264,7 +264,7 @@ fn shift_below(m: u32, bits: u32) -> u32 {
     shift
 }
 
-/// low 2^15 / high for 0 <= low <= high, high > 0 (the caller, `atan2`, orders them; debug
+/// low 2^15 / high for 0 <= low <= high, high > 0 (its caller, `angle_of`, orders them; debug
 /// builds panic otherwise): the ratio in Q15, within two units of the exact quotient (test
 /// `ratio_is_within_two_units_of_the_quotient`) and at most 2^15. Both shifted alike so that
 /// high is in [2^16, 2^17) (by compares: a count of leading zeros is a library call on a
