@@ -307,8 +307,9 @@ const RSQRT_Q14: [u16; 48] = [
 /// bit-by-bit square root, cost a hundred-odd instructions on a Cortex-M0), then the root
 /// m y / 2^32 and one Newton step on the root. Over every m in [2^30, 2^32) (a throwaway
 /// exhaustive run) it is the largest root whose square is at most m but for 1,688,046 values,
-/// one below, and 6, one above; never further. (An exact correction by integer squares cost 24
-/// instructions a root.)
+/// one below, and 6, one above; never further (the same counts with and without a final bound
+/// of 2^16 - 1, which session 20 dropped: at most 2^16). (An exact correction by integer squares
+/// cost 24 instructions a root.)
 fn isqrt_normalised(m: u32) -> u32 {
     // X = m / 2^32 in Q16; every product below stays under 2^32 (X y^2 is near 1).
     let x = m >> 16;
@@ -321,7 +322,7 @@ fn isqrt_normalised(m: u32) -> u32 {
     let residual = m.wrapping_sub(root * root) as i32;
     // |residual| < 2^22 (the root is within a few units): (residual / 2^6) y < 2^31.
     let step = ((residual >> 6) * y as i32) >> 25;
-    root.wrapping_add_signed(step).min(0xFFFF)
+    root.wrapping_add_signed(step)
 }
 
 /// The raw Q14 square root of the positive raw value `a`. sqrt(a / 2^14) 2^14 = sqrt(a 2^14):
@@ -344,7 +345,7 @@ fn sqrt_of_positive(a: u32) -> i32 {
     if a << shift < 1 << 30 {
         shift += 2;
     }
-    // root < 2^16, so root 2^7 < 2^23: in range.
+    // root <= 2^16, so root 2^7 <= 2^23: in range.
     let root = isqrt_normalised(a << shift);
     ((root << 7) >> (shift / 2)) as i32
 }
