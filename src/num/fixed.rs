@@ -26,7 +26,7 @@
 //! - [`Scalar::tangent_heading`]: absolute error <= 3e-4 rad (the operands scaled alike to 16
 //!   bits, then [`Scalar::atan2`]);
 //! - [`Scalar::sqrt`]: error <= 2^-14 + 2^-15 relative (the integer square root of the value
-//!   shifted into 32 bits, to within one, by Newton steps from a table).
+//!   shifted into 32 bits, to within one, by a Newton step from a table interpolated).
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -293,34 +293,35 @@ pub fn ratio_q15(low: u32, high: u32) -> u32 {
     (((l >> 1) * r + (1 << 15)) >> 16).min(1 << 15)
 }
 
-/// 2^14 / sqrt((i + 0.5) / 64) for i = 16..=63, rounded: 1 / sqrt(X) in Q14 at the middle of each
-/// sixty-fourth of X in [1/4, 1), the start of [`isqrt_normalised`]'s Newton step.
-const RSQRT_Q14: [u16; 48] = [
-    32268, 31332, 30474, 29682, 28949, 28268, 27632, 27038, 26481, 25956, 25462, 24994, 24552,
-    24132, 23733, 23354, 22992, 22646, 22315, 21999, 21695, 21404, 21124, 20855, 20596, 20346,
-    20106, 19873, 19649, 19431, 19221, 19018, 18821, 18630, 18444, 18264, 18090, 17920, 17755,
-    17594, 17438, 17285, 17137, 16992, 16851, 16714, 16579, 16448,
+/// 2^14 / sqrt(i / 64) for i = 16..=64, rounded: 1 / sqrt(X) in Q14 at each sixty-fourth of X
+/// in [1/4, 1], which [`isqrt_normalised`] interpolates.
+const RSQRT_Q14: [u16; 49] = [
+    32768, 31790, 30894, 30070, 29309, 28602, 27945, 27330, 26755, 26214, 25705, 25225, 24770,
+    24339, 23930, 23541, 23170, 22817, 22479, 22155, 21845, 21548, 21263, 20988, 20724, 20470,
+    20225, 19988, 19760, 19539, 19326, 19119, 18919, 18725, 18536, 18354, 18176, 18004, 17837,
+    17674, 17515, 17361, 17211, 17064, 16921, 16782, 16646, 16514, 16384,
 ];
 
-/// The integer square root of m in [2^30, 2^32), to within one: y = 1 / sqrt(m / 2^32) from a
-/// table and one Newton step y (3 - X y^2) / 2 (multiplications only: a division, and the
-/// bit-by-bit square root, cost a hundred-odd instructions on a Cortex-M0), then the root
-/// m y / 2^32 and one Newton step on the root. Over every m in [2^30, 2^32) (a throwaway
-/// exhaustive run) it is the largest root whose square is at most m but for 1,688,046 values,
-/// one below, and 6, one above; never further (the same counts with and without a final bound
-/// of 2^16 - 1, which session 20 dropped: at most 2^16). (An exact correction by integer squares
-/// cost 24 instructions a root.)
+/// The integer square root of m in [2^30, 2^32), to within one: y = 1 / sqrt(m / 2^32)
+/// interpolated in a table (multiplications only: a division, and the bit-by-bit square root,
+/// cost a hundred-odd instructions on a Cortex-M0), then the root m y / 2^32 and one Newton step
+/// on the root. Over every m in [2^30, 2^32) (a throwaway exhaustive run) it is the largest root
+/// whose square is at most m but for 2,576,063 values, one below, and 5, one above; never further.
+/// (Until session 20, y from the table's middle values and a Newton step on it: 1,688,046 below,
+/// 6 above. An exact correction by integer squares cost 24 instructions a root.)
 fn isqrt_normalised(m: u32) -> u32 {
-    // X = m / 2^32 in Q16; every product below stays under 2^32 (X y^2 is near 1).
+    // X = m / 2^32 in Q16; y within 3.7e-4 relative (the interpolation's h^2 / 8 max |y''| at
+    // X = 1/4, 7.3e-4 of y = 2), so the root below is within about a dozen units.
     let x = m >> 16;
-    let mut y = u32::from(RSQRT_Q14[((m >> 26) as usize).saturating_sub(16)]);
-    let y_sq = (y * y) >> 14;
-    let x_y_sq = (x * y_sq) >> 16;
-    y = (y * ((3 << 14) - x_y_sq.min(3 << 14))) >> 15;
-    // sqrt(X) 2^16, within a few units; then r += (m - r^2) / (2 r) with 1 / r = y / 2^30.
+    let i = ((m >> 26) as usize).saturating_sub(16);
+    let fraction = (m >> 10) & 0xFFFF;
+    let (a, b) = (u32::from(RSQRT_Q14[i]), u32::from(RSQRT_Q14[i + 1]));
+    // y falls over the interval: a >= b, and (a - b) 2^16 < 2^26.
+    let y = a - (((a - b) * fraction) >> 16);
+    // sqrt(X) 2^16; then r += (m - r^2) / (2 r) with 1 / r = y / 2^30.
     let root = ((x * y) >> 14).min(0xFFFF);
     let residual = m.wrapping_sub(root * root) as i32;
-    // |residual| < 2^22 (the root is within a few units): (residual / 2^6) y < 2^31.
+    // |residual| < 2^22 (the root is within a dozen units): (residual / 2^6) y < 2^31.
     let step = ((residual >> 6) * y as i32) >> 25;
     root.wrapping_add_signed(step)
 }
