@@ -249,10 +249,10 @@ const BIT_LENGTH: [u8; 64] = [
     6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6, 6,
 ];
 
-/// The number of bits of `v` < 2^18 (0 for 0; beyond, of v mod 2^18): two compares and a lookup
-/// in [`BIT_LENGTH`], as a count of leading zeros is a library call on a Cortex-M0. (A table of
-/// 256 and one compare: 15 instructions an evaluation fewer for 168 B more; of 16 and three
-/// compares: 9 more for 20 B less.)
+/// The number of bits of `v` < 2^18 (0 for 0; beyond 2^18 a wrong count, never a panic): two
+/// compares and a lookup in [`BIT_LENGTH`], as a count of leading zeros is a library call on a
+/// Cortex-M0. (A table of 256 and one compare: 15 instructions an evaluation fewer for 168 B
+/// more; of 16 and three compares: 9 more for 20 B less.)
 #[inline(always)]
 fn bit_length_18(v: u32) -> u32 {
     if v >= 1 << 12 {
