@@ -55,11 +55,7 @@ pub fn ties<S: Scalar>(a: S, b: S) -> bool {
 /// `floor` (seconds): a sampled caller passes its control period, the shortest difference in
 /// capture time it can act on.
 pub fn ties_within<S: Scalar>(a: S, b: S, floor: S) -> bool {
-    let band = a
-        .abs()
-        .max(b.abs())
-        .mul_small(S::from_f32(S::TIE_BAND))
-        .max(floor);
+    let band = a.abs().max(b.abs()).tie_band().max(floor);
     (a - b).abs() <= band
 }
 

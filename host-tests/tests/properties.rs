@@ -365,3 +365,51 @@ fn matrix_game_with_infinite_entries_is_solved_as_defined_on_every_backend() {
     matrix_game_matches_its_definition::<f64>();
     matrix_game_matches_its_definition::<twocars::num::fixed::Fixed>();
 }
+
+/// The contract's tie band on one backend: two values tie only if they differ by at most
+/// `S::TIE_BAND` (at most 1e-4) of the larger magnitude, and do tie when they differ by less than
+/// half of it (less the backend's resolution, `resolution` seconds). Values near each other
+/// across the capture times' range, both signs, compared in f64 as the backend holds them.
+fn tie_band_is_as_documented<S: Scalar>(resolution: f64) {
+    assert!(S::TIE_BAND <= 1.0e-4, "band {}", S::TIE_BAND);
+    let band = f64::from(S::TIE_BAND);
+    let strategy = (
+        prop::sample::select(vec![
+            -2.6e4f64, -3.0, -0.258, 0.3, 0.5, 1.0, 5.657, 100.0, 6.5e3,
+        ]),
+        -3.0 * band..3.0 * band,
+    );
+    seeded_runner(CASES)
+        .run(&strategy, |(a, relative)| {
+            let (a, b) = (
+                S::from_f32(a as f32),
+                S::from_f32((a * (1.0 + relative)) as f32),
+            );
+            let (x, y) = (a.to_f64(), b.to_f64());
+            let (difference, larger) = ((x - y).abs(), x.abs().max(y.abs()));
+            if ties(a, b) {
+                // A thousandth of the band for the f32 subtraction's rounding.
+                assert!(
+                    difference <= band * 1.001 * larger,
+                    "{x} and {y} tie: {:.3e} relative",
+                    difference / larger
+                );
+            } else {
+                assert!(
+                    difference + resolution > 0.5 * band * larger,
+                    "{x} and {y} do not tie: {:.3e} relative",
+                    difference / larger
+                );
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn tie_band_is_as_documented_on_every_backend() {
+    tie_band_is_as_documented::<f32>(0.0);
+    tie_band_is_as_documented::<f64>(0.0);
+    tie_band_is_as_documented::<twocars::num::micro::Micro>(0.0);
+    tie_band_is_as_documented::<twocars::num::fixed::Fixed>(2.0 / 16_384.0);
+}

@@ -378,7 +378,10 @@ impl Scalar for Fixed {
     /// In units of the pursuer's turning radius, relative to the pursuer.
     const MAX_COORDINATE: f32 = 200.0;
     const MAX_HEADING: f32 = 1.0e4;
-    const TIE_BAND: f32 = 1.0e-4;
+    /// 2^-14, 6.1e-5: the band is the larger magnitude's raw value shifted, rounded down, so it
+    /// stays within the contract's 1e-4 at every magnitude (1e-4 itself is 1.6 raw units, which
+    /// rounded to 2 made a band of 1.22e-4).
+    const TIE_BAND: f32 = 1.0 / 16_384.0;
     // Angles carry ~3e-4 rad of error: an arc within 1e-3 of 0 or 2 pi is the tangent.
     const ARC_RESOLUTION: f32 = 1.0e-3;
     const NORMALISED: bool = true;
@@ -459,6 +462,12 @@ impl Scalar for Fixed {
         let (a_high, a_low) = (a >> FRAC, (a & (ONE - 1)) as u32);
         let low = (a_low * f as u32 + (1 << (FRAC - 1))) >> FRAC;
         Fixed(a_high * f + low as i32)
+    }
+    // The raw magnitude shifted by FRAC: 2^-14 of it, rounded down (a product rounds up at half
+    // a unit, which at a magnitude below one time unit is more than 1e-4 of it).
+    #[inline(always)]
+    fn tie_band(self) -> Self {
+        Fixed(self.0 >> FRAC)
     }
     // Inlined check, out-of-line root: where the caller has tested the value positive (Algorithm
     // 1's L^2 > 0), the check folds away.

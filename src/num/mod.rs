@@ -107,11 +107,19 @@ pub trait Scalar:
     /// `self * factor` for a `factor` below 8 in magnitude in the law's units on a normalised
     /// backend: a sine or cosine (or one times r_p = 1), an angle of at most 2 pi (an arc, a
     /// bearing's magnitude), a difference of unit normals or its square (at most 4), a speed
-    /// ratio (the evader's speed, below v_pm = 1), the tie band. On fixed point two integer
+    /// ratio (the evader's speed, below v_pm = 1). On fixed point two integer
     /// multiplications where a product of any two values takes four; `*` elsewhere.
     #[inline(always)]
     fn mul_small(self, factor: Self) -> Self {
         self * factor
+    }
+
+    /// The tie band around a magnitude `self` >= 0 (seconds): `self * TIE_BAND`, never more than
+    /// that on fixed point (the game's ties, [`crate::game::ties_within`]). On fixed point a
+    /// shift; a product elsewhere.
+    #[inline(always)]
+    fn tie_band(self) -> Self {
+        self.mul_small(Self::from_f32(Self::TIE_BAND))
     }
 
     /// `self * factor` for a `factor` in [0, 16] in the law's units on a normalised backend: the
