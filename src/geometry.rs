@@ -272,7 +272,9 @@ impl<S: Scalar> Limits<S> {
     /// # Errors
     /// `NonFiniteInput` for NaN or infinity; `OutOfRange` outside the f32 envelope
     /// (|x|, |y| <= 1e6 m, |theta| <= 1e4 rad) or the backend's (`S::MAX_COORDINATE` in the
-    /// law's frame).
+    /// law's frame), or on a normalised backend where the players are apart by more than the
+    /// capture radius but closer than the backend resolves (fixed point: both offsets below half
+    /// a raw unit, 2^-15 r_p).
     pub fn states(
         &self,
         pursuer: [f32; 3],
@@ -294,10 +296,15 @@ impl<S: Scalar> Limits<S> {
             let turns = crate::num::f32_math::floor(theta * (0.5 / core::f32::consts::PI) + 0.5);
             theta - turns * core::f32::consts::TAU
         };
-        Ok((
-            VehicleState::new(0.0, 0.0, reduce(theta_p))?,
-            VehicleState::new((x_e - x_p) / m, (y_e - y_p) / m, reduce(theta_e))?,
-        ))
+        let (dx, dy) = ((x_e - x_p) / m, (y_e - y_p) / m);
+        let evader = VehicleState::new(dx, dy, reduce(theta_e))?;
+        // Apart by more than the capture radius, yet both offsets round to zero: the backend
+        // would read one point and report a capture that has not happened.
+        let radius = crate::law::CAPTURE_RADIUS_FRACTION;
+        if evader.x == S::zero() && evader.y == S::zero() && dx * dx + dy * dy > radius * radius {
+            return Err(Status::OutOfRange);
+        }
+        Ok((VehicleState::new(0.0, 0.0, reduce(theta_p))?, evader))
     }
 
     /// r_p x, metres for x in radians (or r_p times any factor): x itself on a normalised backend,

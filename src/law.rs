@@ -385,8 +385,14 @@ impl<S: Scalar> Law<S> {
         let capture_radius = self
             .limits
             .pursuer_radius_times(S::from_f32(CAPTURE_RADIUS_FRACTION));
+        // The squared distance (the circles' |Delta|^2 as well), and on a normalised backend
+        // each offset too: on fixed point the radius rounds to zero, and so does the square of
+        // an offset below 2^-7.5 r_p, so only coincident positions are a capture.
         let gap_squared = pursuer.position().distance_squared(evader.position());
-        if gap_squared.is_valid() && gap_squared <= capture_radius * capture_radius {
+        let (dx, dy) = (evader.x - pursuer.x, evader.y - pursuer.y);
+        if gap_squared <= capture_radius * capture_radius
+            && (!S::NORMALISED || (dx.abs() <= capture_radius && dy.abs() <= capture_radius))
+        {
             return Err(Status::Captured);
         }
         let circles = CirclePairs::new(pursuer, evader, &self.limits);

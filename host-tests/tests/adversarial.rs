@@ -274,6 +274,20 @@ fn fixed_point_reports_inputs_outside_its_envelope() {
     );
     // Coincident vehicles, on each other's circles, heading +-pi.
     assert_eq!(fixed(PAPER, origin, origin), Status::Captured);
+    // Apart by more than the capture radius (1e-6 r_p = 5e-7 m) but by less than half a raw
+    // unit on each axis (2^-15 r_p = 1.5e-5 m): the positions would round to one point and read
+    // as captured; the backend cannot play them. Within the capture radius they are captured,
+    // and from one raw unit apart they are played.
+    let still = [0.0, 0.0, 0.3];
+    let near = |dx: f32, dy: f32| [dx, dy, -1.0];
+    assert_eq!(fixed(PAPER, still, near(1.0e-5, 0.0)), Status::OutOfRange);
+    assert_eq!(
+        fixed(PAPER, still, near(-6.0e-6, 6.0e-6)),
+        Status::OutOfRange
+    );
+    assert_eq!(fixed(PAPER, still, near(3.0e-7, -3.0e-7)), Status::Captured);
+    let one_unit = fixed(PAPER, still, near(0.0, 3.1e-5));
+    assert!(PLAYED.contains(&one_unit), "{one_unit:?}");
     assert!(PLAYED.contains(&fixed(PAPER, [0.0, 0.0, PI], [0.0, 1.0, -PI])));
 }
 

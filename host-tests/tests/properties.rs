@@ -413,3 +413,59 @@ fn tie_band_is_as_documented_on_every_backend() {
     tie_band_is_as_documented::<twocars::num::micro::Micro>(0.0);
     tie_band_is_as_documented::<twocars::num::fixed::Fixed>(2.0 / 16_384.0);
 }
+
+/// Near capture, each backend's status follows the contract's capture radius (1e-6 r_p): the
+/// players are `captured` only within it; beyond it they are played, or on fixed point, where
+/// both offsets are below half a raw unit (2^-15 r_p) and would round to one point,
+/// `out_of_range`. Distances log-uniform from 1e-8 r_p to 0.1 r_p, in every direction, at the
+/// paper's limits and a pursuer off the origin.
+fn captured_only_within_the_capture_radius<S: Scalar>() {
+    let r_p = 0.5f64;
+    let strategy = (-8.0f64..-1.0, -3.2f64..3.2, -3.2f32..3.2);
+    seeded_runner(CASES)
+        .run(&strategy, |(log_distance, direction, heading)| {
+            let distance = 10f64.powf(log_distance) * r_p;
+            let pursuer = [3.0f32, -2.0, heading];
+            let evader = [
+                (3.0 + distance * direction.cos()) as f32,
+                (-2.0 + distance * direction.sin()) as f32,
+                -heading,
+            ];
+            // The offsets as the f32 inputs hold them.
+            let (dx, dy) = (
+                f64::from(evader[0]) - f64::from(pursuer[0]),
+                f64::from(evader[1]) - f64::from(pursuer[1]),
+            );
+            let apart = dx.hypot(dy) / r_p;
+            let observation = twocars::Observation {
+                limits: [2.0, 2.0, 1.0, 1.0],
+                pursuer,
+                evader,
+            };
+            let status =
+                twocars::evaluate_observation::<S>(&observation, twocars::Variant::Paper).status;
+            let unresolved = S::NORMALISED && dx.abs().max(dy.abs()) / r_p < 1.0 / 32_768.0;
+            match status {
+                Status::Captured => {
+                    assert!(apart <= 1.0e-6 * 1.001, "captured {apart:e} r_p apart")
+                }
+                Status::OutOfRange => assert!(unresolved, "out of range {apart:e} r_p apart"),
+                Status::Ok | Status::NoValidTangent => {
+                    assert!(
+                        apart > 1.0e-6 * 0.999 && !unresolved,
+                        "played {apart:e} r_p apart"
+                    )
+                }
+                other => panic!("{other:?} {apart:e} r_p apart"),
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn captured_only_within_the_capture_radius_on_every_backend() {
+    captured_only_within_the_capture_radius::<f32>();
+    captured_only_within_the_capture_radius::<f64>();
+    captured_only_within_the_capture_radius::<twocars::num::fixed::Fixed>();
+}
