@@ -318,3 +318,22 @@ fn the_pursuer_is_the_unit_and_its_full_curvature_stays_within_w_pm() {
     // The rounding up is exercised, not only exact reciprocals.
     assert!(rounded_up > 1000, "{rounded_up}");
 }
+
+/// The fixed-point law's headings, reduced from f32 radians when its states are made
+/// (`Limits::states`), are within half a raw unit (2^-15 rad) and the f32 reduction's 3e-7 rad
+/// of the exact angle, at every size the envelope allows (|theta| <= 1e4 rad).
+#[test]
+fn states_reduce_headings_to_within_half_a_raw_unit() {
+    let limits = twocars::Limits::<Fixed>::new(2.0, 2.0, 1.0, 1.0).expect("paper limits");
+    let mut worst = 0.0f64;
+    for i in 0..19_999 {
+        let theta = -9_999.0_f32 + i as f32 + 0.123 * (i % 7) as f32;
+        let (pursuer, _) = limits
+            .states([0.0, 0.0, theta], [3.0, 4.0, 0.0])
+            .expect("in the envelope");
+        let error = angle_error(pursuer.theta.to_f64(), f64::from(theta));
+        worst = worst.max(error);
+    }
+    println!("fixed heading reduction: worst {worst:.2e} rad");
+    assert!(worst <= 1.0 / 32_768.0 + 3.0e-7, "{worst:e}");
+}

@@ -31,16 +31,6 @@ fn round_to_i32(x: f32) -> i32 {
     (x + half) as i32
 }
 
-/// Largest integer <= x, as f32, for |x| < 2^31.
-pub fn floor(x: f32) -> f32 {
-    let t = x as i32 as f32;
-    if t > x {
-        t - 1.0
-    } else {
-        t
-    }
-}
-
 /// The angle x (radians, |x| <= 1e5) reduced to [-pi, pi]: x - 2 pi round(x / 2 pi) with 2 pi in
 /// the three parts of the sine's reduction, so a heading of 1e4 rad loses no more than one of
 /// pi/4 (a single f32 2 pi would be 3e-4 rad off there).
