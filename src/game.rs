@@ -17,9 +17,10 @@ pub struct MatrixGame<S> {
 /// Solution of the matrix game at one instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GameSolution<S> {
-    /// The pursuer's circle: the row reaching the upper value.
+    /// The pursuer's circle: the row reaching the upper value (within the tie band, where rows
+    /// tie).
     pub row: Direction,
-    /// The evader's circle: the column reaching the lower value.
+    /// The evader's circle: the column reaching the lower value (within the tie band).
     pub col: Direction,
     /// min over rows of max over columns, seconds; `None` = infinity.
     pub upper: Option<S>,
@@ -62,7 +63,8 @@ pub fn ties_within<S: Scalar>(a: S, b: S, floor: S) -> bool {
 /// Picks between the two options of one player, values in seconds with [`Scalar::never`] for
 /// infinity. `prefer_smaller` for the pursuer's min, else the evader's max. Tied options go to
 /// `previous` if given, else to A. (Two infinities tie; an infinity and a time do not: the
-/// difference is far beyond the band.)
+/// difference is far beyond the band.) The value is the min (max) itself, whichever option the
+/// tie gave: the choice may reach it only within the band.
 // Inlined into the solver's two calls: on a Cortex-M0 the compiler kept it out of line, and the
 // calls cost more than the second copy's 40 B (M0 2,507 -> 2,469 instructions per evaluation).
 #[inline(always)]
@@ -73,14 +75,16 @@ fn pick<S: Scalar>(
     floor: S,
 ) -> (Direction, S) {
     let [a, c] = options;
+    // A is the min (the max) itself, or equal to C.
+    let a_extreme = (a < c) == prefer_smaller;
     let choice = if ties_within(a, c, floor) {
         previous.unwrap_or(Direction::Anticlockwise)
-    } else if (a < c) == prefer_smaller {
+    } else if a_extreme {
         Direction::Anticlockwise
     } else {
         Direction::Clockwise
     };
-    (choice, options[choice as usize])
+    (choice, if a_extreme { a } else { c })
 }
 
 /// A value of the game in seconds, `None` for [`Scalar::never`] (infinity).

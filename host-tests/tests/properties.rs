@@ -283,10 +283,11 @@ fn f32_law_value_is_within_1e_4_relative_of_the_independent_reference() {
     );
 }
 
-/// The matrix game by its definition, `None` as infinity: the pursuer's min over rows of each
-/// row's max, the evader's max over columns of each column's min; options tied within the band
-/// or `floor` go to `previous`, else A. With it, whether it is a saddle: upper and lower tied
-/// within the band, or both infinite.
+/// The matrix game by its definition, `None` as infinity: upper is the min over rows of each
+/// row's max, lower the max over columns of each column's min (the contract's values, whichever
+/// option a tie chooses); the pursuer's row reaches upper, the evader's column lower, and options
+/// tied within the band or `floor` go to `previous`, else A. With it, whether it is a saddle:
+/// upper and lower tied within the band, or both infinite.
 fn game_by_definition<S: Scalar>(
     entries: [[Option<S>; 2]; 2],
     previous: Option<(Direction, Direction)>,
@@ -306,7 +307,15 @@ fn game_by_definition<S: Scalar>(
             Some(false) => Direction::Clockwise,
             None => previous.unwrap_or(Direction::Anticlockwise),
         };
-        (choice, options[choice as usize])
+        // The extreme itself: with `None` as infinity, the min is the finite one (or either
+        // finite one's min), the max is infinity if either is.
+        let value = match options {
+            [Some(x), Some(y)] if smaller => Some(if y < x { y } else { x }),
+            [Some(x), Some(y)] => Some(if y > x { y } else { x }),
+            [x, y] if smaller => x.or(y),
+            _ => None,
+        };
+        (choice, value)
     };
     let [[aa, ac], [ca, cc]] = entries;
     let worst = |a: Option<S>, b: Option<S>| a.zip(b).map(|(a, b)| a.max(b));
