@@ -39,20 +39,28 @@ fn above_threshold(s: &Scene) -> bool {
 }
 
 /// Capture time to eps, plus the time the pursuer needs to close the last eps (at v_pm - v_em on
-/// a common line), compared with the prediction at t = 0.
+/// a common line), compared with the prediction at t = 0. Each player may choose an option
+/// within the tie band (1e-4 relative, the f32 law's) of its value, so a capture along a tied
+/// row or column may come that much after upper (before lower): a tail chase predicted at 155 s
+/// may end 15 ms late.
 fn check_capture_matches_prediction(r: &SimResult, limits: [f64; 4]) {
     assert_eq!(r.status, SimStatus::Captured, "{r:?}");
+    let band = f64::from(<f32 as twocars::Scalar>::TIE_BAND);
     let closed = r.t_capture + EPS / (limits[0] - limits[2]);
-    let saddle = (r.predicted - r.predicted_lower).abs() <= 1e-4 * r.predicted.abs();
+    let saddle = (r.predicted - r.predicted_lower).abs() <= band * r.predicted.abs();
+    let (low, high) = (
+        r.predicted_lower - FEW_DT - band * r.predicted_lower.abs(),
+        r.predicted + FEW_DT + band * r.predicted.abs(),
+    );
     if saddle {
         assert!(
-            (closed - r.predicted).abs() <= FEW_DT,
+            (closed - r.predicted).abs() <= FEW_DT + band * r.predicted.abs(),
             "captured {closed} vs predicted {}",
             r.predicted
         );
     } else {
         assert!(
-            closed >= r.predicted_lower - FEW_DT && closed <= r.predicted + FEW_DT,
+            closed >= low && closed <= high,
             "captured {closed} outside [{}, {}]",
             r.predicted_lower,
             r.predicted
