@@ -221,15 +221,28 @@ impl<S: Scalar> Limits<S> {
             Units::SI
         };
         // Curvature rounded toward zero, so that +-w_max commands stay within the true limit.
+        // On a normalised backend the radius, the turn time per radian and (below) the closing
+        // time per metre are formed in f32 and rounded once: formed from the rounded curvature
+        // and speed they carried those roundings (fixed point: up to 1e-3 of r_e where w_em is
+        // w_pm / 16, and t_e with it).
         let vehicle = |v: f32, w: f32| {
             let w_max = S::from_f32_toward_zero(w * units.metres);
             let v_max = S::from_f32(v / units.metres_per_second);
-            let radius = S::one() / w_max;
+            let (radius, seconds_per_radian) = if S::NORMALISED {
+                let radius = 1.0 / (w * units.metres);
+                (
+                    S::from_f32(radius),
+                    S::from_f32(radius / (v / units.metres_per_second)),
+                )
+            } else {
+                let radius = S::one() / w_max;
+                (radius, radius / v_max)
+            };
             VehicleLimits {
                 v_max,
                 w_max,
                 radius,
-                seconds_per_radian: radius / v_max,
+                seconds_per_radian,
             }
         };
         let pursuer = if S::NORMALISED {
@@ -247,7 +260,11 @@ impl<S: Scalar> Limits<S> {
             vehicle(v_pm, w_pm)
         };
         let evader = vehicle(v_em, w_em);
-        let seconds_per_metre_closed = S::one() / (pursuer.v_max - evader.v_max);
+        let seconds_per_metre_closed = if S::NORMALISED {
+            S::from_f32(1.0 / (1.0 - v_em / v_pm))
+        } else {
+            S::one() / (pursuer.v_max - evader.v_max)
+        };
         let derived = [
             pursuer.seconds_per_radian,
             evader.seconds_per_radian,
