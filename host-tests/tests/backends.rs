@@ -112,7 +112,7 @@ fn measure<S: Scalar>(
             if near_wrap(&reference, wrap_margin) || near_existence(&s, existence_margin) {
                 return Ok(());
             }
-            let reference_report = reference;
+            let budget = fixed_point_budget(&reference, &s);
             let (m, reference, ours) = (reference.matrix(), reference.solution, ours.solution);
             let mut e = errors.borrow_mut();
             e.compared += 1;
@@ -122,8 +122,7 @@ fn measure<S: Scalar>(
             let error = (units.seconds(got) - want).abs();
             e.values.push(error / want.abs().max(1.0));
             e.seconds.push(error);
-            e.of_budget
-                .push(error / fixed_point_budget(&reference_report, &s));
+            e.of_budget.push(error / budget);
             let rows = m.entries.map(|r| r[0].zip(r[1]).map(|(a, b)| a.max(b)));
             if gap(rows) > clear_gap && ours.row != reference.row {
                 e.disagreements_clear += 1;
@@ -141,6 +140,7 @@ fn measure<S: Scalar>(
 /// Fixed point's angle error in an arc, radians: the tangent's heading within 3e-4 rad
 /// (`fixed_math`), the vehicle's heading rounded to 2^-15 rad.
 const FIXED_ARC_ERROR: f64 = 3.4e-4;
+
 /// The value error (seconds) that fixed point's function bounds allow on a state: each pair's
 /// time to capture moves with its arcs and its tangent's length along Algorithm 2's slopes
 /// (t_p > t_e: 1 + v_em c in t_p, v_em c in t_e; otherwise v_pm c in t_p, v_em c in t_e; c in L,
