@@ -58,6 +58,21 @@ fn centre(v: &RefVehicle, sigma: f64) -> (f64, f64) {
     )
 }
 
+/// Each pair's L^2 = |D|^2 - k^2 (square metres) and |D| (metres), `[pursuer circle][evader
+/// circle]` in (A, C) order: D joins the circles' centres, k = sigma_e r_e - sigma_p r_p. A
+/// pair's directed tangent exists where L^2 >= 0 (and |D| > 0).
+pub fn pair_terms(p: &RefVehicle, e: &RefVehicle) -> [[(f64, f64); 2]; 2] {
+    let sigma = [1.0, -1.0];
+    sigma.map(|sp| {
+        sigma.map(|se| {
+            let (op, oe) = (centre(p, sp), centre(e, se));
+            let d = (oe.0 - op.0).hypot(oe.1 - op.1);
+            let k = se / e.w - sp / p.w;
+            (d * d - k * k, d)
+        })
+    })
+}
+
 fn valid_tangent(
     op: (f64, f64),
     rp: f64,

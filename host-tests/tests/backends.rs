@@ -49,25 +49,11 @@ fn gap(values: [Option<f64>; 2]) -> f64 {
     }
 }
 
-/// Each pair's L^2 = |D|^2 - k^2 (square metres) and |D| (metres), `[pursuer circle][evader
-/// circle]`, from the contract's centres, for the scene as the backends read it (in f32).
+/// Each pair's L^2 and |D| (`reference::pair_terms`) for the scene as the backends read it
+/// (in f32).
 fn pair_geometry(s: &Scene) -> [[(f64, f64); 2]; 2] {
-    let s = s.as_f32_rounded();
-    let [_, w_pm, _, w_em] = s.limits;
-    let (r_p, r_e) = (1.0 / w_pm, 1.0 / w_em);
-    let sigma = [1.0, -1.0];
-    let centre = |[x, y, theta]: [f64; 3], signed_r: f64| {
-        (x - signed_r * theta.sin(), y + signed_r * theta.cos())
-    };
-    [0, 1].map(|i| {
-        [0, 1].map(|j| {
-            let (px, py) = centre(s.pursuer, sigma[i] * r_p);
-            let (ex, ey) = centre(s.evader, sigma[j] * r_e);
-            let d = (ex - px).hypot(ey - py);
-            let k = sigma[j] * r_e - sigma[i] * r_p;
-            (d * d - k * k, d)
-        })
-    })
+    let (p, e) = s.as_f32_rounded().reference();
+    host_tests::reference::pair_terms(&p, &e)
 }
 
 /// Fixed point's error in a pair's L^2, square metres: 2 |D| times the error in D (the unit
