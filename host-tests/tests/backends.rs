@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{paper_scene, scene, seeded_runner, Scene};
+use common::{paper_scene, relative_error, scene, seeded_runner, Scene};
 use proptest::strategy::Strategy;
 use std::cell::RefCell;
 use twocars::num::fixed::Fixed;
@@ -106,7 +106,7 @@ fn measure<S: Scalar>(
                 return Ok(());
             };
             let error = (units.seconds(got) - want).abs();
-            e.values.push(error / want.abs().max(1.0));
+            e.values.push(relative_error(units.seconds(got), want));
             e.seconds.push(error);
             e.of_budget.push(error / budget);
             let rows = m.entries.map(|r| r[0].zip(r[1]).map(|(a, b)| a.max(b)));

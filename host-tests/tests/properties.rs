@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{scene, seeded_runner, Scene};
+use common::{relative_error, scene, seeded_runner, Scene};
 use host_tests::reference;
 use proptest::prelude::*;
 use twocars::{game::ties, Direction, Law, Scalar, Status, VehicleState};
@@ -250,12 +250,6 @@ fn f64_law_agrees_with_the_independent_reference() {
             Ok(())
         })
         .unwrap();
-}
-
-/// A value's error relative to the reference's magnitude, with a floor of 1 s: near zero (the
-/// literal overshoot values of Algorithm 2) a value is a difference of terms seconds long.
-fn relative_error(ours: f64, reference: f64) -> f64 {
-    (ours - reference).abs() / reference.abs().max(1.0)
 }
 
 #[test]

@@ -32,6 +32,12 @@ pub struct Scene {
     pub evader: [f64; 3],
 }
 
+/// A value's error relative to the reference's magnitude, with a floor of 1 s: near zero (the
+/// literal overshoot values of Algorithm 2) a value is a difference of terms seconds long.
+pub fn relative_error(ours: f64, reference: f64) -> f64 {
+    (ours - reference).abs() / reference.abs().max(1.0)
+}
+
 pub fn scene(extent: f64) -> impl Strategy<Value = Scene> {
     (
         0.5f64..3.0,
