@@ -53,8 +53,10 @@ fn atan2_within_3e_4_rad_for_every_direction_and_magnitude() {
 fn tangent_heading_within_the_atan2_bound_at_every_scale() {
     // Valid tangents (L^2 + k^2 = |D|^2) from 0.05 to 210 pursuer radii, the scale at which the
     // operands are shifted included; compared with the exact direction of the same raw inputs.
+    // Powers of two (2, 4, 128 r_p: raw -2^15, -2^16, -2^21 on the axes at i = 0 and 500), where
+    // the shift, taken from one's-complement magnitudes, leaves an operand at 2^15 itself.
     let mut worst: f64 = 0.0;
-    for d in [0.05f64, 1.0, 1.9, 2.1, 10.0, 100.0, 210.0] {
+    for d in [0.05f64, 1.0, 1.9, 2.0, 2.1, 4.0, 10.0, 100.0, 128.0, 210.0] {
         for i in 0..2_000 {
             let angle = -std::f64::consts::PI + std::f64::consts::TAU * (f64::from(i) / 2_000.0);
             for k_over_d in [-0.999, -0.7, -0.2, 0.0, 0.3, 0.8, 0.999] {

@@ -264,6 +264,13 @@ fn bit_length_18(v: u32) -> u32 {
     }
 }
 
+/// |v| for v >= 0, |v| - 1 for v < 0 (v XOR its sign): two instructions where `unsigned_abs`
+/// takes four on a Cortex-M0. Its bit length is |v|'s but at -2^n, one less.
+#[inline(always)]
+fn ones_complement_magnitude(v: i32) -> u32 {
+    (v ^ (v >> 31)) as u32
+}
+
 /// The smallest right shift that brings `m` below 2^`bits`, for m < 2^(bits + 18): the number
 /// of bits of m / 2^`bits`.
 #[inline(always)]
@@ -509,14 +516,18 @@ impl Scalar for Fixed {
         }
         Fixed(angle_of(y.0, x.0))
     }
-    // The four scaled alike so that |d_x|, |d_y| < 2^15 (`shift_below`; below 2^22 in the
-    // envelope), each rounded: then L, |k| <= |D| < 2^15.5, and each product is one 32-bit
-    // product below 2^30.5, halved before the sum. A scaled direction is within about 1.5 / |D|
+    // The four scaled alike so that |d_x|, |d_y| <= 2^15 (`shift_below` of the one's-complement
+    // magnitudes, below 2^22 in the envelope; the rounding may reach 2^15), each rounded: then
+    // L, |k| <= |D| + 1 <= 2^15.5 + 1, and each product is one 32-bit product below 2^30.6,
+    // halved before the sum. A scaled direction is within about 1.5 / |D|
     // rad (|D| >= 2^14 once scaled) of the exact one; unscaled (|D| below about 2 r_p), the
     // operands are exact.
     #[inline(always)]
     fn tangent_heading(length: Self, k: Self, dx: Self, dy: Self) -> Self {
-        let shift = shift_below(dx.0.unsigned_abs() | dy.0.unsigned_abs(), 15);
+        let shift = shift_below(
+            ones_complement_magnitude(dx.0) | ones_complement_magnitude(dy.0),
+            15,
+        );
         let half = (1 << shift) >> 1;
         let scaled = |v: Self| (v.0 + half) >> shift;
         let (l, k, dx, dy) = (scaled(length), scaled(k), scaled(dx), scaled(dy));
