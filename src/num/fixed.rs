@@ -295,10 +295,11 @@ pub fn ratio_q15(low: u32, high: u32) -> u32 {
     (h, l) = (h >> shift, l >> shift);
     // r = 2^31 / (h / 2), within 1 / 514 from the table and within 2^-15 after one Newton step,
     // which never rises above 2^31 / (h / 2) (nor does its truncation); every product below 2^32.
+    // half is in [2^15, 2^16), so its bits 8 to 14 are its 128th less 128: the mask is the index
+    // (a shift pair on a Cortex-M0, where a bounded lookup took a subtraction, a compare and two
+    // branches).
     let half = h >> 1;
-    let mut r = RECIPROCAL
-        .get(((half >> 8) as usize).saturating_sub(128))
-        .map_or(1 << 15, |&r| u32::from(r));
+    let mut r = u32::from(RECIPROCAL[(half >> 8) as usize & 127]);
     let error = 0u32.wrapping_sub(half * r);
     r = (r * (error >> 16)) >> 15;
     // (l / 2) r + 2^15 <= (h / 2) r + 2^15 <= 2^31 + 2^15; rounded. (The bound here lets the
