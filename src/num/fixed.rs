@@ -520,9 +520,8 @@ impl Scalar for Fixed {
     // The four scaled alike so that |d_x|, |d_y| <= 2^15 (`shift_below` of the one's-complement
     // magnitudes, below 2^22 in the envelope; the rounding may reach 2^15), each rounded: then
     // L, |k| <= |D| + 1 <= 2^15.5 + 1, and each product is one 32-bit product below 2^30.6,
-    // halved before the sum. A scaled direction is within about 1.5 / |D|
-    // rad (|D| >= 2^14 once scaled) of the exact one; unscaled (|D| below about 2 r_p), the
-    // operands are exact.
+    // halved before the sum. A scaled direction is within about 1.5 / |D| rad (|D| >= 2^14 once
+    // scaled) of the exact one; unscaled (|D| below about 2 r_p), the operands are exact.
     #[inline(always)]
     fn tangent_heading(length: Self, k: Self, dx: Self, dy: Self) -> Self {
         let shift = shift_below(
