@@ -57,6 +57,7 @@ pub mod geometry;
 pub mod law;
 mod log;
 pub mod message;
+pub mod near_field;
 pub mod num;
 pub mod sampled;
 pub mod status;

@@ -10,11 +10,11 @@
 //! travel, dt v_pm / (v_pm - v_em): a sampled controller knows where the pursuer is along its path
 //! only to within v_pm dt, which on a chase closing at v_pm - v_em is that much capture time.
 
-use crate::geometry::{Limits, TurningCircle, VehicleLimits, VehicleState};
+use crate::geometry::{VehicleLimits, VehicleState};
 use crate::law::{
-    bearing, fallback_command, steer, steer_along, Command, Decision, Evaluation, GameReport, Law,
-    Period, Sampling,
+    fallback_command, steer_along, Command, Decision, Evaluation, GameReport, Law, Period, Sampling,
 };
+use crate::near_field::{NearFieldMemory, NearFieldTerms};
 use crate::num::Scalar;
 use crate::status::Status;
 
@@ -26,7 +26,7 @@ pub enum Policy {
     Paper,
     /// The paper's law while the players are at least the theorem's threshold apart
     /// ([`crate::Limits::theorem_threshold`]); below it the pursuer pursues (module docs).
-    NearField,
+    Flight,
 }
 
 /// A stateful caller of the law (firmware, host simulator): the law, the control period, the
@@ -41,50 +41,6 @@ pub struct Guidance<S> {
     sampling: Sampling<S>,
     near_field: NearFieldMemory<S>,
     near_field_terms: NearFieldTerms<S>,
-}
-
-/// What the near-field policy compares and scales by, fixed by the limits and dt (computed once
-/// in [`Guidance::new`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct NearFieldTerms<S> {
-    /// The theorem's distance threshold, metres ([`crate::Limits::theorem_threshold`]).
-    threshold: S,
-    /// Four periods' travel of the pursuer, 4 v_pm dt, metres: closer, a heading error is a
-    /// miss distance.
-    close: S,
-    /// The pursuer's full turn over one period, v_pm w_pm dt, radians.
-    period_turn: S,
-    /// The lead distance per metre between the players, v_em / (2 v_pm): how far the evader runs
-    /// in half the time the pursuer needs to cover that metre.
-    lead_per_metre: S,
-}
-
-impl<S: Scalar> NearFieldTerms<S> {
-    fn new(limits: &Limits<S>, dt: S) -> Self {
-        let p = &limits.pursuer;
-        NearFieldTerms {
-            threshold: limits.theorem_threshold(),
-            close: S::from_f32(4.0) * p.v_max() * dt,
-            period_turn: p.max_turn_rate() * dt,
-            lead_per_metre: limits.evader.v_max() / (p.v_max() + p.v_max()),
-        }
-    }
-}
-
-/// What the near-field policy remembers: the law's last upper value (seconds) and whether the
-/// pursuer has left the law for lead pursuit.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct NearFieldMemory<S> {
-    last_upper: Option<S>,
-    pursuing: bool,
-}
-
-impl<S> NearFieldMemory<S> {
-    /// Nothing remembered: the law is followed.
-    const FRESH: Self = NearFieldMemory {
-        last_upper: None,
-        pursuing: false,
-    };
 }
 
 /// Why a control period is not usable.
@@ -230,15 +186,15 @@ impl<S: Scalar> Guidance<S> {
             _ => fallback_command(pursuer, evader, &limits, Some(&self.period)),
         };
         match self.policy {
-            Policy::NearField => self.near_field(report, pursuer, evader, &mut command),
+            Policy::Flight => self.near_field(report, pursuer, evader, &mut command),
             Policy::Paper => self.near_field = NearFieldMemory::FRESH,
         }
         command
     }
 
-    /// The near-field policy's part: below the theorem's threshold, the pursuer's command becomes
-    /// lead pursuit once the law has lost its prediction; at or above it the memory is forgotten.
-    /// Out of line: the paper policy never runs it (its 816 B stay off the paper path).
+    /// The flight policy's near field: below the theorem's threshold the pursuer's command may
+    /// become pure pursuit ([`crate::near_field`]); at or above it the memory is forgotten.
+    /// Out of line: the paper policy never runs it.
     #[inline(never)]
     fn near_field(
         &mut self,
@@ -253,70 +209,15 @@ impl<S: Scalar> Guidance<S> {
             self.near_field = NearFieldMemory::FRESH;
             return;
         }
-        if self.near_field_lost(report, distance) {
-            self.near_field.pursuing = true;
-        }
-        if self.near_field.pursuing {
-            command.pursuer = lead_pursuit(
-                pursuer,
-                evader,
-                distance,
-                &self.law.limits.pursuer,
-                &self.near_field_terms,
-                self.period.pursuer,
-            );
-        }
-    }
-}
-
-impl<S: Scalar> Guidance<S> {
-    /// Whether, in the near field, the law has lost its own prediction: on the first near-field
-    /// period its game is not trusted ([`crate::GameReport::trusted`]); later, its upper value
-    /// rose instead of falling by dt (beyond the tie floor), or it has no finite value while the
-    /// players are more than four periods' travel apart (closer, the law's fallback aims at the
-    /// evader, as lead pursuit would). Records the upper value.
-    fn near_field_lost(&mut self, report: &GameReport<S>, distance: S) -> bool {
-        let upper = report.solution.upper;
-        let lost = match (self.near_field.last_upper, upper) {
-            (_, None) => distance >= self.near_field_terms.close,
-            (None, Some(_)) => !report.trusted(self.sampling.tie_floor),
-            (Some(last), Some(now)) => now > last - self.dt + self.sampling.tie_floor,
-        };
-        self.near_field.last_upper = upper;
-        lost
-    }
-}
-
-/// The near-field pursuer where the law's game is not to be trusted: it turns toward a lead point
-/// ahead of the evader, at most what one period needs, unless the evader is inside the pursuer's
-/// turning circle on that side and more than one period's turn off the nose, where turning cannot
-/// bring it ahead: then it goes straight to open the distance. The lead point is where the evader
-/// would be, holding its course, after half the time the pursuer needs to reach the evader's
-/// present position (a full lead overshoots an evader that turns); `distance` is the players',
-/// metres. A bearing within half a period's turn counts as on course (straight), except within
-/// four periods' travel.
-fn lead_pursuit<S: Scalar>(
-    pursuer: &VehicleState<S>,
-    evader: &VehicleState<S>,
-    distance: S,
-    p: &VehicleLimits<S>,
-    terms: &NearFieldTerms<S>,
-    per_radian: S,
-) -> S {
-    let lead = distance.mul_small(terms.lead_per_metre);
-    let (sin, cos) = evader.theta.sin_cos();
-    let to_go = bearing(pursuer, evader.x + lead * cos, evader.y + lead * sin);
-    let [a, c] = TurningCircle::both(pursuer, p);
-    let side = if to_go >= S::zero() { a } else { c };
-    let period_turn = terms.period_turn;
-    // Within a few periods' travel a heading error is a miss distance: aim exactly there.
-    let close = distance < terms.close;
-    let on_course = !close && to_go.abs() + to_go.abs() <= period_turn;
-    let out_of_reach = to_go.abs() > period_turn
-        && side.centre().distance_squared(evader.position()) < side.radius * side.radius;
-    if on_course || out_of_reach {
-        S::zero()
-    } else {
-        steer(to_go, p, Some(per_radian))
+        command.pursuer = self.near_field.pursuer_command(
+            report,
+            pursuer,
+            evader,
+            distance,
+            &self.law.limits.pursuer,
+            terms,
+            (self.dt, self.sampling.tie_floor, self.period.pursuer),
+            command.pursuer,
+        );
     }
 }

@@ -321,7 +321,7 @@ fn configure(message: &Configure) -> Result<Configured, WireError> {
     };
     let policy = match message.policy {
         0 => Policy::Paper,
-        1 => Policy::NearField,
+        1 => Policy::Flight,
         _ => return Err(WireError::InvalidConfig),
     };
     let roles_valid = message.roles != 0 && message.roles & !(ROLE_PURSUER | ROLE_EVADER) == 0;

@@ -1,8 +1,10 @@
 //! Host-side companions of the `twocars` core: an independent f64 reference of the law and the
 //! paper's scenarios. The tests in `tests/` run the same core source the firmware runs.
 
+pub mod adversary;
 pub mod link;
 pub mod reference;
+pub mod rng;
 pub mod scenarios;
 pub mod session;
 pub mod sim;

@@ -3,6 +3,7 @@
 //!
 //! Capture is the first time the distance falls to `eps`, interpolated within its step.
 
+use crate::adversary::{Adversary, Opponent};
 use twocars::{Direction, Guidance, Law, Observation, Policy, Scalar, Status, Variant};
 
 /// Number of sub-samples per step used to find the capture instant and the minimum distance.
@@ -116,7 +117,7 @@ pub fn angle_error(got: f64, want: f64) -> f64 {
 }
 
 /// An angle reduced to (-pi, pi], radians.
-fn wrap_pi(theta: f64) -> f64 {
+pub fn wrap_pi(theta: f64) -> f64 {
     let t = theta.rem_euclid(std::f64::consts::TAU);
     if t > std::f64::consts::PI {
         t - std::f64::consts::TAU
@@ -160,15 +161,33 @@ impl SignFlips {
     }
 }
 
-/// One control period's command: curvatures (1/m) and, where known, the chosen circles.
+/// One control period's command: curvatures (1/m), speeds (m/s) and, where known, the chosen
+/// circles.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepCommand {
     /// Pursuer curvature, 1/m.
     pub pursuer: f64,
     /// Evader curvature, 1/m.
     pub evader: f64,
+    /// Pursuer speed, m/s, in [0, v_pm]; `None` = full speed (the law's players).
+    pub pursuer_speed: Option<f64>,
+    /// Evader speed, m/s, in [0, v_em]; `None` = full speed.
+    pub evader_speed: Option<f64>,
     /// Chosen (pursuer, evader) circles, if the law reported them.
     pub choice: Option<(Direction, Direction)>,
+}
+
+impl StepCommand {
+    /// Both players at full speed on curvatures `pursuer` and `evader` (1/m).
+    pub fn full_speed(pursuer: f64, evader: f64, choice: Option<(Direction, Direction)>) -> Self {
+        StepCommand {
+            pursuer,
+            evader,
+            pursuer_speed: None,
+            evader_speed: None,
+            choice,
+        }
+    }
 }
 
 /// Whether dt, t_max and eps are usable (finite, positive, t_max / dt <= 1e7).
@@ -182,7 +201,8 @@ pub fn valid_params(params: &SimParams) -> bool {
 
 /// Runs the closed loop with any controller (the host law, or the firmware over a serial link):
 /// every dt the controller sees time and both states and returns the command, held for the step;
-/// both vehicles move exactly at full speed. The result's `predicted` fields are left infinite for
+/// both vehicles move exactly, at full speed unless the command says less (clamped to
+/// [0, v_max]). The result's `predicted` fields are left infinite for
 /// the caller. `Err` if the controller fails.
 ///
 /// The controller sees the states in a frame centred on the pursuer's position (axes and
@@ -221,10 +241,15 @@ pub fn closed_loop<E>(
         flips.record(0, command.pursuer, w_pm, near_field);
         flips.record(1, command.evader, w_em, near_field);
         // Find the first sub-sample at or below eps; bisect the crossing within it.
+        let speed = |v: Option<f64>, v_max: f64| v.map_or(v_max, |v| v.clamp(0.0, v_max));
+        let (v_p, v_e) = (
+            speed(command.pursuer_speed, v_pm),
+            speed(command.evader_speed, v_em),
+        );
         let at = |tau: f64| {
             (
-                advance(p, v_pm, command.pursuer, tau),
-                advance(e, v_em, command.evader, tau),
+                advance(p, v_p, command.pursuer, tau),
+                advance(e, v_e, command.evader, tau),
             )
         };
         let gap = |tau: f64| {
@@ -270,6 +295,19 @@ pub fn simulate<S: Scalar>(
     params: &SimParams,
     variant: Variant,
     policy: Policy,
+    record: bool,
+) -> SimResult {
+    simulate_against::<S>(params, variant, policy, None, record)
+}
+
+/// Runs the closed loop with the law on backend `S` playing both players, or, with an
+/// `opponent` (an adversary of [`crate::adversary`] and its seed), the other player replaced by
+/// it. `predicted` and `predicted_lower` are the law's values at t = 0 whoever plays.
+pub fn simulate_against<S: Scalar>(
+    params: &SimParams,
+    variant: Variant,
+    policy: Policy,
+    opponent: Option<(Opponent, u64)>,
     record: bool,
 ) -> SimResult {
     let idle = SimResult::empty(
@@ -322,23 +360,41 @@ pub fn simulate<S: Scalar>(
         limits: observation.limits.map(f64::from),
         ..*params
     };
-    let result = closed_loop(&params, record, |_, p, e| {
+    let mut adversary = match opponent {
+        Some((opponent, seed)) => {
+            match Adversary::new(opponent, params.limits, params.dt, params.eps, seed) {
+                Some(a) => Some(a),
+                None => return idle,
+            }
+        }
+        None => None,
+    };
+    let result = closed_loop(&params, record, |t, p, e| {
         let narrow = |s: [f64; 3]| s.map(|v| v as f32);
-        let command = match scene.limits.states(narrow(p), narrow(e)) {
+        let mut command = match scene.limits.states(narrow(p), narrow(e)) {
             Ok((ps, es)) => {
                 let ev = guidance.step(&ps, &es);
-                StepCommand {
-                    pursuer: units.curvature(ev.command.pursuer),
-                    evader: units.curvature(ev.command.evader),
-                    choice: ev.report.map(|r| (r.solution.row, r.solution.col)),
+                StepCommand::full_speed(
+                    units.curvature(ev.command.pursuer),
+                    units.curvature(ev.command.evader),
+                    ev.report.map(|r| (r.solution.row, r.solution.col)),
+                )
+            }
+            Err(_) => StepCommand::full_speed(0.0, 0.0, None),
+        };
+        if let Some(adversary) = adversary.as_mut() {
+            let (w, v) = adversary.command(t, p, e);
+            match adversary.opponent() {
+                Opponent::Evader(_) => {
+                    command.evader = w;
+                    command.evader_speed = Some(v);
+                }
+                Opponent::Pursuer(_) => {
+                    command.pursuer = w;
+                    command.pursuer_speed = Some(v);
                 }
             }
-            Err(_) => StepCommand {
-                pursuer: 0.0,
-                evader: 0.0,
-                choice: None,
-            },
-        };
+        }
         Ok::<_, core::convert::Infallible>(command)
     });
     match result {

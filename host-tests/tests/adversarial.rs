@@ -339,7 +339,7 @@ fn fixed_point_law_stays_in_range_at_the_corners_of_its_envelope() {
                     let p = [origin[0], origin[1], heading(a)];
                     let e = [origin[0] + offset(i), origin[1] + offset(j), heading(b)];
                     let (p, e) = limits.states(p, e).expect("in the envelope");
-                    for policy in [Policy::Paper, Policy::NearField] {
+                    for policy in [Policy::Paper, Policy::Flight] {
                         let mut g = guidance.with_policy(policy);
                         for _ in 0..2 {
                             let d = g.decide(&p, &e);

@@ -165,7 +165,7 @@ fn the_near_field_policy_does_not_lengthen_runs_the_paper_law_predicted() {
         .run(&far, |s| {
             let p = params(&s, 0.01);
             let paper = simulate::<f32>(&p, Variant::Paper, Policy::Paper, false);
-            let ours = simulate::<f32>(&p, Variant::Paper, Policy::NearField, false);
+            let ours = simulate::<f32>(&p, Variant::Paper, Policy::Flight, false);
             let closed = paper.t_capture + EPS / (s.limits[0] - s.limits[2]);
             let held = paper.status == SimStatus::Captured
                 && (closed - paper.predicted).abs() <= 5.0 * p.dt;
@@ -200,7 +200,7 @@ fn below_the_threshold_the_near_field_policy_shortens_the_worst_capture() {
                 eps: EPS,
             };
             let paper = simulate::<f32>(&p, Variant::Paper, Policy::Paper, false);
-            let ours = simulate::<f32>(&p, Variant::Paper, Policy::NearField, false);
+            let ours = simulate::<f32>(&p, Variant::Paper, Policy::Flight, false);
             assert_eq!(ours.status, SimStatus::Captured, "{p:?}");
             runs.borrow_mut().push((paper, ours));
             Ok(())

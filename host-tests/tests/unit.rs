@@ -203,13 +203,13 @@ fn the_configure_message_selects_the_policy() {
             let p = VehicleState::new(s.pursuer[0], s.pursuer[1], s.pursuer[2]).unwrap();
             let e = VehicleState::new(s.evader[0], s.evader[1], s.evader[2]).unwrap();
             let paper = guidance(twocars::Policy::Paper).step(&p, &e).command;
-            let near = guidance(twocars::Policy::NearField).step(&p, &e).command;
+            let near = guidance(twocars::Policy::Flight).step(&p, &e).command;
             paper.pursuer != near.pursuer
         })
         .expect("a state where the policies differ");
     let p = VehicleState::new(state.pursuer[0], state.pursuer[1], state.pursuer[2]).unwrap();
     let e = VehicleState::new(state.evader[0], state.evader[1], state.evader[2]).unwrap();
-    for (byte, policy) in [(0, twocars::Policy::Paper), (1, twocars::Policy::NearField)] {
+    for (byte, policy) in [(0, twocars::Policy::Paper), (1, twocars::Policy::Flight)] {
         let mut unit = Unit::new();
         let config = twocars::message::Configure {
             policy: byte,

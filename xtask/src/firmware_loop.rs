@@ -52,7 +52,7 @@ pub fn run_case(
         },
         policy: match policy {
             Policy::Paper => 0,
-            Policy::NearField => 1,
+            Policy::Flight => 1,
         },
     };
     *sequence = sequence.wrapping_add(1);
@@ -123,11 +123,7 @@ pub fn run_case(
         } else {
             f64::from(host_command.evader)
         };
-        Ok::<_, String>(StepCommand {
-            pursuer,
-            evader,
-            choice,
-        })
+        Ok::<_, String>(StepCommand::full_speed(pursuer, evader, choice))
     })?;
     run.result = result;
     Ok(run)

@@ -30,8 +30,10 @@ cargo xtask <command> [options]
   fuzz    the libFuzzer targets from their seed corpora  [--seconds S | --runs N] [--write-seeds] [target..]
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
-  sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper|near-field]
+  sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper|flight]
+          [--evader NAME [--adversary-seed N]] (an evader of the adversary suite plays the evader)
   report  closed-loop Monte Carlo, both policies, split at the theorem's threshold  [--runs N] [--seed S] [--dt S]
+          [--limits random|paper|both] [--evader NAME|all] [--pursuer NAME|all]
   plot    SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatter
 ";
 
@@ -52,7 +54,13 @@ fn main() -> ExitCode {
             2
         }
         ("eval", Ok((options, _))) => eval::run(&options),
-        ("sim", Ok((options, _))) => sim::run(&options),
+        ("sim", Ok((options, rest))) => match sim::parse_opponent(&rest) {
+            Ok(opponent) => sim::run(&options, opponent),
+            Err(message) => {
+                eprintln!("xtask sim: {message}");
+                2
+            }
+        },
         ("run", Ok((options, rest))) => run::run(&options, &rest),
         ("test", Ok(_)) => test::run(),
         ("bench", Ok(_)) => bench::run(),

@@ -95,8 +95,9 @@ pub fn parse(args: &[String]) -> Result<(Options, Vec<String>), String> {
             "--policy" => {
                 options.policy = match value()?.as_str() {
                     "paper" => Policy::Paper,
-                    "near-field" => Policy::NearField,
-                    v => return Err(format!("--policy {v}: expected paper or near-field")),
+                    // "near-field": the flight policy's name before issue 25, kept as an alias.
+                    "flight" | "near-field" => Policy::Flight,
+                    v => return Err(format!("--policy {v}: expected paper or flight")),
                 }
             }
             _ => rest.push(arg.clone()),

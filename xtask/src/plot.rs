@@ -446,7 +446,7 @@ fn scatter(
             "predicted capture time at t = 0 (s, log)",
             "simulated capture time (s, log)",
         ),
-        &format!("Closed loop, policy {policy}: {runs} seeded states, random limits, dt = 0.01 s"),
+        &format!("Closed loop, {policy}: {runs} seeded states, random limits, dt = 0.01 s"),
     );
     fig.legend(&[
         "blue: d0 >= threshold; red: d0 < threshold; dashed: simulated = predicted",
@@ -469,9 +469,23 @@ pub fn command() -> i32 {
             written.push(paper_case(&dir, case.name, case.pursuer, case.evader)?);
         }
         written.extend(value_map(&dir)?);
-        let runs = crate::report::monte_carlo(600, 2019, 0.01);
+        let runs =
+            crate::report::monte_carlo(600, 2019, 0.01, crate::report::LimitSet::Random, None);
         written.push(scatter(&dir, &runs, "paper", |r| &r.paper)?);
-        written.push(scatter(&dir, &runs, "near-field", |r| &r.near_field)?);
+        written.push(scatter(&dir, &runs, "flight", |r| &r.flight)?);
+        // One figure per evader of the adversary suite, the flight policy's pursuer.
+        for evader in host_tests::adversary::EvaderKind::ALL {
+            let opponent = Some(host_tests::adversary::Opponent::Evader(evader));
+            let runs = crate::report::monte_carlo(
+                300,
+                2019,
+                0.01,
+                crate::report::LimitSet::Random,
+                opponent,
+            );
+            let name = format!("flight-vs-{}", evader.name());
+            written.push(scatter(&dir, &runs, &name, |r| &r.flight)?);
+        }
         Ok(written)
     })();
     match result {

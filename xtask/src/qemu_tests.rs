@@ -77,7 +77,7 @@ fn closed_loop(elf: &std::path::Path) -> Outcome {
     let mut sequence = 0;
     let mut report = Vec::new();
     // Both policies: Configure's policy byte selects the firmware's, the host runs the same.
-    for policy in [Policy::Paper, Policy::NearField] {
+    for policy in [Policy::Paper, Policy::Flight] {
         for case in paper_cases() {
             let params = SimParams {
                 limits: PAPER_LIMITS,

@@ -1,7 +1,11 @@
-//! `cargo xtask report`: closed-loop Monte Carlo over seeded random initial states and limits,
-//! both policies, split at the theorem's threshold, run in parallel over the cores.
+//! `cargo xtask report`: closed-loop Monte Carlo over seeded random initial states, both
+//! policies, split at the theorem's threshold, against the adversary suite's evaders (our
+//! pursuer) or pursuers (our evader), run in parallel over the cores.
 
-use host_tests::sim::{simulate, theorem_threshold, SimParams, SimResult, SimStatus};
+use host_tests::adversary::{EvaderKind, Opponent, PursuerKind};
+use host_tests::rng::Rng;
+use host_tests::scenarios::PAPER_LIMITS;
+use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
 use rayon::prelude::*;
 use twocars::{Policy, Variant};
 
@@ -9,29 +13,6 @@ use twocars::{Policy, Variant};
 const EPS: f64 = 0.01;
 /// "Equals the prediction" within this many control periods.
 const TOLERANCE_PERIODS: f64 = 5.0;
-
-/// A small seeded generator (SplitMix64): the same states on every machine.
-pub struct Rng(u64);
-
-impl Rng {
-    /// A generator from `seed`.
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [lo, hi).
-    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// Which side of the theorem's threshold a run starts on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -42,34 +23,48 @@ pub enum Regime {
     Near,
 }
 
-/// One seeded initial state with random limits (Assumption 1: v_pm > v_em, w_pm > w_em).
-pub fn random_state(rng: &mut Rng, dt: f64) -> (SimParams, Regime) {
+/// Where the limits of a run come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitSet {
+    /// Seeded random limits (Assumption 1: v_pm > v_em, w_pm > w_em).
+    Random,
+    /// The paper's 2, 2, 1, 1.
+    Paper,
+}
+
+impl LimitSet {
+    fn name(self) -> &'static str {
+        match self {
+            LimitSet::Random => "random",
+            LimitSet::Paper => "paper",
+        }
+    }
+}
+
+/// One seeded initial state: random limits (or the paper's), half the runs within the
+/// threshold, half up to three times it; random bearing and headings.
+pub fn random_state(rng: &mut Rng, dt: f64, limit_set: LimitSet) -> (SimParams, Regime) {
     let v_em = rng.uniform(0.5, 3.0);
     let v_pm = v_em * rng.uniform(1.1, 3.0);
     let w_em = rng.uniform(0.2, 2.0);
     let w_pm = w_em * rng.uniform(1.1, 4.0);
-    let limits = [v_pm, w_pm, v_em, w_em];
+    let limits = match limit_set {
+        LimitSet::Random => [v_pm, w_pm, v_em, w_em],
+        LimitSet::Paper => PAPER_LIMITS,
+    };
     let threshold = theorem_threshold(limits);
-    // Half the runs start within the threshold, half up to 3 times it.
     let near = rng.uniform(0.0, 1.0) < 0.5;
     let d0 = if near {
         rng.uniform(0.05, 1.0) * threshold
     } else {
         rng.uniform(1.0, 3.0) * threshold
     };
-    let bearing = rng.uniform(-std::f64::consts::PI, std::f64::consts::PI);
+    let pi = std::f64::consts::PI;
+    let bearing = rng.uniform(-pi, pi);
     let params = SimParams {
         limits,
-        pursuer: [
-            0.0,
-            0.0,
-            rng.uniform(-std::f64::consts::PI, std::f64::consts::PI),
-        ],
-        evader: [
-            d0 * bearing.cos(),
-            d0 * bearing.sin(),
-            rng.uniform(-std::f64::consts::PI, std::f64::consts::PI),
-        ],
+        pursuer: [0.0, 0.0, rng.uniform(-pi, pi)],
+        evader: [d0 * bearing.cos(), d0 * bearing.sin(), rng.uniform(-pi, pi)],
         dt,
         t_max: 0.0,
         eps: EPS,
@@ -77,16 +72,18 @@ pub fn random_state(rng: &mut Rng, dt: f64) -> (SimParams, Regime) {
     (params, if near { Regime::Near } else { Regime::Far })
 }
 
-/// One state run under both policies.
+/// One state run under both policies against one opponent.
 pub struct Run {
     /// Initial state and run parameters.
     pub params: SimParams,
     /// Regime of the initial state.
     pub regime: Regime,
+    /// The adversary's seed.
+    pub seed: u64,
     /// The paper's law.
     pub paper: SimResult,
-    /// The near-field policy.
-    pub near_field: SimResult,
+    /// The flight policy.
+    pub flight: SimResult,
 }
 
 impl Run {
@@ -96,24 +93,38 @@ impl Run {
         r.t_capture + EPS / (v_pm - v_em) - r.predicted
     }
 
-    /// Whether the run captured when predicted: within the tolerance of the upper value, or
-    /// between lower and upper where the game has no pure saddle.
-    pub fn as_predicted(&self, r: &SimResult) -> bool {
-        let tolerance = TOLERANCE_PERIODS * self.params.dt;
-        let closed = r.t_capture + EPS / (self.params.limits[0] - self.params.limits[2]);
-        r.status == SimStatus::Captured
-            && closed >= r.predicted_lower.min(r.predicted) - tolerance
-            && closed <= r.predicted + tolerance
+    /// Capture time plus eps / (v_pm - v_em) minus the lower value at t = 0 (negative: the
+    /// evader was caught before its guarantee).
+    pub fn margin_over_lower(&self, r: &SimResult) -> f64 {
+        let [v_pm, _, v_em, _] = self.params.limits;
+        r.t_capture + EPS / (v_pm - v_em) - r.predicted_lower
+    }
+
+    /// Late: captured more than the tolerance after the upper value, or never.
+    pub fn late(&self, r: &SimResult) -> bool {
+        self.lateness(r) > TOLERANCE_PERIODS * self.params.dt
     }
 }
 
-/// `runs` seeded states (about half per regime), each simulated under both policies in parallel.
-pub fn monte_carlo(runs: usize, seed: u64, dt: f64) -> Vec<Run> {
+/// `runs` seeded states (about half per regime), each simulated under both policies against
+/// `opponent` (`None`: the law plays both players), in parallel.
+pub fn monte_carlo(
+    runs: usize,
+    seed: u64,
+    dt: f64,
+    limit_set: LimitSet,
+    opponent: Option<Opponent>,
+) -> Vec<Run> {
     let mut rng = Rng::new(seed);
-    let states: Vec<(SimParams, Regime)> = (0..runs).map(|_| random_state(&mut rng, dt)).collect();
+    let states: Vec<(SimParams, Regime, u64)> = (0..runs)
+        .map(|_| {
+            let (p, r) = random_state(&mut rng, dt, limit_set);
+            (p, r, rng.next_u64())
+        })
+        .collect();
     states
         .into_par_iter()
-        .map(|(params, regime)| {
+        .map(|(params, regime, seed)| {
             let predicted = twocars::evaluate_observation::<f32>(
                 &twocars::Observation {
                     limits: params.limits.map(|v| v as f32),
@@ -129,12 +140,21 @@ pub fn monte_carlo(runs: usize, seed: u64, dt: f64) -> Vec<Run> {
                 t_max: 3.0 * predicted.max(1.0) + 30.0,
                 ..params
             };
-            let sim = |policy| simulate::<f32>(&params, Variant::Paper, policy, false);
+            let sim = |policy| {
+                simulate_against::<f32>(
+                    &params,
+                    Variant::Paper,
+                    policy,
+                    opponent.map(|o| (o, seed)),
+                    false,
+                )
+            };
             Run {
                 params,
                 regime,
+                seed,
                 paper: sim(Policy::Paper),
-                near_field: sim(Policy::NearField),
+                flight: sim(Policy::Flight),
             }
         })
         .collect()
@@ -153,7 +173,7 @@ fn sorted(mut v: Vec<f64>) -> Vec<f64> {
 }
 
 /// One state as a `cargo xtask sim` input row.
-fn sim_row(p: &SimParams) -> String {
+pub fn sim_row(p: &SimParams) -> String {
     let f = |v: &[f64]| {
         v.iter()
             .map(|x| format!("{x}"))
@@ -171,164 +191,257 @@ fn sim_row(p: &SimParams) -> String {
     )
 }
 
-fn print_policy(name: &str, runs: &[&Run], pick: fn(&Run) -> &SimResult) {
-    let n = runs.len();
-    let captured = runs
-        .iter()
-        .filter(|r| pick(r).status == SimStatus::Captured)
-        .count();
-    let as_predicted = runs.iter().filter(|r| r.as_predicted(pick(r))).count();
-    let late = sorted(
-        runs.iter()
+/// Figures of one policy on one set of runs.
+pub struct Summary {
+    /// Runs.
+    pub runs: usize,
+    /// Captured within t_max.
+    pub captured: usize,
+    /// Captured more than 5 dt after the upper value at t = 0, or never.
+    pub late: usize,
+    /// Captured more than 5 dt before the lower value at t = 0 (our evader's guarantee broken).
+    pub early: usize,
+    /// Lateness (s) of the captured runs, sorted.
+    pub lateness: Vec<f64>,
+    /// Sign flips per run, sorted.
+    pub flips: Vec<f64>,
+}
+
+impl Summary {
+    /// The figures of `pick`'s results over `runs`.
+    pub fn of(runs: &[&Run], pick: Pick) -> Self {
+        let captured: Vec<&&Run> = runs
+            .iter()
             .filter(|r| pick(r).status == SimStatus::Captured)
-            .map(|r| r.lateness(pick(r)))
-            .collect(),
-    );
-    let capture = sorted(
-        runs.iter()
-            .map(|r| pick(r).t_capture)
-            .filter(|t| t.is_finite())
-            .collect(),
-    );
-    let mean = capture.iter().sum::<f64>() / capture.len().max(1) as f64;
-    let switches = sorted(runs.iter().map(|r| pick(r).switches as f64).collect());
-    let flips = sorted(runs.iter().map(|r| pick(r).sign_flips as f64).collect());
+            .collect();
+        Summary {
+            runs: runs.len(),
+            captured: captured.len(),
+            late: runs.iter().filter(|r| r.late(pick(r))).count(),
+            early: captured
+                .iter()
+                .filter(|r| pick(r).predicted_lower.is_finite())
+                .filter(|r| r.margin_over_lower(pick(r)) < -TOLERANCE_PERIODS * r.params.dt)
+                .count(),
+            lateness: sorted(captured.iter().map(|r| r.lateness(pick(r))).collect()),
+            flips: sorted(runs.iter().map(|r| pick(r).sign_flips as f64).collect()),
+        }
+    }
+}
+
+fn print_row(label: &str, s: &Summary) {
     println!(
-        "| {name} | {n} | {captured} | {as_predicted} ({:.1}%) | {:.3} / {:.3} / {:.3} / {:.3} | {mean:.2} | {:.0} / {:.0} | {:.0} / {:.0} / {:.0} |",
-        100.0 * as_predicted as f64 / n.max(1) as f64,
-        quantile(&late, 0.1),
-        quantile(&late, 0.5),
-        quantile(&late, 0.9),
-        quantile(&late, 1.0),
-        quantile(&switches, 0.5),
-        quantile(&switches, 1.0),
-        quantile(&flips, 0.5),
-        quantile(&flips, 0.9),
-        quantile(&flips, 1.0),
+        "| {label} | {} | {} | {} | {} | {:.3} / {:.3} / {:.3} / {:.3} | {:.0} / {:.0} |",
+        s.runs,
+        s.captured,
+        s.runs - s.captured,
+        s.late,
+        quantile(&s.lateness, 0.5),
+        quantile(&s.lateness, 0.9),
+        quantile(&s.lateness, 0.99),
+        quantile(&s.lateness, 1.0),
+        quantile(&s.flips, 0.9),
+        quantile(&s.flips, 1.0),
     );
 }
 
-/// Prints the report for `runs`.
-pub fn print(runs: &[Run], seed: u64, dt: f64) {
-    println!(
-        "# Closed-loop Monte Carlo: {} seeded states (seed {seed}), random limits, dt = {dt} s, eps = {EPS} m\n",
-        runs.len()
-    );
-    println!(
-        "\"As predicted\": capture time + eps / (v_pm - v_em) within {TOLERANCE_PERIODS} dt of the upper value at t = 0, \
-         or between lower and upper where there is no pure saddle. Lateness = that time minus the upper value.\n"
-    );
-    for (regime, title) in [
-        (
-            Regime::Far,
-            "d0 >= threshold 2 r_e + 2 pi r_e v_pm / v_em (the theorem's regime)",
-        ),
-        (Regime::Near, "d0 < threshold (the near field)"),
+/// Which of a run's results a figure reads.
+pub type Pick = fn(&Run) -> &SimResult;
+
+/// The policies of a run, with their names.
+const POLICIES: [(&str, Pick); 2] = [("paper", |r| &r.paper), ("flight", |r| &r.flight)];
+
+/// Prints the table rows of one evader and limit set, and the flight policy's worst runs.
+fn print_evader(name: &str, limit_set: LimitSet, runs: &[Run], worst: &mut Vec<String>) {
+    for (regime, regime_name) in [
+        (Regime::Far, "d0 >= threshold"),
+        (Regime::Near, "d0 < threshold"),
     ] {
         let set: Vec<&Run> = runs.iter().filter(|r| r.regime == regime).collect();
-        println!("## {title}\n");
-        println!("| policy | runs | captured | as predicted | lateness p10 / median / p90 / max (s) | mean capture (s) | switches median / max | sign flips median / p90 / max |");
-        println!("|---|---|---|---|---|---|---|---|");
-        print_policy("paper", &set, |r| &r.paper);
-        print_policy("near-field", &set, |r| &r.near_field);
-        let longer = set
-            .iter()
-            .filter(|r| r.near_field.t_capture > r.paper.t_capture + TOLERANCE_PERIODS * dt)
-            .count();
-        let shorter = set
-            .iter()
-            .filter(|r| r.near_field.t_capture < r.paper.t_capture - TOLERANCE_PERIODS * dt)
-            .count();
-        let longer_where_paper_held = set
+        for (policy, pick) in POLICIES {
+            let label = format!("{name} | {} | {regime_name} | {policy}", limit_set.name());
+            print_row(&label, &Summary::of(&set, pick));
+        }
+        let mut bad: Vec<&&Run> = set
             .iter()
             .filter(|r| {
-                r.as_predicted(&r.paper)
-                    && r.near_field.t_capture > r.paper.t_capture + TOLERANCE_PERIODS * dt
+                r.flight.status != SimStatus::Captured
+                    || (regime == Regime::Far && r.late(&r.flight))
             })
-            .count();
-        println!(
-            "\nnear-field vs paper on the same states: shorter by > {TOLERANCE_PERIODS} dt in {shorter}, longer in {longer} \
-             ({longer_where_paper_held} of them where the paper's law captured as predicted).\n"
-        );
-        for r in set
-            .iter()
-            .filter(|r| r.near_field.t_capture > r.paper.t_capture + TOLERANCE_PERIODS * dt)
-            .take(5)
-        {
-            println!(
-                "- longer with near-field: predicted {:.3} s, paper {:.3} s, near-field {:.3} s: `{}`",
-                r.paper.predicted,
+            .collect();
+        bad.sort_by(|a, b| b.lateness(&b.flight).total_cmp(&a.lateness(&a.flight)));
+        for r in bad.iter().take(3) {
+            worst.push(format!(
+                "- {name}, {} limits, {regime_name}: predicted {:.3} s, flight {:.3} s, paper {:.3} s: \
+                 `echo '{}' | cargo xtask sim --policy flight --evader {name} --adversary-seed {}`",
+                limit_set.name(),
+                r.flight.predicted,
+                r.flight.t_capture,
                 r.paper.t_capture,
-                r.near_field.t_capture,
-                sim_row(&r.params)
+                sim_row(&r.params),
+                r.seed
+            ));
+        }
+    }
+}
+
+/// Prints our evader's rows against one pursuer of the mirror suite.
+fn print_pursuer(name: &str, limit_set: LimitSet, runs: &[Run]) {
+    for (regime, regime_name) in [
+        (Regime::Far, "d0 >= threshold"),
+        (Regime::Near, "d0 < threshold"),
+    ] {
+        let set: Vec<&Run> = runs.iter().filter(|r| r.regime == regime).collect();
+        for (policy, pick) in POLICIES {
+            let s = Summary::of(&set, pick);
+            let margins = sorted(
+                set.iter()
+                    .filter(|r| pick(r).status == SimStatus::Captured)
+                    .filter(|r| pick(r).predicted_lower.is_finite())
+                    .map(|r| r.margin_over_lower(pick(r)))
+                    .collect(),
+            );
+            println!(
+                "| {name} | {} | {regime_name} | {policy} | {} | {} | {} | {:.3} |",
+                limit_set.name(),
+                s.runs,
+                s.captured,
+                s.early,
+                quantile(&margins, 0.0),
             );
         }
-        println!();
-        for (name, pick) in [
-            (
-                "the paper's law",
-                (|r: &Run| &r.paper) as fn(&Run) -> &SimResult,
-            ),
-            ("the near-field policy", |r: &Run| &r.near_field),
-        ] {
-            let mut latest: Vec<&Run> = set.clone();
-            latest.sort_by(|a, b| b.lateness(pick(b)).total_cmp(&a.lateness(pick(a))));
-            print_rows(&format!("Latest captures under {name}"), &latest);
-            let mut flippiest: Vec<&Run> = set.clone();
-            flippiest.sort_by_key(|r| std::cmp::Reverse(pick(r).sign_flips));
-            print_rows(&format!("Most sign flips under {name}"), &flippiest);
-        }
     }
 }
 
-/// The first three runs of `runs` as `sim` rows, with both policies' outcomes.
-fn print_rows(title: &str, runs: &[&Run]) {
-    println!("{title} (re-run a row with `cargo xtask sim [--policy near-field]`):\n");
-    println!("```\n{}", crate::sim::INPUT_HEADER);
-    for r in runs.iter().take(3) {
-        println!("{}", sim_row(&r.params));
-    }
-    println!("```\n");
-    for r in runs.iter().take(3) {
-        println!(
-            "- predicted {:.3} s; paper captured at {:.3} s ({} flips), near-field at {:.3} s ({} flips)",
-            r.paper.predicted,
-            r.paper.t_capture,
-            r.paper.sign_flips,
-            r.near_field.t_capture,
-            r.near_field.sign_flips
-        );
-    }
-    println!();
+/// Options of `cargo xtask report`.
+struct ReportOptions {
+    runs: usize,
+    seed: u64,
+    dt: f64,
+    limits: Vec<LimitSet>,
+    evaders: Vec<Option<EvaderKind>>,
+    pursuers: Vec<PursuerKind>,
 }
 
-/// `cargo xtask report [--runs N] [--seed S] [--dt S]`.
-pub fn command(args: &[String]) -> i32 {
-    let mut runs = 2000usize;
-    let mut seed = 2019u64;
-    let mut dt = 0.01f64;
+const USAGE: &str = "usage: cargo xtask report [--runs N] [--seed S] [--dt S (<= 0.1)] \
+[--limits random|paper|both] [--evader law|...|all] [--pursuer law|...|all]";
+
+fn parse(args: &[String]) -> Result<ReportOptions, String> {
+    let mut o = ReportOptions {
+        runs: 2000,
+        seed: 2019,
+        dt: 0.01,
+        limits: vec![LimitSet::Random],
+        evaders: vec![None],
+        pursuers: Vec::new(),
+    };
     let mut it = args.iter();
     while let Some(arg) = it.next() {
-        let value = it.next();
-        let ok = match (arg.as_str(), value) {
-            ("--runs", Some(v)) => v.parse().map(|v| runs = v).is_ok(),
-            ("--seed", Some(v)) => v.parse().map(|v| seed = v).is_ok(),
-            ("--dt", Some(v)) => v.parse().map(|v| dt = v).is_ok() && dt > 0.0 && dt <= 0.1,
-            _ => false,
-        };
-        if !ok {
-            eprintln!(
-                "xtask report: usage: cargo xtask report [--runs N] [--seed S] [--dt S (<= 0.1)]"
-            );
-            return 2;
+        let value = it.next().ok_or(format!("{arg} needs a value"))?;
+        let bad = || format!("{arg} {value}: not understood");
+        match arg.as_str() {
+            "--runs" => o.runs = value.parse().map_err(|_| bad())?,
+            "--seed" => o.seed = value.parse().map_err(|_| bad())?,
+            "--dt" => {
+                o.dt = value.parse().map_err(|_| bad())?;
+                if !(o.dt > 0.0 && o.dt <= 0.1) {
+                    return Err(bad());
+                }
+            }
+            "--limits" => {
+                o.limits = match value.as_str() {
+                    "random" => vec![LimitSet::Random],
+                    "paper" => vec![LimitSet::Paper],
+                    "both" => vec![LimitSet::Random, LimitSet::Paper],
+                    _ => return Err(bad()),
+                }
+            }
+            "--evader" => {
+                o.evaders = match value.as_str() {
+                    "all" => EvaderKind::ALL.into_iter().map(Some).collect(),
+                    name => vec![Some(EvaderKind::from_name(name).ok_or_else(bad)?)],
+                }
+            }
+            "--pursuer" => {
+                o.pursuers = match value.as_str() {
+                    "all" => PursuerKind::ALL.to_vec(),
+                    name => vec![PursuerKind::ALL
+                        .into_iter()
+                        .find(|p| p.name() == name)
+                        .ok_or_else(bad)?],
+                }
+            }
+            _ => return Err(format!("unknown option {arg}")),
         }
     }
+    Ok(o)
+}
+
+/// `cargo xtask report [--runs N] [--seed S] [--dt S] [--limits ..] [--evader ..] [--pursuer ..]`.
+pub fn command(args: &[String]) -> i32 {
+    let o = match parse(args) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("xtask report: {e}\n{USAGE}");
+            return 2;
+        }
+    };
     let started = std::time::Instant::now();
-    let results = monte_carlo(runs, seed, dt);
-    print(&results, seed, dt);
     println!(
-        "({} runs x 2 policies in {:.1} s on {} threads)",
-        results.len(),
+        "# Closed-loop Monte Carlo: {} seeded states per table row pair (seed {}), dt = {} s, eps = {EPS} m\n",
+        o.runs, o.seed, o.dt
+    );
+    println!(
+        "Late: capture + eps / (v_pm - v_em) more than {TOLERANCE_PERIODS} dt after the upper value at t = 0 \
+         (the pursuer's guarantee), or never. Lateness = that time minus the upper value, over captured runs.\n"
+    );
+    println!("## Our pursuer against the evaders\n");
+    println!("| evader | limits | regime | policy | runs | captured | never | late | lateness p50 / p90 / p99 / max (s) | sign flips p90 / max |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    let mut worst = Vec::new();
+    let mut total = 0;
+    for &evader in &o.evaders {
+        for &limit_set in &o.limits {
+            let runs = monte_carlo(
+                o.runs,
+                o.seed,
+                o.dt,
+                limit_set,
+                evader.map(Opponent::Evader),
+            );
+            total += runs.len();
+            let name = evader.map_or("law (both players)", EvaderKind::name);
+            print_evader(name, limit_set, &runs, &mut worst);
+        }
+    }
+    println!("\nThe flight policy's runs never captured, or late from beyond the threshold (worst first, up to 3 per row pair):\n");
+    if worst.is_empty() {
+        println!("- none");
+    }
+    for line in &worst {
+        println!("{line}");
+    }
+    if !o.pursuers.is_empty() {
+        println!("\n## Our evader against the pursuers\n");
+        println!("Early: capture + eps / (v_pm - v_em) more than {TOLERANCE_PERIODS} dt before the lower value at t = 0 (the evader's guarantee).\n");
+        println!("| pursuer | limits | regime | our policy | runs | captured | early | least margin over lower (s) |");
+        println!("|---|---|---|---|---|---|---|---|");
+        for &pursuer in &o.pursuers {
+            for &limit_set in &o.limits {
+                let runs = monte_carlo(
+                    o.runs,
+                    o.seed,
+                    o.dt,
+                    limit_set,
+                    Some(Opponent::Pursuer(pursuer)),
+                );
+                total += runs.len();
+                print_pursuer(pursuer.name(), limit_set, &runs);
+            }
+        }
+    }
+    println!(
+        "\n({total} states x 2 policies in {:.1} s on {} threads)",
         started.elapsed().as_secs_f64(),
         rayon::current_num_threads()
     );
@@ -341,8 +454,8 @@ mod tests {
 
     #[test]
     fn the_monte_carlo_is_seeded_and_covers_both_regimes() {
-        let a = monte_carlo(24, 7, 0.01);
-        let b = monte_carlo(24, 7, 0.01);
+        let a = monte_carlo(24, 7, 0.01, LimitSet::Random, None);
+        let b = monte_carlo(24, 7, 0.01, LimitSet::Random, None);
         assert_eq!(a.len(), 24);
         assert!(a.iter().any(|r| r.regime == Regime::Far));
         assert!(a.iter().any(|r| r.regime == Regime::Near));

@@ -204,7 +204,7 @@ pub fn run(options: &Options, args: &[String]) -> i32 {
     let mut sequence = 0u16;
     for case in &o.cases {
         ok &= with_numeric!(options.numeric, S => show_matrix::<S>(&o, case, options));
-        let host = crate::sim::run_one(&params(&o, case), options, false);
+        let host = crate::sim::run_one(&params(&o, case), options, None, false);
         println!(
             "  host simulation (dt = {} s): {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); {} switches, {} sign flips",
             o.dt,

@@ -2,7 +2,8 @@
 
 use crate::csv::{number, parse_fields, run_door};
 use crate::options::{with_numeric, Options};
-use host_tests::sim::{simulate, SimParams, SimResult};
+use host_tests::adversary::{EvaderKind, Opponent};
+use host_tests::sim::{simulate_against, SimParams, SimResult};
 
 /// Input header of `sim`.
 pub const INPUT_HEADER: &str = "v_pm,w_pm,v_em,w_em,x_p,y_p,theta_p,x_e,y_e,theta_e,dt,t_max,eps";
@@ -21,9 +22,40 @@ pub fn params(f: &[f64; 13]) -> SimParams {
     }
 }
 
-/// Runs one set of parameters on the chosen backend.
-pub fn run_one(p: &SimParams, options: &Options, record: bool) -> SimResult {
-    with_numeric!(options.numeric, S => simulate::<S>(p, options.variant, options.policy, record))
+/// Runs one set of parameters on the chosen backend; with an `opponent` (an adversary and its
+/// seed) in place of the law's other player.
+pub fn run_one(
+    p: &SimParams,
+    options: &Options,
+    opponent: Option<(Opponent, u64)>,
+    record: bool,
+) -> SimResult {
+    with_numeric!(options.numeric, S => simulate_against::<S>(p, options.variant, options.policy, opponent, record))
+}
+
+/// `sim`'s own options: `--evader NAME` (an evader of the adversary suite instead of the law's)
+/// and `--adversary-seed N` (its seed, default 1).
+pub fn parse_opponent(args: &[String]) -> Result<Option<(Opponent, u64)>, String> {
+    let (mut evader, mut seed) = (None, 1u64);
+    let mut it = args.iter();
+    while let Some(arg) = it.next() {
+        let value = it.next().ok_or(format!("{arg} needs a value"))?;
+        match arg.as_str() {
+            "--evader" => {
+                evader = Some(EvaderKind::from_name(value).ok_or_else(|| {
+                    let names: Vec<_> = EvaderKind::ALL.iter().map(|e| e.name()).collect();
+                    format!("--evader {value}: expected one of {}", names.join(", "))
+                })?)
+            }
+            "--adversary-seed" => {
+                seed = value
+                    .parse()
+                    .map_err(|_| format!("--adversary-seed {value}: not a number"))?
+            }
+            _ => return Err(format!("unknown option {arg}")),
+        }
+    }
+    Ok(evader.map(|e| (Opponent::Evader(e), seed)))
 }
 
 /// One output row.
@@ -39,14 +71,15 @@ pub fn row(r: &SimResult) -> String {
     )
 }
 
-/// Runs the door: returns the /// Runs the door: returns the process exit code.
-pub fn run(options: &Options) -> i32 {
+/// Runs the door against `opponent` (`None`: the law plays both players): returns the process
+/// exit code.
+pub fn run(options: &Options, opponent: Option<(Opponent, u64)>) -> i32 {
     run_door(
         "sim",
         INPUT_HEADER,
         OUTPUT_HEADER,
         |line| match parse_fields::<13>(line) {
-            Ok(fields) => row(&run_one(&params(&fields), options, false)),
+            Ok(fields) => row(&run_one(&params(&fields), options, opponent, false)),
             Err(e) => format!("{},inf,inf,inf,0,0", e.status()),
         },
     )

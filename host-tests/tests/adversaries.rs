@@ -1,0 +1,290 @@
+//! Closed loop against the adversary suite (`host_tests::adversary`): the flight policy's
+//! pursuer against evaders that do not play the law, and the law's evader against pursuers that
+//! do not. Seeded (TWOCARS_SEED varies the starts); the long runs are `cargo xtask report`.
+
+mod common;
+
+use host_tests::adversary::{Adversary, EvaderKind, Opponent, PursuerKind};
+use host_tests::rng::Rng;
+use host_tests::scenarios::PAPER_LIMITS;
+use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
+use std::f64::consts::PI;
+use twocars::{Policy, Variant};
+
+const DT: f64 = 0.01;
+const EPS: f64 = 0.01;
+/// The claim's tolerance: five control periods.
+const FEW_DT: f64 = 5.0 * DT;
+
+/// The seed of these tests' starts: TWOCARS_SEED if set, else one kept apart from the report's.
+fn seed() -> u64 {
+    std::env::var("TWOCARS_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0x7C_2025)
+}
+
+/// `n` seeded starts at `limits` (`None`: random limits as the report draws them), d0 between
+/// 0.05 and 3 times the theorem's threshold; each with its adversary seed.
+fn starts(rng: &mut Rng, n: usize, limits: Option<[f64; 4]>) -> Vec<(SimParams, u64)> {
+    (0..n)
+        .map(|_| {
+            let limits = limits.unwrap_or_else(|| {
+                let v_em = rng.uniform(0.5, 3.0);
+                let w_em = rng.uniform(0.2, 2.0);
+                [
+                    v_em * rng.uniform(1.1, 3.0),
+                    w_em * rng.uniform(1.1, 4.0),
+                    v_em,
+                    w_em,
+                ]
+            });
+            let d0 = rng.uniform(0.05, 3.0) * theorem_threshold(limits);
+            let bearing = rng.uniform(-PI, PI);
+            let p = SimParams {
+                limits,
+                pursuer: [0.0, 0.0, rng.uniform(-PI, PI)],
+                evader: [d0 * bearing.cos(), d0 * bearing.sin(), rng.uniform(-PI, PI)],
+                dt: DT,
+                t_max: 0.0,
+                eps: EPS,
+            };
+            (p, rng.next_u64())
+        })
+        .collect()
+}
+
+/// Runs `p` with our `policy` against `opponent`, with time for three times the prediction
+/// plus 30 s.
+fn run(p: &SimParams, policy: Policy, opponent: Opponent, seed: u64) -> SimResult {
+    let predicted = simulate_against::<f32>(
+        &SimParams { t_max: DT, ..*p },
+        Variant::Paper,
+        policy,
+        None,
+        false,
+    )
+    .predicted;
+    let p = SimParams {
+        t_max: 3.0 * predicted.clamp(1.0, 200.0) + 30.0,
+        ..*p
+    };
+    simulate_against::<f32>(&p, Variant::Paper, policy, Some((opponent, seed)), false)
+}
+
+fn far(p: &SimParams) -> bool {
+    (p.evader[0] - p.pursuer[0]).hypot(p.evader[1] - p.pursuer[1]) >= theorem_threshold(p.limits)
+}
+
+/// Capture time plus the time to close the last eps, minus the upper value at t = 0.
+fn lateness(r: &SimResult, limits: [f64; 4]) -> f64 {
+    r.t_capture + EPS / (limits[0] - limits[2]) - r.predicted
+}
+
+/// At the paper's limits the flight policy's pursuer captures every evader of the suite from
+/// every start; from beyond the threshold within 5 dt (plus the tie band) of its guarantee, the
+/// upper value at t = 0, but for the rare run docs/closed-loop.md traces (4 of 1,128 in
+/// `cargo xtask report --runs 200 --limits paper --evader all`): at most one in fifty here.
+#[test]
+fn at_the_paper_limits_the_flight_pursuer_captures_every_evader_of_the_suite() {
+    let mut rng = Rng::new(seed());
+    let band = f64::from(<f32 as twocars::Scalar>::TIE_BAND);
+    let (mut far_runs, mut late) = (0, Vec::new());
+    for evader in EvaderKind::ALL {
+        for (p, seed) in starts(&mut rng, 20, Some(PAPER_LIMITS)) {
+            let r = run(&p, Policy::Flight, Opponent::Evader(evader), seed);
+            assert_eq!(r.status, SimStatus::Captured, "{}: {p:?}", evader.name());
+            if far(&p) {
+                far_runs += 1;
+                let l = lateness(&r, p.limits);
+                if l > FEW_DT + band * r.predicted {
+                    late.push((evader.name(), l));
+                }
+            }
+        }
+    }
+    println!("paper limits: {far_runs} runs from beyond the threshold, late: {late:?}");
+    assert!(late.len() * 50 <= far_runs, "late: {late:?} of {far_runs}");
+}
+
+/// At random limits every evader of the suite is captured but the one that circles at full
+/// rate, which escapes the flight pursuer from some starts (docs/closed-loop.md: the pursuer's
+/// pure pursuit and the evader's circle settle into an orbit); against it the flight pursuer
+/// captures at least as often as the paper's law.
+#[test]
+fn at_random_limits_only_the_full_rate_circle_escapes_and_less_often_than_the_paper_law() {
+    let mut rng = Rng::new(seed() ^ 0xA5A5);
+    for evader in EvaderKind::ALL {
+        let full_circle = matches!(evader, EvaderKind::Circle { half: false, .. });
+        let (mut ours, mut paper) = (0, 0);
+        for (p, seed) in starts(&mut rng, 16, None) {
+            let r = run(&p, Policy::Flight, Opponent::Evader(evader), seed);
+            ours += usize::from(r.status == SimStatus::Captured);
+            if full_circle {
+                let q = run(&p, Policy::Paper, Opponent::Evader(evader), seed);
+                paper += usize::from(q.status == SimStatus::Captured);
+            } else {
+                assert_eq!(r.status, SimStatus::Captured, "{}: {p:?}", evader.name());
+            }
+        }
+        if full_circle {
+            println!(
+                "{}: captured flight {ours} / paper {paper} of 16",
+                evader.name()
+            );
+            assert!(ours >= paper, "{}: {ours} vs {paper}", evader.name());
+        }
+    }
+}
+
+/// From beyond the threshold the law's evader is never caught before its own guarantee, the
+/// lower value at t = 0 (less 5 dt and the tie band), whichever pursuer of the mirror suite
+/// chases it, at the paper's limits and at random limits.
+#[test]
+fn beyond_the_threshold_our_evader_keeps_its_lower_value_against_every_pursuer() {
+    let mut rng = Rng::new(seed() ^ 0x5A5A);
+    let band = f64::from(<f32 as twocars::Scalar>::TIE_BAND);
+    for pursuer in PursuerKind::ALL {
+        for limits in [Some(PAPER_LIMITS), None] {
+            for (p, seed) in starts(&mut rng, 12, limits)
+                .into_iter()
+                .filter(|s| far(&s.0))
+            {
+                let r = run(&p, Policy::Flight, Opponent::Pursuer(pursuer), seed);
+                if r.status != SimStatus::Captured {
+                    continue;
+                }
+                let closed = r.t_capture + EPS / (p.limits[0] - p.limits[2]);
+                assert!(
+                    closed >= r.predicted_lower - FEW_DT - band * r.predicted_lower,
+                    "{}: caught at {closed} s, lower {} s: {p:?}",
+                    pursuer.name(),
+                    r.predicted_lower
+                );
+            }
+        }
+    }
+}
+
+/// The tail chase's last centimetres (the loop the issue traced): 3.3 cm behind an evader
+/// running straight, 5 mm to its right, the crossing pair (A, C) has no valid tangent, so row
+/// A's maximum is infinite and the paper's law predicts, and flies, a full loop (3.17 s). The
+/// flight policy pursues and captures within the time the last 3.3 cm take to close.
+#[test]
+fn the_tail_chase_ends_without_a_loop() {
+    let p = SimParams {
+        limits: PAPER_LIMITS,
+        pursuer: [0.0, 0.0, 0.0],
+        evader: [0.033, -0.005, -0.05],
+        dt: DT,
+        t_max: 10.0,
+        eps: EPS,
+    };
+    let straight = Opponent::Evader(EvaderKind::Straight);
+    let paper = simulate_against::<f32>(
+        &p,
+        Variant::Paper,
+        Policy::Paper,
+        Some((straight, 1)),
+        false,
+    );
+    let ours = simulate_against::<f32>(
+        &p,
+        Variant::Paper,
+        Policy::Flight,
+        Some((straight, 1)),
+        false,
+    );
+    assert!(paper.predicted > 3.0 && paper.t_capture > 3.0, "{paper:?}");
+    let closing = 0.034 / (PAPER_LIMITS[0] - PAPER_LIMITS[2]);
+    assert!(ours.t_capture <= closing + FEW_DT, "{ours:?}");
+}
+
+/// The circling evader that the near-field policy before this one orbited for the whole run
+/// (four starts where it never captured): the flight pursuer captures each, the one from beyond
+/// the threshold before its guarantee.
+#[test]
+fn circling_evaders_the_old_near_field_policy_orbited_are_captured() {
+    let starts = [
+        [
+            2.594_320_549_662_456_6,
+            -14.533_845_663_467_71,
+            1.304_569_550_817_741_7,
+            -3.043_867_616_870_511_7,
+        ],
+        [
+            1.339_035_511_781_599_3,
+            -6.264_303_996_341_852_5,
+            -2.935_347_882_983_869_7,
+            0.705_766_996_392_902_5,
+        ],
+        [
+            2.622_376_558_147_937_7,
+            1.386_900_338_533_684_2,
+            3.570_540_174_184_002_6,
+            0.659_309_400_253_099_9,
+        ],
+        [
+            2.705_314_436_699_965_5,
+            4.123_264_390_429_198,
+            -6.570_432_573_456_213,
+            2.659_614_932_929_863_5,
+        ],
+    ];
+    for [theta_p, x_e, y_e, theta_e] in starts {
+        let p = SimParams {
+            limits: PAPER_LIMITS,
+            pursuer: [0.0, 0.0, theta_p],
+            evader: [x_e, y_e, theta_e],
+            dt: DT,
+            t_max: 60.0,
+            eps: EPS,
+        };
+        let circle = Opponent::Evader(EvaderKind::Circle {
+            left: true,
+            half: false,
+        });
+        let r =
+            simulate_against::<f32>(&p, Variant::Paper, Policy::Flight, Some((circle, 1)), false);
+        assert_eq!(r.status, SimStatus::Captured, "{p:?}");
+        if far(&p) {
+            assert!(lateness(&r, p.limits) <= FEW_DT, "{r:?}");
+        }
+    }
+}
+
+/// Every adversary answers within its limits, and the same seed gives the same answers.
+#[test]
+fn adversaries_are_seeded_and_within_their_limits() {
+    let limits = [3.0, 1.5, 1.2, 0.7];
+    let opponents = EvaderKind::ALL
+        .map(Opponent::Evader)
+        .into_iter()
+        .chain(PursuerKind::ALL.map(Opponent::Pursuer));
+    for opponent in opponents {
+        let mut a = Adversary::new(opponent, limits, DT, EPS, 9).unwrap();
+        let mut b = Adversary::new(opponent, limits, DT, EPS, 9).unwrap();
+        let mut rng = Rng::new(3);
+        for k in 0..400 {
+            let t = k as f64 * DT;
+            let p = [
+                rng.uniform(-9.0, 9.0),
+                rng.uniform(-9.0, 9.0),
+                rng.uniform(-PI, PI),
+            ];
+            let e = [
+                rng.uniform(-9.0, 9.0),
+                rng.uniform(-9.0, 9.0),
+                rng.uniform(-PI, PI),
+            ];
+            let (w, v) = a.command(t, p, e);
+            assert_eq!((w, v), b.command(t, p, e), "{opponent:?}");
+            let (w_max, v_max) = match opponent {
+                Opponent::Evader(_) => (limits[3], limits[2]),
+                Opponent::Pursuer(_) => (limits[1], limits[0]),
+            };
+            assert!(w.abs() <= w_max * (1.0 + 1e-6), "{opponent:?}: w {w}");
+            assert!((0.0..=v_max).contains(&v), "{opponent:?}: v {v}");
+        }
+    }
+}

@@ -1,0 +1,171 @@
+//! The flight policy's pursuer below the theorem's threshold ([`crate::Policy::Flight`]): the
+//! paper's law while its own prediction holds, pure pursuit where the law's game no longer
+//! describes the chase.
+//!
+//! Below 2 r_e + 2 pi r_e v_pm / v_em the paper gives no law. Its 2x2 game still steers well
+//! while its upper value falls by dt each period, but it breaks in three ways measured against
+//! the adversary suite (docs/closed-loop.md): a crossing pair loses its valid tangent when the
+//! players' circles overlap, so a row's maximum becomes infinite and min-max turns the pursuer
+//! away for a full loop; an arc wraps by 2 pi and an entry jumps by a turn's time; and an evader
+//! that circles never leaves its circle along the predicted tangent. The pursuer then pursues
+//! the evader's present position, which needs no prediction of the evader at all:
+//!
+//! - within four periods' travel (a heading error there is a miss distance);
+//! - in the tail-chase zone: the evader ahead of the pursuer's beam, running away from it, and
+//!   the line of sight turning at most half the pursuer's full rate,
+//!   v_em |sin beta| / d <= (1/2) v_pm w_pm, beta being the angle between the evader's heading
+//!   and the line of sight. There pure pursuit closes at v_pm - v_em cos beta >= v_pm - v_em and
+//!   the pursuer can turn with the line of sight, against any evader (a circling evader
+//!   included: behind it on its circle the line of sight turns at v_em / (2 r_e));
+//! - and once the law has lost its prediction (its upper value rose beyond the tie floor, or it
+//!   has none), until the players are beyond the threshold again; where the evader is then
+//!   inside the pursuer's turning circle on its side (turning cannot bring it ahead) the pursuer
+//!   runs straight to open the distance.
+//!
+//! Units: metres, seconds, radians anticlockwise from +x; curvature in 1/m.
+
+use crate::geometry::{Limits, TurningCircle, VehicleLimits, VehicleState};
+use crate::law::{bearing, steer, GameReport};
+use crate::num::Scalar;
+
+/// The line-of-sight rate the tail-chase zone allows, as a fraction of the pursuer's full turn
+/// rate v_pm w_pm: the margin that leaves the pursuer turn left to close the bearing.
+const TAIL_CHASE_RATE_FRACTION: f32 = 0.5;
+
+/// What the near field compares and scales by, fixed by the limits and dt (computed once by
+/// [`crate::Guidance::new`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct NearFieldTerms<S> {
+    /// The theorem's distance threshold, metres ([`crate::Limits::theorem_threshold`]).
+    pub threshold: S,
+    /// Four periods' travel of the pursuer, 4 v_pm dt, metres: closer, a heading error is a
+    /// miss distance.
+    pub close: S,
+    /// The tail-chase zone's largest line-of-sight rate, rad/s: half of v_pm w_pm.
+    tail_chase_rate: S,
+    /// v_em, m/s.
+    evader_speed: S,
+}
+
+impl<S: Scalar> NearFieldTerms<S> {
+    /// The terms of `limits` with control period `dt` (the law's units).
+    pub fn new(limits: &Limits<S>, dt: S) -> Self {
+        let p = &limits.pursuer;
+        NearFieldTerms {
+            threshold: limits.theorem_threshold(),
+            close: S::from_f32(4.0) * p.v_max() * dt,
+            tail_chase_rate: S::from_f32(TAIL_CHASE_RATE_FRACTION) * p.max_turn_rate(),
+            evader_speed: limits.evader.v_max(),
+        }
+    }
+}
+
+/// What the near field remembers: the law's last upper value (seconds) and whether the pursuer
+/// has left the law for pursuit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct NearFieldMemory<S> {
+    last_upper: Option<S>,
+    pursuing: bool,
+}
+
+impl<S: Scalar> NearFieldMemory<S> {
+    /// Nothing remembered: the law is followed.
+    pub const FRESH: Self = NearFieldMemory {
+        last_upper: None,
+        pursuing: false,
+    };
+
+    /// The pursuer's curvature (1/m) below the threshold: `law` (the paper's sampled command)
+    /// or pure pursuit (module docs). `report` is this period's game, `dt` the period and
+    /// `tie_floor` the sampled law's tie floor (seconds), `per_radian` the pursuer's
+    /// 1 / (v_pm dt).
+    #[allow(clippy::too_many_arguments)]
+    pub fn pursuer_command(
+        &mut self,
+        report: &GameReport<S>,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        distance: S,
+        limits: &VehicleLimits<S>,
+        terms: &NearFieldTerms<S>,
+        (dt, tie_floor, per_radian): (S, S, S),
+        law: S,
+    ) -> S {
+        if self.lost(report, distance, terms, dt, tie_floor) {
+            self.pursuing = true;
+        }
+        let close = distance < terms.close;
+        // Pursuit, once begun, holds until the players are beyond the threshold again: a
+        // pursuer that went back to the law at the zone's edge would chatter between the two.
+        self.pursuing = self.pursuing || close || tail_chase(pursuer, evader, distance, terms);
+        if !self.pursuing {
+            return law;
+        }
+        // Pure pursuit; where the evader is inside the turning circle on its side, straight on
+        // to open the distance (not within four periods' travel: there the evader is ahead).
+        let to_go = bearing(pursuer, evader.x, evader.y);
+        // A bearing below the arc resolution is on course, as the law reads a tangent's arc.
+        let on_course = to_go.abs() <= S::from_f32(S::ARC_RESOLUTION);
+        if on_course || (!close && inside_turn(pursuer, evader, limits, to_go)) {
+            S::zero()
+        } else {
+            steer(to_go, limits, Some(per_radian))
+        }
+    }
+
+    /// Whether the law has lost its own prediction: on the first near-field period its game is
+    /// not trusted ([`crate::GameReport::trusted`]); later, its upper value rose instead of
+    /// falling by dt (beyond the tie floor), or it has no finite value while the players are
+    /// more than four periods' travel apart. Records the upper value.
+    fn lost(
+        &mut self,
+        report: &GameReport<S>,
+        distance: S,
+        terms: &NearFieldTerms<S>,
+        dt: S,
+        tie_floor: S,
+    ) -> bool {
+        let upper = report.solution.upper;
+        let lost = match (self.last_upper, upper) {
+            (_, None) => distance >= terms.close,
+            (None, Some(_)) => !report.trusted(tie_floor),
+            (Some(last), Some(now)) => now > last - dt + tie_floor,
+        };
+        self.last_upper = upper;
+        lost
+    }
+}
+
+/// Whether the players are in the tail-chase zone (module docs): the evader ahead of the
+/// pursuer's beam and running away from it, with the line of sight turning at most
+/// `terms.tail_chase_rate`, v_em |sin beta| / d (rad/s), compared as
+/// v_em |cross| <= rate d^2 with cross = d sin beta.
+fn tail_chase<S: Scalar>(
+    pursuer: &VehicleState<S>,
+    evader: &VehicleState<S>,
+    distance: S,
+    terms: &NearFieldTerms<S>,
+) -> bool {
+    let (dx, dy) = (evader.x - pursuer.x, evader.y - pursuer.y);
+    let (sin, cos) = evader.theta.sin_cos();
+    let away = dx * cos + dy * sin;
+    let cross = (dx * sin - dy * cos).abs();
+    let (sin_p, cos_p) = pursuer.theta.sin_cos();
+    let ahead = dx * cos_p + dy * sin_p;
+    away > S::zero()
+        && ahead > S::zero()
+        && terms.evader_speed * cross <= terms.tail_chase_rate * distance * distance
+}
+
+/// Whether the evader is inside the pursuer's turning circle on the side of its bearing
+/// `to_go` (radians): turning cannot bring it ahead.
+fn inside_turn<S: Scalar>(
+    pursuer: &VehicleState<S>,
+    evader: &VehicleState<S>,
+    limits: &VehicleLimits<S>,
+    to_go: S,
+) -> bool {
+    let [a, c] = TurningCircle::both(pursuer, limits);
+    let side = if to_go >= S::zero() { a } else { c };
+    side.centre().distance_squared(evader.position()) < side.radius * side.radius
+}
