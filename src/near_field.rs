@@ -1,16 +1,17 @@
 //! The flight policy's pursuer below the theorem's threshold ([`crate::Policy::Flight`]): the
-//! paper's law while its own prediction holds, pure pursuit where the law's game no longer
-//! describes the chase.
+//! paper's law while its own prediction holds, homing on the evader where the law's game no
+//! longer describes the chase.
 //!
 //! Below 2 r_e + 2 pi r_e v_pm / v_em the paper gives no law. Its 2x2 game still steers well
 //! while its upper value falls by dt each period, but it breaks in three ways measured against
 //! the adversary suite (docs/closed-loop.md): a crossing pair loses its valid tangent when the
 //! players' circles overlap, so a row's maximum becomes infinite and min-max turns the pursuer
 //! away for a full loop; an arc wraps by 2 pi and an entry jumps by a turn's time; and an evader
-//! that circles never leaves its circle along the predicted tangent. The pursuer then pursues
-//! the evader's present position, which needs no prediction of the evader at all:
+//! that circles never leaves its circle along the predicted tangent. The pursuer then homes on
+//! the evader's present state, which needs no prediction of the evader's choices:
 //!
-//! - within four periods' travel (a heading error there is a miss distance);
+//! - within four periods' travel (a heading error there is a miss distance): the arc through
+//!   the point where it meets the evader running straight on (`terminal`);
 //! - in the tail-chase zone: the evader ahead of the pursuer's beam, running away from it, and
 //!   the line of sight turning at most half the pursuer's full rate,
 //!   v_em |sin beta| / d <= (1/2) v_pm w_pm, beta being the angle between the evader's heading
@@ -18,9 +19,10 @@
 //!   the pursuer can turn with the line of sight, against any evader (a circling evader
 //!   included: behind it on its circle the line of sight turns at v_em / (2 r_e));
 //! - and once the law has lost its prediction (its upper value rose beyond the tie floor, or it
-//!   has none), until the players are beyond the threshold again; where the evader is then
-//!   inside the pursuer's turning circle on its side (turning cannot bring it ahead) the pursuer
-//!   runs straight to open the distance.
+//!   has none), until the players are beyond the threshold again: proportional navigation
+//!   while the evader is ahead and the distance closes (`navigation`), else pure pursuit;
+//!   where the evader is inside the pursuer's turning circle on its side (turning cannot bring
+//!   it ahead) the pursuer runs straight to open the distance.
 //!
 //! Units: metres, seconds, radians anticlockwise from +x; curvature in 1/m.
 
@@ -45,6 +47,12 @@ pub(crate) struct NearFieldTerms<S> {
     tail_chase_rate: S,
     /// v_em, m/s.
     evader_speed: S,
+    /// v_pm, m/s.
+    pursuer_speed: S,
+    /// N / v_pm, s/m: proportional navigation's curvature per rad/s of line-of-sight rate.
+    navigation_gain: S,
+    /// v_pm^2 - v_em^2, m^2/s^2: the collision triangle's quadratic coefficient.
+    closing_squares: S,
 }
 
 impl<S: Scalar> NearFieldTerms<S> {
@@ -56,6 +64,9 @@ impl<S: Scalar> NearFieldTerms<S> {
             close: S::from_f32(4.0) * p.v_max() * dt,
             tail_chase_rate: S::from_f32(TAIL_CHASE_RATE_FRACTION) * p.max_turn_rate(),
             evader_speed: limits.evader.v_max(),
+            pursuer_speed: p.v_max(),
+            navigation_gain: S::from_f32(NAVIGATION_GAIN) / p.v_max(),
+            closing_squares: p.v_max() * p.v_max() - limits.evader.v_max() * limits.evader.v_max(),
         }
     }
 }
@@ -97,16 +108,26 @@ impl<S: Scalar> NearFieldMemory<S> {
         let close = distance < terms.close;
         // Pursuit, once begun, holds until the players are beyond the threshold again: a
         // pursuer that went back to the law at the zone's edge would chatter between the two.
-        self.pursuing = self.pursuing || close || tail_chase(pursuer, evader, distance, terms);
+        let tail = tail_chase(pursuer, evader, distance, terms);
+        self.pursuing = self.pursuing || close || tail;
         if !self.pursuing {
             return law;
         }
+        if close {
+            return terminal(pursuer, evader, distance, limits, terms);
+        }
+        // Closing on an evader ahead, out of the tail-chase zone: proportional navigation.
+        if !tail {
+            if let Some(w) = navigation(pursuer, evader, limits, terms) {
+                return w;
+            }
+        }
         // Pure pursuit; where the evader is inside the turning circle on its side, straight on
-        // to open the distance (not within four periods' travel: there the evader is ahead).
+        // to open the distance.
         let to_go = bearing(pursuer, evader.x, evader.y);
         // A bearing below the arc resolution is on course, as the law reads a tangent's arc.
         let on_course = to_go.abs() <= S::from_f32(S::ARC_RESOLUTION);
-        if on_course || (!close && inside_turn(pursuer, evader, limits, to_go)) {
+        if on_course || inside_turn(pursuer, evader, limits, to_go) {
             S::zero()
         } else {
             steer(to_go, limits, Some(per_radian))
@@ -155,6 +176,90 @@ fn tail_chase<S: Scalar>(
     away > S::zero()
         && ahead > S::zero()
         && terms.evader_speed * cross <= terms.tail_chase_rate * distance * distance
+}
+
+/// The terminal command within four periods' travel (1/m): the arc, tangent to the pursuer's
+/// heading, through the point where the pursuer meets an evader running straight on at v_em
+/// (the collision triangle |r + u T| = v_pm T, r the line of sight of length `distance`, u the
+/// evader's velocity). Pure pursuit aims where the evader is; over a period the pursuer runs
+/// several capture radii, so aiming there misses by the evader's own travel. The arc through a
+/// point at bearing b and distance v_pm T has curvature 2 sin b / (v_pm T); a point behind the
+/// pursuer gets a full turn toward it. Written so that no term exceeds |r| / (1 - v_em / v_pm)
+/// (the fixed-point backend's range): T = d (c + sqrt(c^2 + v_pm^2 - v_em^2)) / (v_pm^2 - v_em^2)
+/// with c = (r . u) / d, and sin b = (h x aim) / (v_pm T).
+fn terminal<S: Scalar>(
+    pursuer: &VehicleState<S>,
+    evader: &VehicleState<S>,
+    distance: S,
+    limits: &VehicleLimits<S>,
+    terms: &NearFieldTerms<S>,
+) -> S {
+    if distance <= S::zero() {
+        return S::zero();
+    }
+    let (rx, ry) = (evader.x - pursuer.x, evader.y - pursuer.y);
+    let (sin_e, cos_e) = evader.theta.sin_cos();
+    let (ux, uy) = (terms.evader_speed * cos_e, terms.evader_speed * sin_e);
+    let c = (rx * ux + ry * uy) / distance;
+    let a = terms.closing_squares;
+    let time = distance * (c + (c * c + a).sqrt()) / a;
+    let (ax, ay) = (rx + ux * time, ry + uy * time);
+    let (sin_p, cos_p) = pursuer.theta.sin_cos();
+    let cross = cos_p * ay - sin_p * ax;
+    let ahead = cos_p * ax + sin_p * ay;
+    let w_max = limits.w_max();
+    let full = if cross < S::zero() {
+        S::zero() - w_max
+    } else {
+        w_max
+    };
+    let run = terms.pursuer_speed * time;
+    if ahead <= S::zero() || run <= S::zero() {
+        return full;
+    }
+    let two_sin = S::from_f32(2.0) * cross / run;
+    // 2 sin b / run within +-w_max, compared before dividing.
+    if two_sin.abs() >= w_max * run {
+        return full;
+    }
+    two_sin / run
+}
+
+/// Proportional navigation's gain N: the pursuer turns N times as fast as the line of sight.
+/// 3, the textbook value: it nulls the line of sight's rate against a non-turning evader, and
+/// against one turning with lateral acceleration a_e it asks for about N / (N - 2) a_e = 3 a_e,
+/// which the pursuer has wherever v_pm^2 w_pm >= 3 v_em^2 w_em.
+const NAVIGATION_GAIN: f32 = 3.0;
+
+/// Proportional navigation (1/m): curvature N lambda_dot / v_pm, lambda_dot being the line of
+/// sight's rate (rad/s) with the evader at v_em on its heading, within +-w_max; `None` unless
+/// the evader is ahead of the pursuer's beam and the distance closing. Pure pursuit's turn rate
+/// grows without bound in the last metre of a crossing chase when v_pm < 2 v_em (the pursuer
+/// misses by centimetres and comes round again, for ever against a circling evader);
+/// navigation holds the line of sight still and leads the evader instead.
+fn navigation<S: Scalar>(
+    pursuer: &VehicleState<S>,
+    evader: &VehicleState<S>,
+    limits: &VehicleLimits<S>,
+    terms: &NearFieldTerms<S>,
+) -> Option<S> {
+    let (rx, ry) = (evader.x - pursuer.x, evader.y - pursuer.y);
+    let (sin_e, cos_e) = evader.theta.sin_cos();
+    let (sin_p, cos_p) = pursuer.theta.sin_cos();
+    let (vx, vy) = (
+        terms.evader_speed * cos_e - terms.pursuer_speed * cos_p,
+        terms.evader_speed * sin_e - terms.pursuer_speed * sin_p,
+    );
+    let ahead = rx * cos_p + ry * sin_p;
+    let closing = rx * vx + ry * vy < S::zero();
+    if ahead <= S::zero() || !closing {
+        return None;
+    }
+    let squared = rx * rx + ry * ry;
+    let rate = (rx * vy - ry * vx) / squared;
+    let w = terms.navigation_gain * rate;
+    let w_max = limits.w_max();
+    Some(w.max(S::zero() - w_max).min(w_max))
 }
 
 /// Whether the evader is inside the pursuer's turning circle on the side of its bearing

@@ -108,11 +108,12 @@ fn at_the_paper_limits_the_flight_pursuer_captures_every_evader_of_the_suite() {
 }
 
 /// At random limits every evader of the suite is captured but the one that circles at full
-/// rate, which escapes the flight pursuer from some starts (docs/closed-loop.md: the pursuer's
-/// pure pursuit and the evader's circle settle into an orbit); against it the flight pursuer
-/// captures at least as often as the paper's law.
+/// rate, which still escapes the flight pursuer from rare starts (docs/closed-loop.md: 4 of 400
+/// in `cargo xtask report --runs 200 --limits random --evader circle-left` and `circle-right`,
+/// each with the two circles of nearly equal size): here at most one in sixteen per direction,
+/// and never more often than from the paper's law.
 #[test]
-fn at_random_limits_only_the_full_rate_circle_escapes_and_less_often_than_the_paper_law() {
+fn at_random_limits_only_the_full_rate_circle_escapes_and_rarely() {
     let mut rng = Rng::new(seed() ^ 0xA5A5);
     for evader in EvaderKind::ALL {
         let full_circle = matches!(evader, EvaderKind::Circle { half: false, .. });
@@ -132,7 +133,11 @@ fn at_random_limits_only_the_full_rate_circle_escapes_and_less_often_than_the_pa
                 "{}: captured flight {ours} / paper {paper} of 16",
                 evader.name()
             );
-            assert!(ours >= paper, "{}: {ours} vs {paper}", evader.name());
+            assert!(
+                ours >= 15 && ours >= paper,
+                "{}: {ours} vs {paper}",
+                evader.name()
+            );
         }
     }
 }
@@ -164,6 +169,88 @@ fn beyond_the_threshold_our_evader_keeps_its_lower_value_against_every_pursuer()
             }
         }
     }
+}
+
+/// The issue's two traces (paper limits, dt = 10 ms, capture to 5 mm). A tail chase against
+/// the law's evader without tie memory, where a pursuer had flown a full loop in the last
+/// centimetres: captured within 5 dt of the upper value. A full-rate circling evader the
+/// near-field policy before this one orbited for 60 s: captured, and before the upper value.
+#[test]
+fn the_issues_tail_chase_and_circling_traces_are_captured() {
+    let limits = PAPER_LIMITS;
+    let params = |pursuer, evader| SimParams {
+        limits,
+        pursuer,
+        evader,
+        dt: DT,
+        t_max: 60.0,
+        eps: 0.005,
+    };
+    let chase = params([0.412, -2.231, -2.132], [3.815, 19.069, 2.953]);
+    let memoryless = Opponent::Evader(EvaderKind::LawMemoryless);
+    let r = simulate_against::<f32>(
+        &chase,
+        Variant::Paper,
+        Policy::Flight,
+        Some((memoryless, 1)),
+        false,
+    );
+    assert_eq!(r.status, SimStatus::Captured, "{r:?}");
+    let closed = r.t_capture + 0.005 / (limits[0] - limits[2]);
+    assert!(closed <= r.predicted + FEW_DT, "{r:?}");
+    let orbit = params([0.496, -4.724, 1.593], [17.829, -15.847, 0.240]);
+    let circle = Opponent::Evader(EvaderKind::Circle {
+        left: true,
+        half: false,
+    });
+    let r = simulate_against::<f32>(
+        &orbit,
+        Variant::Paper,
+        Policy::Flight,
+        Some((circle, 1)),
+        false,
+    );
+    assert_eq!(r.status, SimStatus::Captured, "{r:?}");
+    assert!(r.t_capture < r.predicted, "{r:?}");
+}
+
+/// A crossing chase at random limits where the pursuer is less than twice as fast as the
+/// evader (5.45 vs 2.86 m/s): pure pursuit's turn rate grows without bound in the last metre
+/// when the speed ratio is below 2, so the pursuer that aimed at the evader's position missed by
+/// 1 to 10 cm on every pass and orbited it for the whole run; proportional navigation keeps
+/// the line of sight still and captures on the first pass, before the upper value.
+#[test]
+fn a_crossing_chase_below_twice_the_speed_is_captured_on_the_first_pass() {
+    let p = SimParams {
+        limits: [
+            5.448_198_544_862_738,
+            2.251_723_469_568_476,
+            2.857_739_931_613_966_4,
+            1.358_778_314_967_57,
+        ],
+        pursuer: [0.0, 0.0, 1.804_568_183_144_637],
+        evader: [
+            -13.039_893_108_846_721,
+            4.819_640_596_742_205,
+            -0.182_155_802_143_515_9,
+        ],
+        dt: DT,
+        t_max: 40.0,
+        eps: EPS,
+    };
+    let circle = Opponent::Evader(EvaderKind::Circle {
+        left: true,
+        half: false,
+    });
+    let r = simulate_against::<f32>(
+        &p,
+        Variant::Paper,
+        Policy::Flight,
+        Some((circle, 18_016_537_409_793_252_978)),
+        false,
+    );
+    assert_eq!(r.status, SimStatus::Captured, "{r:?}");
+    assert!(lateness(&r, p.limits) <= FEW_DT, "{r:?}");
 }
 
 /// The tail chase's last centimetres (the loop the issue traced): 3.3 cm behind an evader

@@ -273,11 +273,12 @@ fn print_evader(name: &str, limit_set: LimitSet, runs: &[Run], worst: &mut Vec<S
         for r in bad.iter().take(3) {
             worst.push(format!(
                 "- {name}, {} limits, {regime_name}: predicted {:.3} s, flight {:.3} s, paper {:.3} s: \
-                 `echo '{}' | cargo xtask sim --policy flight --evader {name} --adversary-seed {}`",
+                 `printf '{}\\n{}\\n' | cargo xtask sim --policy flight --evader {name} --adversary-seed {}`",
                 limit_set.name(),
                 r.flight.predicted,
                 r.flight.t_capture,
                 r.paper.t_capture,
+                crate::sim::INPUT_HEADER,
                 sim_row(&r.params),
                 r.seed
             ));
