@@ -94,7 +94,7 @@ impl<S: Scalar> GameReport<S> {
     /// Whether the game's prediction holds: a saddle (upper and lower within the tie band or
     /// within `floor` seconds) whose chosen pair captures after the evader reaches its tangent
     /// (not Algorithm 2's overshoot case, whose literal value is not a time the players can
-    /// realise). Below the theorem's threshold the near-field policy replaces the pursuer's
+    /// realise). Below the theorem's threshold the flight policy replaces the pursuer's
     /// command where this is false.
     pub fn trusted(&self, floor: S) -> bool {
         // A saddle at a finite value: at infinity there is no prediction to trust.

@@ -36,7 +36,7 @@ pub const ROLE_PURSUER: u8 = 0b01;
 pub const ROLE_EVADER: u8 = 0b10;
 
 /// Configure: both vehicles' limits (m/s, 1/m), control period and watchdog time (s), roles,
-/// Algorithm-2 variant (0 paper, 1 clamped) and policy (0 paper, 1 near-field).
+/// Algorithm-2 variant (0 paper, 1 clamped) and policy (0 paper, 1 flight).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Configure {
     /// v_pm, w_pm, v_em, w_em.
@@ -49,7 +49,7 @@ pub struct Configure {
     pub roles: u8,
     /// 0 paper, 1 clamped.
     pub variant: u8,
-    /// 0 paper, 1 near-field ([`crate::Policy`]).
+    /// 0 paper, 1 flight ([`crate::Policy`]).
     pub policy: u8,
 }
 

@@ -10,9 +10,10 @@
 //! that circles never leaves its circle along the predicted tangent. The pursuer then homes on
 //! the evader's present state, which needs no prediction of the evader's choices:
 //!
-//! - within four periods' travel (a heading error there is a miss distance): the arc through
-//!   the point where it meets the evader running straight on (`terminal`);
-//! - in the tail-chase zone: the evader ahead of the pursuer's beam, running away from it, and
+//! - within four periods' travel (a heading error there is a miss distance): pure pursuit in
+//!   the tail-chase zone, else the arc through the point where it meets the evader running
+//!   straight on (`terminal`);
+//! - in the tail-chase zone, pure pursuit: the evader ahead of the pursuer's beam, running away from it, and
 //!   the line of sight turning at most half the pursuer's full rate,
 //!   v_em |sin beta| / d <= (1/2) v_pm w_pm, beta being the angle between the evader's heading
 //!   and the line of sight. There pure pursuit closes at v_pm - v_em cos beta >= v_pm - v_em and
@@ -113,21 +114,22 @@ impl<S: Scalar> NearFieldMemory<S> {
         if !self.pursuing {
             return law;
         }
-        if close {
-            return terminal(pursuer, evader, distance, limits, terms);
-        }
-        // Closing on an evader ahead, out of the tail-chase zone: proportional navigation.
+        // Out of the tail-chase zone: the collision triangle's arc within four periods'
+        // travel, proportional navigation while closing on an evader ahead.
         if !tail {
-            if let Some(w) = navigation(pursuer, evader, limits, terms) {
+            if close {
+                return terminal(pursuer, evader, distance, limits, terms);
+            }
+            if let Some(w) = navigation(pursuer, evader, distance, limits, terms) {
                 return w;
             }
         }
         // Pure pursuit; where the evader is inside the turning circle on its side, straight on
-        // to open the distance.
+        // to open the distance (not within four periods' travel: there the evader is ahead).
         let to_go = bearing(pursuer, evader.x, evader.y);
         // A bearing below the arc resolution is on course, as the law reads a tangent's arc.
         let on_course = to_go.abs() <= S::from_f32(S::ARC_RESOLUTION);
-        if on_course || inside_turn(pursuer, evader, limits, to_go) {
+        if on_course || (!close && inside_turn(pursuer, evader, limits, to_go)) {
             S::zero()
         } else {
             steer(to_go, limits, Some(per_radian))
@@ -240,6 +242,7 @@ const NAVIGATION_GAIN: f32 = 3.0;
 fn navigation<S: Scalar>(
     pursuer: &VehicleState<S>,
     evader: &VehicleState<S>,
+    distance: S,
     limits: &VehicleLimits<S>,
     terms: &NearFieldTerms<S>,
 ) -> Option<S> {
@@ -252,14 +255,22 @@ fn navigation<S: Scalar>(
     );
     let ahead = rx * cos_p + ry * sin_p;
     let closing = rx * vx + ry * vy < S::zero();
-    if ahead <= S::zero() || !closing {
+    if ahead <= S::zero() || !closing || distance <= S::zero() {
         return None;
     }
-    let squared = rx * rx + ry * ry;
-    let rate = (rx * vy - ry * vx) / squared;
-    let w = terms.navigation_gain * rate;
+    // N lambda_dot / v_pm = (N / v_pm) ((r x v) / d) / d: the first quotient is at most
+    // N |v| / v_pm <= 2 N; compared with w_max d before the second division.
+    let turn = terms.navigation_gain * ((rx * vy - ry * vx) / distance);
     let w_max = limits.w_max();
-    Some(w.max(S::zero() - w_max).min(w_max))
+    Some(if turn.abs() >= w_max * distance {
+        if turn < S::zero() {
+            S::zero() - w_max
+        } else {
+            w_max
+        }
+    } else {
+        turn / distance
+    })
 }
 
 /// Whether the evader is inside the pursuer's turning circle on the side of its bearing

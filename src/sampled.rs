@@ -149,7 +149,7 @@ impl<S: Scalar> Guidance<S> {
     }
 
     /// The sampled command for a game: each player steers toward its chosen tangent by what one
-    /// period needs (or the fallback's bearings); under the near-field policy the pursuer may
+    /// period needs (or the fallback's bearings); under the flight policy the pursuer may
     /// leave the law (module docs). Records the choice for the next period.
     fn sampled_command(
         &mut self,
@@ -193,7 +193,7 @@ impl<S: Scalar> Guidance<S> {
     }
 
     /// The flight policy's near field: below the theorem's threshold the pursuer's command may
-    /// become pure pursuit ([`crate::near_field`]); at or above it the memory is forgotten.
+    /// home on the evader ([`crate::near_field`]); at or above it the memory is forgotten.
     /// Out of line: the paper policy never runs it.
     #[inline(never)]
     fn near_field(

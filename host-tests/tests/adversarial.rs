@@ -294,7 +294,8 @@ fn fixed_point_reports_inputs_outside_its_envelope() {
 /// The fixed-point backend's `+`, `-` and `*` are unchecked in release builds: its envelope must
 /// keep every intermediate of the law in range. This test (a debug build: an overflow panics)
 /// plays the law and both sampled policies, two periods each, at the corners of the envelope:
-/// r_e / r_p = 16, v_em / v_pm = 1/16 and 15/16, the evader up to 200 r_p away on each axis,
+/// r_e / r_p = 16, v_em / v_pm = 1/16 and 15/16, the evader up to 200 r_p away on each axis
+/// (and up to 0.1 r_p),
 /// headings all round, and the shortest and longest control periods `Guidance::new` accepts.
 #[test]
 fn fixed_point_law_stays_in_range_at_the_corners_of_its_envelope() {
@@ -332,8 +333,13 @@ fn fixed_point_law_stays_in_range_at_the_corners_of_its_envelope() {
         for dt in [short, middle, long] {
             let guidance = Guidance::new(Law::new(limits, Variant::Paper), dt).expect("accepted");
             periods += 1;
-            for (i, j) in (0..25).map(|k| (k / 5, k % 5)) {
-                let offset = |n: i32| 100.0 * r_p * (n - 2) as f32;
+            // Offsets up to 200 r_p, and up to 0.1 r_p, where the near field's homing divides
+            // by the distance.
+            for (scale, i, j) in [100.0, 0.05]
+                .iter()
+                .flat_map(|&s| (0..25).map(move |k| (s, k / 5, k % 5)))
+            {
+                let offset = |n: i32| scale * r_p * (n - 2) as f32;
                 for (a, b) in (0..256).map(|k| (k / 16, k % 16)) {
                     let heading = |n: i32| -PI + TAU * n as f32 / 16.0;
                     let p = [origin[0], origin[1], heading(a)];

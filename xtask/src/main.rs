@@ -17,6 +17,7 @@ mod size;
 mod test;
 
 use std::process::ExitCode;
+use twocars::Policy;
 
 const HELP: &str = "\
 cargo xtask <command> [options]
@@ -24,13 +25,15 @@ cargo xtask <command> [options]
   run     the main job: the firmware in QEMU in closed loop with the host simulator
           [--case paper1..paper4|all] [--dt S] [--t-max S] [--roles both|pursuer|evader]
           [--limits v,w,v,w] [--pursuer x,y,th --evader x,y,th] [--host-only]
+          [--policy flight|paper] (default flight: the paper's law beyond the theorem's threshold,
+          our pursuer below it) [--variant ..]
   build   build a firmware image and print its flash and RAM  [--board qemu|stm32f405|all]
   bench   instructions per law evaluation (M4F, M0), flash, stack, host throughput -> docs/bench.md
   profile instructions per law evaluation by function (QEMU exec log), M4F f32 and M0 fixed point
   fuzz    the libFuzzer targets from their seed corpora  [--seconds S | --runs N] [--write-seeds] [target..]
   test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
   eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
-  sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper|flight]
+  sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper|flight] (default paper)
           [--evader NAME [--adversary-seed N]] (an evader of the adversary suite plays the evader)
   report  closed-loop Monte Carlo, both policies, split at the theorem's threshold  [--runs N] [--seed S] [--dt S]
           [--limits random|paper|both] [--evader NAME|all] [--pursuer NAME|all]
@@ -43,7 +46,14 @@ fn main() -> ExitCode {
         eprint!("{HELP}");
         return ExitCode::from(2);
     };
-    let parsed = options::parse(rest);
+    // `run` flies the policy we recommend for flight; `eval` and `sim` default to the paper's law,
+    // as the shared contract binds.
+    let policy = if command == "run" {
+        Policy::Flight
+    } else {
+        Policy::Paper
+    };
+    let parsed = options::parse(rest, policy);
     let code = match (command.as_str(), parsed) {
         ("help" | "--help" | "-h", _) => {
             print!("{HELP}");

@@ -51,12 +51,13 @@ pub struct Options {
     pub policy: Policy,
 }
 
-/// Parses `--variant`, `--numeric` and `--policy`; other arguments are returned for the command.
-pub fn parse(args: &[String]) -> Result<(Options, Vec<String>), String> {
+/// Parses `--variant`, `--numeric` and `--policy` (`policy` where it is not given); other
+/// arguments are returned for the command.
+pub fn parse(args: &[String], policy: Policy) -> Result<(Options, Vec<String>), String> {
     let mut options = Options {
         variant: Variant::Paper,
         numeric: Numeric::F32,
-        policy: Policy::Paper,
+        policy,
     };
     let mut rest = Vec::new();
     let mut it = args.iter();

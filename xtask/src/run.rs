@@ -188,7 +188,10 @@ pub fn run(options: &Options, args: &[String]) -> i32 {
         }
     };
     let [v_pm, w_pm, v_em, w_em] = o.limits;
-    println!("limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m; variant {:?}", options.variant);
+    println!(
+        "limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m; variant {:?}, policy {:?}",
+        options.variant, options.policy
+    );
     let mut ok = true;
     let mut session = None;
     if !o.host_only {
