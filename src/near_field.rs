@@ -107,9 +107,10 @@ impl<S: Scalar> NearFieldMemory<S> {
             self.pursuing = true;
         }
         let close = distance < terms.close;
+        let sight = Sight::new(pursuer, evader, distance);
         // Pursuit, once begun, holds until the players are beyond the threshold again: a
         // pursuer that went back to the law at the zone's edge would chatter between the two.
-        let tail = tail_chase(pursuer, evader, distance, terms);
+        let tail = sight.tail_chase(terms);
         self.pursuing = self.pursuing || close || tail;
         if !self.pursuing {
             return law;
@@ -118,9 +119,9 @@ impl<S: Scalar> NearFieldMemory<S> {
         // travel, proportional navigation while closing on an evader ahead.
         if !tail {
             if close {
-                return terminal(pursuer, evader, distance, limits, terms);
+                return sight.terminal(limits, terms);
             }
-            if let Some(w) = navigation(pursuer, evader, distance, limits, terms) {
+            if let Some(w) = sight.navigation(limits, terms) {
                 return w;
             }
         }
@@ -159,72 +160,119 @@ impl<S: Scalar> NearFieldMemory<S> {
     }
 }
 
-/// Whether the players are in the tail-chase zone (module docs): the evader ahead of the
-/// pursuer's beam and running away from it, with the line of sight turning at most
-/// `terms.tail_chase_rate`, v_em |sin beta| / d (rad/s), compared as
-/// v_em |cross| <= rate d^2 with cross = d sin beta.
-fn tail_chase<S: Scalar>(
-    pursuer: &VehicleState<S>,
-    evader: &VehicleState<S>,
+/// The line of sight and both headings, computed once per near-field period: the sines and
+/// cosines are shared by the zone test and the homing laws.
+struct Sight<S> {
+    /// Evader minus pursuer, metres.
+    rx: S,
+    ry: S,
+    /// |r|, metres.
     distance: S,
-    terms: &NearFieldTerms<S>,
-) -> bool {
-    let (dx, dy) = (evader.x - pursuer.x, evader.y - pursuer.y);
-    let (sin, cos) = evader.theta.sin_cos();
-    let away = dx * cos + dy * sin;
-    let cross = (dx * sin - dy * cos).abs();
-    let (sin_p, cos_p) = pursuer.theta.sin_cos();
-    let ahead = dx * cos_p + dy * sin_p;
-    away > S::zero()
-        && ahead > S::zero()
-        && terms.evader_speed * cross <= terms.tail_chase_rate * distance * distance
+    /// The pursuer's heading, (sin, cos).
+    pursuer: (S, S),
+    /// The evader's heading, (sin, cos).
+    evader: (S, S),
+    /// r along the pursuer's heading, metres: > 0 where the evader is ahead of its beam.
+    ahead: S,
 }
 
-/// The terminal command within four periods' travel (1/m): the arc, tangent to the pursuer's
-/// heading, through the point where the pursuer meets an evader running straight on at v_em
-/// (the collision triangle |r + u T| = v_pm T, r the line of sight of length `distance`, u the
-/// evader's velocity). Pure pursuit aims where the evader is; over a period the pursuer runs
-/// several capture radii, so aiming there misses by the evader's own travel. The arc through a
-/// point at bearing b and distance v_pm T has curvature 2 sin b / (v_pm T); a point behind the
-/// pursuer gets a full turn toward it. Written so that no term exceeds |r| / (1 - v_em / v_pm)
-/// (the fixed-point backend's range): T = d (c + sqrt(c^2 + v_pm^2 - v_em^2)) / (v_pm^2 - v_em^2)
-/// with c = (r . u) / d, and sin b = (h x aim) / (v_pm T).
-fn terminal<S: Scalar>(
-    pursuer: &VehicleState<S>,
-    evader: &VehicleState<S>,
-    distance: S,
-    limits: &VehicleLimits<S>,
-    terms: &NearFieldTerms<S>,
-) -> S {
-    if distance <= S::zero() {
-        return S::zero();
+impl<S: Scalar> Sight<S> {
+    fn new(pursuer: &VehicleState<S>, evader: &VehicleState<S>, distance: S) -> Self {
+        let (rx, ry) = (evader.x - pursuer.x, evader.y - pursuer.y);
+        let (sin_p, cos_p) = pursuer.theta.sin_cos();
+        Sight {
+            rx,
+            ry,
+            distance,
+            pursuer: (sin_p, cos_p),
+            evader: evader.theta.sin_cos(),
+            ahead: rx * cos_p + ry * sin_p,
+        }
     }
-    let (rx, ry) = (evader.x - pursuer.x, evader.y - pursuer.y);
-    let (sin_e, cos_e) = evader.theta.sin_cos();
-    let (ux, uy) = (terms.evader_speed * cos_e, terms.evader_speed * sin_e);
-    let c = (rx * ux + ry * uy) / distance;
-    let a = terms.closing_squares;
-    let time = distance * (c + (c * c + a).sqrt()) / a;
-    let (ax, ay) = (rx + ux * time, ry + uy * time);
-    let (sin_p, cos_p) = pursuer.theta.sin_cos();
-    let cross = cos_p * ay - sin_p * ax;
-    let ahead = cos_p * ax + sin_p * ay;
-    let w_max = limits.w_max();
-    let full = if cross < S::zero() {
-        S::zero() - w_max
+
+    /// Whether the players are in the tail-chase zone (module docs): the evader ahead of the
+    /// pursuer's beam and running away from it, with the line of sight turning at most
+    /// `terms.tail_chase_rate`, v_em |sin beta| / d (rad/s), compared as
+    /// v_em |cross| <= rate d^2 with cross = d sin beta.
+    fn tail_chase(&self, terms: &NearFieldTerms<S>) -> bool {
+        let (sin, cos) = self.evader;
+        let away = self.rx * cos + self.ry * sin;
+        let cross = (self.rx * sin - self.ry * cos).abs();
+        away > S::zero()
+            && self.ahead > S::zero()
+            && terms.evader_speed * cross <= terms.tail_chase_rate * self.distance * self.distance
+    }
+
+    /// The terminal command within four periods' travel (1/m): the arc, tangent to the
+    /// pursuer's heading, through the point where the pursuer meets an evader running straight
+    /// on at v_em (the collision triangle |r + u T| = v_pm T, u the evader's velocity). Pure
+    /// pursuit aims where the evader is; over a period the pursuer runs several capture radii,
+    /// so aiming there misses by the evader's own travel. The arc through a point at bearing b
+    /// and distance v_pm T has curvature 2 sin b / (v_pm T); a point behind the pursuer gets a
+    /// full turn toward it. Written so that no term exceeds |r| / (1 - v_em / v_pm) (the
+    /// fixed-point backend's range): T = d (c + sqrt(c^2 + v_pm^2 - v_em^2)) / (v_pm^2 - v_em^2)
+    /// with c = (r . u) / d, and sin b = (h x aim) / (v_pm T).
+    fn terminal(&self, limits: &VehicleLimits<S>, terms: &NearFieldTerms<S>) -> S {
+        if self.distance <= S::zero() {
+            return S::zero();
+        }
+        let (sin_e, cos_e) = self.evader;
+        let (ux, uy) = (terms.evader_speed * cos_e, terms.evader_speed * sin_e);
+        let c = (self.rx * ux + self.ry * uy) / self.distance;
+        let a = terms.closing_squares;
+        let time = self.distance * (c + (c * c + a).sqrt()) / a;
+        let (ax, ay) = (self.rx + ux * time, self.ry + uy * time);
+        let (sin_p, cos_p) = self.pursuer;
+        let cross = cos_p * ay - sin_p * ax;
+        let run = terms.pursuer_speed * time;
+        if cos_p * ax + sin_p * ay <= S::zero() || run <= S::zero() {
+            return full_turn(cross, limits);
+        }
+        // 2 sin b / run within +-w_max, compared before dividing.
+        let two_sin = S::from_f32(2.0) * cross / run;
+        within_turn(two_sin, run, limits)
+    }
+
+    /// Proportional navigation (1/m): curvature N lambda_dot / v_pm, lambda_dot being the line
+    /// of sight's rate (rad/s) with the evader at v_em on its heading, within +-w_max; `None`
+    /// unless the evader is ahead of the pursuer's beam and the distance closing. Pure
+    /// pursuit's turn rate grows without bound in the last metre of a crossing chase when
+    /// v_pm < 2 v_em (the pursuer misses by centimetres and comes round again, for ever against
+    /// a circling evader); navigation holds the line of sight still and leads the evader.
+    fn navigation(&self, limits: &VehicleLimits<S>, terms: &NearFieldTerms<S>) -> Option<S> {
+        let ((sin_p, cos_p), (sin_e, cos_e)) = (self.pursuer, self.evader);
+        let (vx, vy) = (
+            terms.evader_speed * cos_e - terms.pursuer_speed * cos_p,
+            terms.evader_speed * sin_e - terms.pursuer_speed * sin_p,
+        );
+        let closing = self.rx * vx + self.ry * vy < S::zero();
+        if self.ahead <= S::zero() || !closing || self.distance <= S::zero() {
+            return None;
+        }
+        // N lambda_dot / v_pm = (N / v_pm) ((r x v) / d) / d: the first quotient is at most
+        // N |v| / v_pm <= 2 N; compared with w_max d before the second division.
+        let turn = terms.navigation_gain * ((self.rx * vy - self.ry * vx) / self.distance);
+        Some(within_turn(turn, self.distance, limits))
+    }
+}
+
+/// A full turn (1/m) to the side of `side`'s sign (anticlockwise for zero).
+fn full_turn<S: Scalar>(side: S, limits: &VehicleLimits<S>) -> S {
+    if side < S::zero() {
+        S::zero() - limits.w_max()
     } else {
-        w_max
-    };
-    let run = terms.pursuer_speed * time;
-    if ahead <= S::zero() || run <= S::zero() {
-        return full;
+        limits.w_max()
     }
-    let two_sin = S::from_f32(2.0) * cross / run;
-    // 2 sin b / run within +-w_max, compared before dividing.
-    if two_sin.abs() >= w_max * run {
-        return full;
+}
+
+/// `numerator / length` (1/m) where it is within +-w_max, else the full turn on its side;
+/// compared before dividing, so that a short `length` (> 0) does not overflow the quotient.
+fn within_turn<S: Scalar>(numerator: S, length: S, limits: &VehicleLimits<S>) -> S {
+    if numerator.abs() >= limits.w_max() * length {
+        full_turn(numerator, limits)
+    } else {
+        numerator / length
     }
-    two_sin / run
 }
 
 /// Proportional navigation's gain N: the pursuer turns N times as fast as the line of sight.
@@ -232,46 +280,6 @@ fn terminal<S: Scalar>(
 /// against one turning with lateral acceleration a_e it asks for about N / (N - 2) a_e = 3 a_e,
 /// which the pursuer has wherever v_pm^2 w_pm >= 3 v_em^2 w_em.
 const NAVIGATION_GAIN: f32 = 3.0;
-
-/// Proportional navigation (1/m): curvature N lambda_dot / v_pm, lambda_dot being the line of
-/// sight's rate (rad/s) with the evader at v_em on its heading, within +-w_max; `None` unless
-/// the evader is ahead of the pursuer's beam and the distance closing. Pure pursuit's turn rate
-/// grows without bound in the last metre of a crossing chase when v_pm < 2 v_em (the pursuer
-/// misses by centimetres and comes round again, for ever against a circling evader);
-/// navigation holds the line of sight still and leads the evader instead.
-fn navigation<S: Scalar>(
-    pursuer: &VehicleState<S>,
-    evader: &VehicleState<S>,
-    distance: S,
-    limits: &VehicleLimits<S>,
-    terms: &NearFieldTerms<S>,
-) -> Option<S> {
-    let (rx, ry) = (evader.x - pursuer.x, evader.y - pursuer.y);
-    let (sin_e, cos_e) = evader.theta.sin_cos();
-    let (sin_p, cos_p) = pursuer.theta.sin_cos();
-    let (vx, vy) = (
-        terms.evader_speed * cos_e - terms.pursuer_speed * cos_p,
-        terms.evader_speed * sin_e - terms.pursuer_speed * sin_p,
-    );
-    let ahead = rx * cos_p + ry * sin_p;
-    let closing = rx * vx + ry * vy < S::zero();
-    if ahead <= S::zero() || !closing || distance <= S::zero() {
-        return None;
-    }
-    // N lambda_dot / v_pm = (N / v_pm) ((r x v) / d) / d: the first quotient is at most
-    // N |v| / v_pm <= 2 N; compared with w_max d before the second division.
-    let turn = terms.navigation_gain * ((rx * vy - ry * vx) / distance);
-    let w_max = limits.w_max();
-    Some(if turn.abs() >= w_max * distance {
-        if turn < S::zero() {
-            S::zero() - w_max
-        } else {
-            w_max
-        }
-    } else {
-        turn / distance
-    })
-}
 
 /// Whether the evader is inside the pursuer's turning circle on the side of its bearing
 /// `to_go` (radians): turning cannot bring it ahead.
