@@ -12,6 +12,7 @@ mod qemu;
 mod qemu_tests;
 mod report;
 mod run;
+mod setup;
 mod sim;
 mod size;
 mod test;
@@ -54,6 +55,28 @@ fn main() -> ExitCode {
         Policy::Paper
     };
     let parsed = options::parse(rest, policy);
+    // What the command needs on this machine, installed (or the way to install it printed)
+    // before it builds.
+    let host_only = rest.iter().any(|a| a == "--host-only");
+    let needs = match command.as_str() {
+        "test" | "bench" | "profile" => Some(setup::Needs {
+            toolchain: true,
+            qemu: true,
+        }),
+        "run" if !host_only => Some(setup::Needs {
+            toolchain: true,
+            qemu: true,
+        }),
+        "build" => Some(setup::Needs {
+            toolchain: true,
+            qemu: false,
+        }),
+        _ => None,
+    };
+    if let Err(message) = needs.map_or(Ok(()), setup::ensure) {
+        eprintln!("xtask {command}: {message}");
+        return ExitCode::from(1);
+    }
     let code = match (command.as_str(), parsed) {
         ("help" | "--help" | "-h", _) => {
             print!("{HELP}");

@@ -103,7 +103,8 @@ fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
         .join(board.bin()))
 }
 
-fn on_path(program: &str) -> Option<PathBuf> {
+/// `program` on the PATH (or in ~/.cargo/bin).
+pub fn on_path(program: &str) -> Option<PathBuf> {
     let path = std::env::var_os("PATH")?;
     let mut dirs: Vec<PathBuf> = std::env::split_paths(&path).collect();
     if let Some(home) = std::env::var_os("HOME") {

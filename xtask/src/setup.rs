@@ -1,0 +1,167 @@
+//! What the commands need on this machine, made sure of before they build: the pinned
+//! toolchain's Cortex-M targets and components (`rust-toolchain.toml`; rustup does not add them
+//! to a toolchain that is already installed) and `qemu-system-arm`. Each install is said in one
+//! line; where it cannot be done here (not root, or no apt-get), the exact command is printed and
+//! the command stops.
+
+use crate::qemu;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// What a command needs.
+#[derive(Clone, Copy, Debug)]
+pub struct Needs {
+    /// The Cortex-M targets and components of `rust-toolchain.toml`.
+    pub toolchain: bool,
+    /// `qemu-system-arm`.
+    pub qemu: bool,
+}
+
+/// Makes sure of `needs`; an error says what is missing and how to install it.
+pub fn ensure(needs: Needs) -> Result<(), String> {
+    if needs.toolchain {
+        toolchain()?;
+    }
+    if needs.qemu {
+        qemu()?;
+    }
+    Ok(())
+}
+
+/// The repository's root (the parent of `xtask/`).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+}
+
+/// The `targets` and `components` arrays of `rust-toolchain.toml`.
+fn pinned() -> Result<(Vec<String>, Vec<String>), String> {
+    let path = root().join("rust-toolchain.toml");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let table: toml::Table = text
+        .parse()
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let list = |key: &str| -> Vec<String> {
+        table
+            .get("toolchain")
+            .and_then(|t| t.get(key))
+            .and_then(|v| v.as_array())
+            .map(|a| {
+                a.iter()
+                    .filter_map(|v| v.as_str().map(str::to_string))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    Ok((list("targets"), list("components")))
+}
+
+/// Runs `rustup` with `args` (in the repository, so on the pinned toolchain); its stdout.
+fn rustup(args: &[&str]) -> Result<String, String> {
+    let out = Command::new("rustup")
+        .current_dir(root())
+        .args(args)
+        .output()
+        .map_err(|e| {
+            format!(
+                "rustup {}: {e} (without rustup, install the targets of rust-toolchain.toml yourself)",
+                args.join(" ")
+            )
+        })?;
+    if !out.status.success() {
+        return Err(format!(
+            "rustup {} failed: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stderr).trim()
+        ));
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// Adds the pinned toolchain's missing targets and components.
+fn toolchain() -> Result<(), String> {
+    let (targets, components) = pinned()?;
+    let installed = rustup(&["target", "list", "--installed"])?;
+    let missing: Vec<&str> = targets
+        .iter()
+        .map(String::as_str)
+        .filter(|t| !installed.lines().any(|l| l.trim() == *t))
+        .collect();
+    if !missing.is_empty() {
+        eprintln!(
+            "xtask: installing Rust targets {} (rustup target add)",
+            missing.join(", ")
+        );
+        let mut args = vec!["target", "add"];
+        args.extend(&missing);
+        rustup(&args)?;
+    }
+    let installed = rustup(&["component", "list", "--installed"])?;
+    // Installed components are listed with their host triple: `clippy-x86_64-unknown-linux-gnu`.
+    let missing: Vec<&str> = components
+        .iter()
+        .map(String::as_str)
+        .filter(|c| {
+            !installed
+                .lines()
+                .any(|l| l.trim() == *c || l.trim().starts_with(&format!("{c}-")))
+        })
+        .collect();
+    if !missing.is_empty() {
+        eprintln!(
+            "xtask: installing Rust components {} (rustup component add)",
+            missing.join(", ")
+        );
+        let mut args = vec!["component", "add"];
+        args.extend(&missing);
+        rustup(&args)?;
+    }
+    Ok(())
+}
+
+/// Whether this process runs as root (`id -u` prints 0).
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| o.status.success() && String::from_utf8_lossy(&o.stdout).trim() == "0")
+}
+
+/// Installs `qemu-system-arm` with apt-get where this runs as root; otherwise the command for
+/// this platform's package manager, as an error.
+fn qemu() -> Result<(), String> {
+    if qemu::qemu_binary().is_ok() {
+        return Ok(());
+    }
+    if is_root() && qemu::on_path("apt-get").is_some() {
+        eprintln!("xtask: installing qemu-system-arm (apt-get install qemu-system-arm)");
+        let apt = |args: &[&str]| {
+            Command::new("apt-get")
+                .args(args)
+                .env("DEBIAN_FRONTEND", "noninteractive")
+                .stdout(std::process::Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success())
+        };
+        if apt(&["update", "-qq"]) && apt(&["install", "-y", "-qq", "qemu-system-arm"]) {
+            return qemu::qemu_binary().map(|_| ());
+        }
+        return Err("apt-get could not install qemu-system-arm".to_string());
+    }
+    let command = [
+        ("apt-get", "sudo apt-get install qemu-system-arm"),
+        ("dnf", "sudo dnf install qemu-system-arm"),
+        ("pacman", "sudo pacman -S qemu-system-arm"),
+        ("brew", "brew install qemu"),
+    ]
+    .iter()
+    .find(|(manager, _)| qemu::on_path(manager).is_some())
+    .map_or(
+        "your package manager's qemu-system-arm package",
+        |(_, c)| *c,
+    );
+    Err(format!(
+        "qemu-system-arm is not installed and this user cannot install it: run `{command}`, then the command again"
+    ))
+}
