@@ -68,6 +68,64 @@ fn host_tests(cargo: &str) -> Option<(u64, u64)> {
     }
 }
 
+/// The on-target scenario tests (`tests/on_target.rs`) on each Cortex-M target, run in QEMU by
+/// `cargo test --target` through `.cargo/config.toml`'s runner: (target, features).
+const ON_TARGET: [(&str, &str); 2] = [
+    ("thumbv7em-none-eabihf", "on-target"),
+    ("thumbv6m-none-eabi", "on-target,board-microbit"),
+];
+
+/// Runs the on-target tests, echoing their output; each run's `on_target: N passed, M failed`
+/// line summed into (passed, failed), a run that does not report counting as one failure.
+fn on_target(cargo: &str) -> (u64, u64) {
+    let (mut passed, mut failed) = (0, 0);
+    for (target, features) in ON_TARGET {
+        println!("== xtask test: on-target tests on {target} in QEMU ({features})");
+        let args = [
+            "test",
+            "--release",
+            "--target",
+            target,
+            "--features",
+            features,
+            "--test",
+            "on_target",
+        ];
+        let Ok(mut child) = Command::new(cargo)
+            .args(args)
+            .stdout(Stdio::piped())
+            .spawn()
+        else {
+            failed += 1;
+            continue;
+        };
+        let mut reported = None;
+        if let Some(out) = child.stdout.take() {
+            for line in BufReader::new(out).lines().map_while(Result::ok) {
+                println!("{line}");
+                if let Some(rest) = line.strip_prefix("on_target: ") {
+                    let numbers: Vec<u64> = rest
+                        .split(|c: char| !c.is_ascii_digit())
+                        .filter_map(|n| n.parse().ok())
+                        .collect();
+                    if let [p, f] = numbers[..] {
+                        reported = Some((p, f));
+                    }
+                }
+            }
+        }
+        let success = child.wait().is_ok_and(|s| s.success());
+        match reported {
+            Some((p, f)) => {
+                passed += p;
+                failed += f + u64::from(f == 0 && !success);
+            }
+            None => failed += 1,
+        }
+    }
+    (passed, failed)
+}
+
 /// Runs every step; returns the exit code.
 pub fn run() -> i32 {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
@@ -143,6 +201,30 @@ pub fn run() -> i32 {
                 &[],
             );
     }
+    for (target, features) in ON_TARGET {
+        let clippy = [
+            "clippy",
+            "-p",
+            "twocars",
+            "--release",
+            "--target",
+            target,
+            "--features",
+            features,
+            "--test",
+            "on_target",
+            "--",
+            "-D",
+            "warnings",
+        ];
+        ok = ok
+            && step(
+                &format!("clippy of the on-target tests for {target}"),
+                &cargo,
+                &clippy,
+                &[],
+            );
+    }
     if ok {
         println!(
             "== xtask test: firmware images build, vector tables at their boards' flash origins"
@@ -175,6 +257,12 @@ pub fn run() -> i32 {
     let (mut passed, mut failed) = counts.unwrap_or((0, 0));
     if ok {
         let (p, f) = crate::qemu_tests::run();
+        passed += p;
+        failed += f;
+        ok = f == 0;
+    }
+    if ok {
+        let (p, f) = on_target(&cargo);
         passed += p;
         failed += f;
         ok = f == 0;
