@@ -151,42 +151,42 @@ fn count_files(dir: &Path) -> u64 {
     std::fs::read_dir(dir).map_or(0, |d| d.filter_map(Result::ok).count() as u64)
 }
 
+/// `cargo xtask fuzz`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct FuzzArgs {
+    /// Wall-clock seconds per target (default 60).
+    #[arg(long, conflicts_with = "runs")]
+    seconds: Option<u64>,
+    /// Executions per target instead of seconds.
+    #[arg(long)]
+    runs: Option<u64>,
+    /// Regenerate the seed corpora in fuzz/seeds from the project's own cases, then stop.
+    #[arg(long)]
+    write_seeds: bool,
+    /// Targets to run (default all).
+    #[arg(value_parser = TARGETS)]
+    targets: Vec<String>,
+}
+
 /// `cargo xtask fuzz [--seconds S | --runs N] [--write-seeds] [target...]`.
-pub fn command(args: &[String]) -> i32 {
-    let mut budget = Budget::Seconds(60);
-    let mut targets: Vec<&'static str> = Vec::new();
-    let mut it = args.iter();
-    while let Some(arg) = it.next() {
-        match arg.as_str() {
-            "--seconds" | "--runs" => {
-                let Some(n) = it.next().and_then(|v| v.parse::<u64>().ok()) else {
-                    eprintln!("xtask fuzz: {arg} needs a number");
-                    return 2;
-                };
-                budget = if arg == "--runs" {
-                    Budget::Runs(n)
-                } else {
-                    Budget::Seconds(n)
-                };
+pub fn command(args: &FuzzArgs) -> i32 {
+    if args.write_seeds {
+        return match write_seeds() {
+            Ok(()) => 0,
+            Err(e) => {
+                eprintln!("xtask fuzz: {e}");
+                1
             }
-            "--write-seeds" => {
-                return match write_seeds() {
-                    Ok(()) => 0,
-                    Err(e) => {
-                        eprintln!("xtask fuzz: {e}");
-                        1
-                    }
-                }
-            }
-            name => match TARGETS.iter().find(|t| **t == name) {
-                Some(t) => targets.push(t),
-                None => {
-                    eprintln!("xtask fuzz: unknown target {name} (expected {TARGETS:?})");
-                    return 2;
-                }
-            },
-        }
+        };
     }
+    let budget = match (args.runs, args.seconds) {
+        (Some(n), _) => Budget::Runs(n),
+        (None, n) => Budget::Seconds(n.unwrap_or(60)),
+    };
+    let mut targets: Vec<&'static str> = TARGETS
+        .into_iter()
+        .filter(|t| args.targets.iter().any(|a| a == t))
+        .collect();
     if targets.is_empty() {
         targets = TARGETS.to_vec();
     }

@@ -1,4 +1,5 @@
-//! The project's own commands. `cargo xtask help` lists them.
+//! The project's own commands, parsed by clap. `cargo xtask help` lists them; `cargo xtask
+//! <command> --help` gives each one's options and units.
 
 mod bench;
 mod csv;
@@ -17,95 +18,93 @@ mod sim;
 mod size;
 mod test;
 
+use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 use twocars::Policy;
 
-const HELP: &str = "\
-cargo xtask <command> [options]
+/// The project's own commands (units: metres, seconds, radians anticlockwise from +x; curvature
+/// in 1/m).
+#[derive(Debug, Parser)]
+#[command(
+    name = "cargo xtask",
+    bin_name = "cargo xtask",
+    arg_required_else_help = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Cmd,
+}
 
-  run     the main job: the firmware in QEMU in closed loop with the host simulator
-          [--case paper1..paper4|all] [--dt S] [--t-max S] [--roles both|pursuer|evader]
-          [--limits v,w,v,w] [--pursuer x,y,th --evader x,y,th] [--host-only]
-          [--policy flight|paper] (default flight: the paper's law beyond the theorem's threshold,
-          our pursuer below it) [--variant ..]
-  build   build a firmware image and print its flash and RAM  [--board qemu|stm32f405|all]
-  bench   instructions per law evaluation (M4F, M0), flash, stack, host throughput -> docs/bench.md
-  profile instructions per law evaluation by function (QEMU exec log), M4F f32 and M0 fixed point
-  fuzz    the libFuzzer targets from their seed corpora  [--seconds S | --runs N] [--write-seeds] [target..]
-  test    every check: fmt, clippy (host and thumb), host tests, thumb builds, docs
-  eval    the law on CSV rows from stdin  [--variant paper|clamped] [--numeric f32|f64]
-  sim     closed loop on the host, CSV rows from stdin  [--variant ..] [--numeric ..] [--policy paper|flight] (default paper)
-          [--evader NAME [--adversary-seed N]] (an evader of the adversary suite plays the evader)
-  report  closed-loop Monte Carlo, both policies, split at the theorem's threshold  [--runs N] [--seed S] [--dt S]
-          [--limits random|paper|both] [--evader NAME|all] [--pursuer NAME|all]
-  plot    SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatter
-";
+#[derive(Debug, Subcommand)]
+enum Cmd {
+    /// The main job: the firmware in QEMU in closed loop with the host simulator.
+    Run(run::RunArgs),
+    /// Every check: fmt, clippy (host and thumb), builds, host tests, docs, QEMU, on-target
+    /// tests, fuzz smoke runs; the last line is `N passed, N failed`.
+    Test,
+    /// Build the firmware images and print their flash and RAM.
+    Build(qemu::BuildArgs),
+    /// Instructions per law evaluation (M4F, M0), flash, stack, host throughput ->
+    /// docs/bench.md.
+    Bench,
+    /// Instructions per law evaluation by function (QEMU exec log), M4F f32 and M0 fixed point.
+    Profile,
+    /// The libFuzzer targets from their seed corpora.
+    Fuzz(fuzz::FuzzArgs),
+    /// The law on CSV rows from stdin (docs/contract.md).
+    Eval {
+        #[command(flatten)]
+        law: options::LawArgs,
+    },
+    /// Closed loop on the host, CSV rows from stdin (docs/contract.md).
+    Sim(sim::SimArgs),
+    /// Closed-loop Monte Carlo, both policies, split at the theorem's threshold, per evader.
+    Report(report::ReportArgs),
+    /// SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatters.
+    Plot,
+}
+
+impl Cmd {
+    /// What the command needs on this machine.
+    fn needs(&self) -> Option<setup::Needs> {
+        let all = setup::Needs {
+            toolchain: true,
+            qemu: true,
+        };
+        match self {
+            Cmd::Test | Cmd::Bench | Cmd::Profile => Some(all),
+            Cmd::Run(args) if !args.host_only => Some(all),
+            Cmd::Build(_) => Some(setup::Needs {
+                toolchain: true,
+                qemu: false,
+            }),
+            _ => None,
+        }
+    }
+}
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let Some((command, rest)) = args.split_first() else {
-        eprint!("{HELP}");
-        return ExitCode::from(2);
-    };
-    // `run` flies the policy we recommend for flight; `eval` and `sim` default to the paper's law,
-    // as the shared contract binds.
-    let policy = if command == "run" {
-        Policy::Flight
-    } else {
-        Policy::Paper
-    };
-    let parsed = options::parse(rest, policy);
+    // Usage errors exit 2 naming the option; --help exits 0.
+    let cli = Cli::parse();
     // What the command needs on this machine, installed (or the way to install it printed)
     // before it builds.
-    let host_only = rest.iter().any(|a| a == "--host-only");
-    let needs = match command.as_str() {
-        "test" | "bench" | "profile" => Some(setup::Needs {
-            toolchain: true,
-            qemu: true,
-        }),
-        "run" if !host_only => Some(setup::Needs {
-            toolchain: true,
-            qemu: true,
-        }),
-        "build" => Some(setup::Needs {
-            toolchain: true,
-            qemu: false,
-        }),
-        _ => None,
-    };
-    if let Err(message) = needs.map_or(Ok(()), setup::ensure) {
-        eprintln!("xtask {command}: {message}");
+    if let Err(message) = cli.command.needs().map_or(Ok(()), setup::ensure) {
+        eprintln!("xtask: {message}");
         return ExitCode::from(1);
     }
-    let code = match (command.as_str(), parsed) {
-        ("help" | "--help" | "-h", _) => {
-            print!("{HELP}");
-            0
-        }
-        (_, Err(message)) => {
-            eprintln!("xtask {command}: {message}");
-            2
-        }
-        ("eval", Ok((options, _))) => eval::run(&options),
-        ("sim", Ok((options, rest))) => match sim::parse_opponent(&rest) {
-            Ok(opponent) => sim::run(&options, opponent),
-            Err(message) => {
-                eprintln!("xtask sim: {message}");
-                2
-            }
-        },
-        ("run", Ok((options, rest))) => run::run(&options, &rest),
-        ("test", Ok(_)) => test::run(),
-        ("bench", Ok(_)) => bench::run(),
-        ("fuzz", Ok((_, rest))) => fuzz::command(&rest),
-        ("report", Ok((_, rest))) => report::command(&rest),
-        ("plot", Ok(_)) => plot::command(),
-        ("profile", Ok(_)) => profile::command(),
-        ("build", Ok((_, rest))) => qemu::build_command(&rest),
-        (other, Ok(_)) => {
-            eprintln!("xtask: unknown command `{other}`\n{HELP}");
-            2
-        }
+    let code = match &cli.command {
+        // `eval` and `sim` default to the paper's law, as the shared contract binds; `run`
+        // flies the policy we recommend for flight.
+        Cmd::Eval { law } => eval::run(&law.options(Policy::Paper)),
+        Cmd::Sim(args) => sim::run(&args.law.options(Policy::Paper), args.opponent()),
+        Cmd::Run(args) => run::run(args),
+        Cmd::Test => test::run(),
+        Cmd::Bench => bench::run(),
+        Cmd::Fuzz(args) => fuzz::command(args),
+        Cmd::Report(args) => report::command(args),
+        Cmd::Plot => plot::command(),
+        Cmd::Profile => profile::command(),
+        Cmd::Build(args) => qemu::build_command(args),
     };
     ExitCode::from(u8::try_from(code).unwrap_or(1))
 }

@@ -3,7 +3,7 @@
 use twocars::{Policy, Variant};
 
 /// Numeric backend of the law.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Numeric {
     /// The accurate f32 path (the default).
     F32,
@@ -51,58 +51,56 @@ pub struct Options {
     pub policy: Policy,
 }
 
-/// Parses `--variant`, `--numeric` and `--policy` (`policy` where it is not given); other
-/// arguments are returned for the command.
-pub fn parse(args: &[String], policy: Policy) -> Result<(Options, Vec<String>), String> {
-    let mut options = Options {
-        variant: Variant::Paper,
-        numeric: Numeric::F32,
-        policy,
-    };
-    let mut rest = Vec::new();
-    let mut it = args.iter();
-    while let Some(arg) = it.next() {
-        let (key, inline) = match arg.split_once('=') {
-            Some((k, v)) => (k, Some(v.to_string())),
-            None => (arg.as_str(), None),
-        };
-        let mut value = || {
-            inline
-                .clone()
-                .or_else(|| it.next().cloned())
-                .ok_or(format!("{key} needs a value"))
-        };
-        match key {
-            "--variant" => {
-                options.variant = match value()?.as_str() {
-                    "paper" => Variant::Paper,
-                    "clamped" => Variant::Clamped,
-                    v => return Err(format!("--variant {v}: expected paper or clamped")),
-                }
-            }
-            "--numeric" => {
-                options.numeric = match value()?.as_str() {
-                    "f32" => Numeric::F32,
-                    "f64" => Numeric::F64,
-                    "micromath" => Numeric::Micromath,
-                    "fixed" => Numeric::Fixed,
-                    v => {
-                        return Err(format!(
-                            "--numeric {v}: expected f32, micromath, fixed or f64"
-                        ))
-                    }
-                }
-            }
-            "--policy" => {
-                options.policy = match value()?.as_str() {
-                    "paper" => Policy::Paper,
-                    // "near-field": the flight policy's name before issue 25, kept as an alias.
-                    "flight" | "near-field" => Policy::Flight,
-                    v => return Err(format!("--policy {v}: expected paper or flight")),
-                }
-            }
-            _ => rest.push(arg.clone()),
+/// Algorithm 2's reading, as the command line names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum VariantArg {
+    /// As published.
+    Paper,
+    /// The evader's overshoot clamped.
+    Clamped,
+}
+
+/// The policy, as the command line names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PolicyArg {
+    /// The paper's law everywhere: the reference for research.
+    Paper,
+    /// The paper's law beyond the theorem's threshold, our pursuer below it: the one to fly.
+    /// `near-field`: its name before issue 25.
+    #[value(alias = "near-field")]
+    Flight,
+}
+
+/// `--variant`, `--numeric` and `--policy`, shared by `eval`, `sim` and `run`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct LawArgs {
+    /// Algorithm 2's reading.
+    #[arg(long, value_enum, default_value = "paper")]
+    variant: VariantArg,
+    /// Numeric backend (docs/numeric.md): f32, f64, micromath (error reported, no bound), fixed
+    /// (Q17.14, within its envelope).
+    #[arg(long, value_enum, default_value = "f32")]
+    numeric: Numeric,
+    /// Policy (Configure's policy byte 0 or 1); default paper for eval and sim (the shared
+    /// contract), flight for run.
+    #[arg(long, value_enum)]
+    policy: Option<PolicyArg>,
+}
+
+impl LawArgs {
+    /// The options, with `policy` where `--policy` was not given.
+    pub fn options(&self, policy: Policy) -> Options {
+        Options {
+            variant: match self.variant {
+                VariantArg::Paper => Variant::Paper,
+                VariantArg::Clamped => Variant::Clamped,
+            },
+            numeric: self.numeric,
+            policy: match self.policy {
+                None => policy,
+                Some(PolicyArg::Paper) => Policy::Paper,
+                Some(PolicyArg::Flight) => Policy::Flight,
+            },
         }
     }
-    Ok((options, rest))
 }

@@ -296,24 +296,32 @@ pub fn build_checked(board: Board) -> Result<(PathBuf, crate::size::ImageSize), 
     Ok((elf, size))
 }
 
+/// The boards `cargo xtask build` builds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BoardArg {
+    /// QEMU mps2-an386 (Cortex-M4F).
+    Qemu,
+    /// STM32F405 flight controller (built and sized only).
+    Stm32f405,
+    /// Both.
+    All,
+}
+
+/// `cargo xtask build`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BuildArgs {
+    /// The board.
+    #[arg(long, value_enum, default_value = "all")]
+    board: BoardArg,
+}
+
 /// `cargo xtask build [--board qemu|stm32f405|all]`: builds each image, checks its memory map
 /// and prints its size.
-pub fn build_command(args: &[String]) -> i32 {
-    let boards: Vec<Board> = match args {
-        [] => Board::ALL.to_vec(),
-        [flag, name] if flag == "--board" => match name.as_str() {
-            "qemu" => vec![Board::Qemu],
-            "stm32f405" => vec![Board::Stm32f405],
-            "all" => Board::ALL.to_vec(),
-            other => {
-                eprintln!("xtask build: unknown board {other}");
-                return 2;
-            }
-        },
-        _ => {
-            eprintln!("xtask build: usage: cargo xtask build [--board qemu|stm32f405|all]");
-            return 2;
-        }
+pub fn build_command(args: &BuildArgs) -> i32 {
+    let boards: Vec<Board> = match args.board {
+        BoardArg::Qemu => vec![Board::Qemu],
+        BoardArg::Stm32f405 => vec![Board::Stm32f405],
+        BoardArg::All => Board::ALL.to_vec(),
     };
     let mut rows = Vec::new();
     for board in boards {

@@ -324,66 +324,80 @@ struct ReportOptions {
     pursuers: Vec<PursuerKind>,
 }
 
-const USAGE: &str = "usage: cargo xtask report [--runs N] [--seed S] [--dt S (<= 0.1)] \
-[--limits random|paper|both] [--evader law|...|all] [--pursuer law|...|all]";
+/// Which limit sets `report` draws, as the command line names them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LimitsArg {
+    /// Seeded random limits.
+    Random,
+    /// The paper's 2, 2, 1, 1.
+    Paper,
+    /// Both, one table row pair each.
+    Both,
+}
 
-fn parse(args: &[String]) -> Result<ReportOptions, String> {
-    let mut o = ReportOptions {
-        runs: 2000,
-        seed: 2019,
-        dt: 0.01,
-        limits: vec![LimitSet::Random],
-        evaders: vec![None],
-        pursuers: Vec::new(),
-    };
-    let mut it = args.iter();
-    while let Some(arg) = it.next() {
-        let value = it.next().ok_or(format!("{arg} needs a value"))?;
-        let bad = || format!("{arg} {value}: not understood");
-        match arg.as_str() {
-            "--runs" => o.runs = value.parse().map_err(|_| bad())?,
-            "--seed" => o.seed = value.parse().map_err(|_| bad())?,
-            "--dt" => {
-                o.dt = value.parse().map_err(|_| bad())?;
-                if !(o.dt > 0.0 && o.dt <= 0.1) {
-                    return Err(bad());
-                }
-            }
-            "--limits" => {
-                o.limits = match value.as_str() {
-                    "random" => vec![LimitSet::Random],
-                    "paper" => vec![LimitSet::Paper],
-                    "both" => vec![LimitSet::Random, LimitSet::Paper],
-                    _ => return Err(bad()),
-                }
-            }
-            "--evader" => {
-                o.evaders = match value.as_str() {
-                    "all" => EvaderKind::ALL.into_iter().map(Some).collect(),
-                    name => vec![Some(EvaderKind::from_name(name).ok_or_else(bad)?)],
-                }
-            }
-            "--pursuer" => {
-                o.pursuers = match value.as_str() {
-                    "all" => PursuerKind::ALL.to_vec(),
-                    name => vec![PursuerKind::ALL
-                        .into_iter()
-                        .find(|p| p.name() == name)
-                        .ok_or_else(bad)?],
-                }
-            }
-            _ => return Err(format!("unknown option {arg}")),
-        }
+/// `cargo xtask report`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ReportArgs {
+    /// Seeded starts per evader and limit set.
+    #[arg(long, default_value_t = 2000)]
+    runs: usize,
+    /// The starts' seed.
+    #[arg(long, default_value_t = 2019)]
+    seed: u64,
+    /// Control period, seconds (at most 0.1).
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// The limit sets.
+    #[arg(long, value_enum, default_value = "random")]
+    limits: LimitsArg,
+    /// An evader of the adversary suite, or all (default: the law plays both players).
+    #[arg(long, value_parser = names(&EvaderKind::ALL.map(EvaderKind::name)))]
+    evader: Option<String>,
+    /// Our evader against a pursuer of the mirror suite, or all.
+    #[arg(long, value_parser = names(&PursuerKind::ALL.map(PursuerKind::name)))]
+    pursuer: Option<String>,
+}
+
+/// The suite's names and `all`.
+fn names(names: &[&'static str]) -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(names.iter().copied().chain(["all"]))
+}
+
+fn parse(args: &ReportArgs) -> Result<ReportOptions, String> {
+    if !(args.dt > 0.0 && args.dt <= 0.1) {
+        return Err(format!("--dt {}: expected 0 < dt <= 0.1", args.dt));
     }
-    Ok(o)
+    Ok(ReportOptions {
+        runs: args.runs,
+        seed: args.seed,
+        dt: args.dt,
+        limits: match args.limits {
+            LimitsArg::Random => vec![LimitSet::Random],
+            LimitsArg::Paper => vec![LimitSet::Paper],
+            LimitsArg::Both => vec![LimitSet::Random, LimitSet::Paper],
+        },
+        evaders: match args.evader.as_deref() {
+            None => vec![None],
+            Some("all") => EvaderKind::ALL.into_iter().map(Some).collect(),
+            Some(name) => vec![EvaderKind::from_name(name)],
+        },
+        pursuers: match args.pursuer.as_deref() {
+            None => Vec::new(),
+            Some("all") => PursuerKind::ALL.to_vec(),
+            Some(name) => PursuerKind::ALL
+                .into_iter()
+                .filter(|p| p.name() == name)
+                .collect(),
+        },
+    })
 }
 
 /// `cargo xtask report [--runs N] [--seed S] [--dt S] [--limits ..] [--evader ..] [--pursuer ..]`.
-pub fn command(args: &[String]) -> i32 {
+pub fn command(args: &ReportArgs) -> i32 {
     let o = match parse(args) {
         Ok(o) => o,
         Err(e) => {
-            eprintln!("xtask report: {e}\n{USAGE}");
+            eprintln!("xtask report: {e}");
             return 2;
         }
     };

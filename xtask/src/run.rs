@@ -6,10 +6,10 @@
 use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use host_tests::sim::{SimParams, SimStatus};
 use twocars::message::{ROLE_EVADER, ROLE_PURSUER};
-use twocars::{evaluate_observation, Observation, Scalar};
+use twocars::{evaluate_observation, Observation, Policy, Scalar};
 
 use crate::firmware_loop;
-use crate::options::{with_numeric, Options};
+use crate::options::{with_numeric, LawArgs, Options};
 use crate::qemu::{self, Board, Qemu};
 
 /// Capture distance, metres.
@@ -28,74 +28,85 @@ struct RunOptions {
     host_only: bool,
 }
 
-fn triple(text: &str) -> Result<[f64; 3], String> {
+/// Which players the firmware plays (the host law plays the other).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Roles {
+    /// Both players.
+    Both,
+    /// The pursuer only.
+    Pursuer,
+    /// The evader only.
+    Evader,
+}
+
+/// `cargo xtask run`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub law: LawArgs,
+    /// A paper case (paper1..paper4) or all; repeatable; default all.
+    #[arg(long, value_parser = ["paper1", "paper2", "paper3", "paper4", "all"])]
+    case: Vec<String>,
+    /// Control period, seconds.
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// Longest run, seconds.
+    #[arg(long, default_value_t = 30.0)]
+    t_max: f64,
+    /// The players the firmware plays; the host's law plays the other.
+    #[arg(long, value_enum, default_value = "both")]
+    roles: Roles,
+    /// Limits v_pm,w_pm,v_em,w_em (m/s, 1/m, m/s, 1/m); default the paper's 2,2,1,1.
+    #[arg(long, value_parser = numbers::<4>)]
+    limits: Option<[f64; 4]>,
+    /// A custom start: the pursuer's x,y,theta (m, m, rad), with --evader.
+    #[arg(long, value_parser = numbers::<3>, requires = "evader")]
+    pursuer: Option<[f64; 3]>,
+    /// A custom start: the evader's x,y,theta (m, m, rad), with --pursuer.
+    #[arg(long, value_parser = numbers::<3>, requires = "pursuer")]
+    evader: Option<[f64; 3]>,
+    /// The host simulation only, no QEMU.
+    #[arg(long)]
+    pub host_only: bool,
+}
+
+/// `N` comma-separated numbers.
+fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
     let v: Vec<f64> = text
         .split(',')
         .map(|s| s.trim().parse::<f64>())
         .collect::<Result<_, _>>()
         .map_err(|e| format!("{text}: {e}"))?;
-    <[f64; 3]>::try_from(v).map_err(|_| format!("{text}: expected x,y,theta"))
+    <[f64; N]>::try_from(v).map_err(|_| format!("{text}: expected {N} comma-separated numbers"))
 }
 
-fn parse(args: &[String]) -> Result<RunOptions, String> {
+fn parse(args: &RunArgs) -> Result<RunOptions, String> {
     let mut o = RunOptions {
         cases: Vec::new(),
-        limits: PAPER_LIMITS,
-        dt: 0.01,
-        t_max: 30.0,
-        roles: ROLE_PURSUER | ROLE_EVADER,
-        host_only: false,
+        limits: args.limits.unwrap_or(PAPER_LIMITS),
+        dt: args.dt,
+        t_max: args.t_max,
+        roles: match args.roles {
+            Roles::Both => ROLE_PURSUER | ROLE_EVADER,
+            Roles::Pursuer => ROLE_PURSUER,
+            Roles::Evader => ROLE_EVADER,
+        },
+        host_only: args.host_only,
     };
-    let (mut pursuer, mut evader) = (None, None);
-    let mut it = args.iter();
-    while let Some(arg) = it.next() {
-        let mut value = || it.next().cloned().ok_or(format!("{arg} needs a value"));
-        match arg.as_str() {
-            "--case" => {
-                let name = value()?;
-                if name == "all" {
-                    o.cases.extend(paper_cases());
-                } else {
-                    let case = paper_cases().into_iter().find(|c| c.name == name);
-                    o.cases.push(
-                        case.ok_or(format!("--case {name}: expected paper1..paper4 or all"))?,
-                    );
-                }
-            }
-            "--dt" => o.dt = value()?.parse().map_err(|e| format!("--dt: {e}"))?,
-            "--t-max" => o.t_max = value()?.parse().map_err(|e| format!("--t-max: {e}"))?,
-            "--roles" => {
-                o.roles = match value()?.as_str() {
-                    "both" => ROLE_PURSUER | ROLE_EVADER,
-                    "pursuer" => ROLE_PURSUER,
-                    "evader" => ROLE_EVADER,
-                    v => return Err(format!("--roles {v}: expected both, pursuer or evader")),
-                }
-            }
-            "--limits" => {
-                let v: Vec<f64> = value()?
-                    .split(',')
-                    .map(|s| s.trim().parse::<f64>())
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| format!("--limits: {e}"))?;
-                o.limits = <[f64; 4]>::try_from(v)
-                    .map_err(|_| "--limits v_pm,w_pm,v_em,w_em".to_string())?;
-            }
-            "--pursuer" => pursuer = Some(triple(&value()?)?),
-            "--evader" => evader = Some(triple(&value()?)?),
-            "--host-only" => o.host_only = true,
-            other => return Err(format!("unknown option {other}")),
-        }
+    for name in &args.case {
+        o.cases.extend(
+            paper_cases()
+                .into_iter()
+                .filter(|c| name == "all" || c.name == name.as_str()),
+        );
     }
-    match (pursuer, evader) {
-        (Some(p), Some(e)) => o.cases.push(Case {
+    if let (Some(p), Some(e)) = (args.pursuer, args.evader) {
+        o.cases.push(Case {
             name: "custom",
             pursuer: p,
             evader: e,
             expected_value: f64::NAN,
-        }),
-        (None, None) => {}
-        _ => return Err("--pursuer and --evader go together".to_string()),
+        });
     }
     if o.cases.is_empty() {
         o.cases.extend(paper_cases());
@@ -179,7 +190,8 @@ fn closing(o: &RunOptions, t: f64) -> f64 {
 }
 
 /// Runs the main job; returns the exit code.
-pub fn run(options: &Options, args: &[String]) -> i32 {
+pub fn run(args: &RunArgs) -> i32 {
+    let options = &args.law.options(Policy::Flight);
     let o = match parse(args) {
         Ok(o) => o,
         Err(e) => {

@@ -1,7 +1,7 @@
 //! `cargo xtask sim`: closed loop on the host, CSV rows from stdin (format in docs/contract.md).
 
 use crate::csv::{number, parse_fields, run_door};
-use crate::options::{with_numeric, Options};
+use crate::options::{with_numeric, LawArgs, Options};
 use host_tests::adversary::{EvaderKind, Opponent};
 use host_tests::sim::{simulate_against, SimParams, SimResult};
 
@@ -33,29 +33,25 @@ pub fn run_one(
     with_numeric!(options.numeric, S => simulate_against::<S>(p, options.variant, options.policy, opponent, record))
 }
 
-/// `sim`'s own options: `--evader NAME` (an evader of the adversary suite instead of the law's)
-/// and `--adversary-seed N` (its seed, default 1).
-pub fn parse_opponent(args: &[String]) -> Result<Option<(Opponent, u64)>, String> {
-    let (mut evader, mut seed) = (None, 1u64);
-    let mut it = args.iter();
-    while let Some(arg) = it.next() {
-        let value = it.next().ok_or(format!("{arg} needs a value"))?;
-        match arg.as_str() {
-            "--evader" => {
-                evader = Some(EvaderKind::from_name(value).ok_or_else(|| {
-                    let names: Vec<_> = EvaderKind::ALL.iter().map(|e| e.name()).collect();
-                    format!("--evader {value}: expected one of {}", names.join(", "))
-                })?)
-            }
-            "--adversary-seed" => {
-                seed = value
-                    .parse()
-                    .map_err(|_| format!("--adversary-seed {value}: not a number"))?
-            }
-            _ => return Err(format!("unknown option {arg}")),
-        }
+/// `cargo xtask sim`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SimArgs {
+    #[command(flatten)]
+    pub law: LawArgs,
+    /// An evader of the adversary suite (host-tests/src/adversary.rs) in place of the law's.
+    #[arg(long, value_parser = EvaderKind::ALL.map(EvaderKind::name))]
+    evader: Option<String>,
+    /// The adversary's seed.
+    #[arg(long, default_value_t = 1, requires = "evader")]
+    adversary_seed: u64,
+}
+
+impl SimArgs {
+    /// The adversary and its seed, if one plays.
+    pub fn opponent(&self) -> Option<(Opponent, u64)> {
+        let evader = EvaderKind::from_name(self.evader.as_deref()?)?;
+        Some((Opponent::Evader(evader), self.adversary_seed))
     }
-    Ok(evader.map(|e| (Opponent::Evader(e), seed)))
 }
 
 /// One output row.
