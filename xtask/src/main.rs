@@ -9,6 +9,7 @@ mod fuzz;
 mod options;
 mod plot;
 mod profile;
+mod progress;
 mod qemu;
 mod qemu_tests;
 mod report;

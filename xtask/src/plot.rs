@@ -469,12 +469,25 @@ pub fn command() -> i32 {
             written.push(paper_case(&dir, case.name, case.pursuer, case.evader)?);
         }
         written.extend(value_map(&dir)?);
-        let runs =
-            crate::report::monte_carlo(600, 2019, 0.01, crate::report::LimitSet::Random, None);
+        let evaders = host_tests::adversary::EvaderKind::ALL;
+        let progress = crate::progress::Progress::new(
+            600 + 300 * evaders.len() as u64,
+            "closed-loop runs for the Monte-Carlo scatters",
+        );
+        progress.step("the law against itself");
+        let runs = crate::report::monte_carlo(
+            600,
+            2019,
+            0.01,
+            crate::report::LimitSet::Random,
+            None,
+            Some(&progress),
+        );
         written.push(scatter(&dir, &runs, "paper", |r| &r.paper)?);
         written.push(scatter(&dir, &runs, "flight", |r| &r.flight)?);
         // One figure per evader of the adversary suite, the flight policy's pursuer.
-        for evader in host_tests::adversary::EvaderKind::ALL {
+        for evader in evaders {
+            progress.step(&format!("flight against {}", evader.name()));
             let opponent = Some(host_tests::adversary::Opponent::Evader(evader));
             let runs = crate::report::monte_carlo(
                 300,
@@ -482,10 +495,12 @@ pub fn command() -> i32 {
                 0.01,
                 crate::report::LimitSet::Random,
                 opponent,
+                Some(&progress),
             );
             let name = format!("flight-vs-{}", evader.name());
             written.push(scatter(&dir, &runs, &name, |r| &r.flight)?);
         }
+        progress.finish();
         Ok(written)
     })();
     match result {

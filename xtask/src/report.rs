@@ -9,6 +9,8 @@ use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult,
 use rayon::prelude::*;
 use twocars::{Policy, Variant};
 
+use crate::progress::Progress;
+
 /// Capture distance, metres.
 const EPS: f64 = 0.01;
 /// "Equals the prediction" within this many control periods.
@@ -114,6 +116,7 @@ pub fn monte_carlo(
     dt: f64,
     limit_set: LimitSet,
     opponent: Option<Opponent>,
+    progress: Option<&Progress>,
 ) -> Vec<Run> {
     let mut rng = Rng::new(seed);
     let states: Vec<(SimParams, Regime, u64)> = (0..runs)
@@ -149,13 +152,17 @@ pub fn monte_carlo(
                     false,
                 )
             };
-            Run {
+            let run = Run {
                 params,
                 regime,
                 seed,
                 paper: sim(Policy::Paper),
                 flight: sim(Policy::Flight),
+            };
+            if let Some(p) = progress {
+                p.inc();
             }
+            run
         })
         .collect()
 }
@@ -415,17 +422,21 @@ pub fn command(args: &ReportArgs) -> i32 {
     println!("|---|---|---|---|---|---|---|---|---|---|");
     let mut worst = Vec::new();
     let mut total = 0;
+    let sets = (o.evaders.len() + o.pursuers.len()) * o.limits.len();
+    let progress = Progress::new((sets * o.runs) as u64, "closed-loop runs, 2 policies each");
     for &evader in &o.evaders {
         for &limit_set in &o.limits {
+            let name = evader.map_or("law (both players)", EvaderKind::name);
+            progress.step(&format!("evader {name}, {} limits", limit_set.name()));
             let runs = monte_carlo(
                 o.runs,
                 o.seed,
                 o.dt,
                 limit_set,
                 evader.map(Opponent::Evader),
+                Some(&progress),
             );
             total += runs.len();
-            let name = evader.map_or("law (both players)", EvaderKind::name);
             print_evader(name, limit_set, &runs, &mut worst);
         }
     }
@@ -443,18 +454,25 @@ pub fn command(args: &ReportArgs) -> i32 {
         println!("|---|---|---|---|---|---|---|---|");
         for &pursuer in &o.pursuers {
             for &limit_set in &o.limits {
+                progress.step(&format!(
+                    "pursuer {}, {} limits",
+                    pursuer.name(),
+                    limit_set.name()
+                ));
                 let runs = monte_carlo(
                     o.runs,
                     o.seed,
                     o.dt,
                     limit_set,
                     Some(Opponent::Pursuer(pursuer)),
+                    Some(&progress),
                 );
                 total += runs.len();
                 print_pursuer(pursuer.name(), limit_set, &runs);
             }
         }
     }
+    progress.finish();
     println!(
         "\n({total} states x 2 policies in {:.1} s on {} threads)",
         started.elapsed().as_secs_f64(),
@@ -469,8 +487,8 @@ mod tests {
 
     #[test]
     fn the_monte_carlo_is_seeded_and_covers_both_regimes() {
-        let a = monte_carlo(24, 7, 0.01, LimitSet::Random, None);
-        let b = monte_carlo(24, 7, 0.01, LimitSet::Random, None);
+        let a = monte_carlo(24, 7, 0.01, LimitSet::Random, None, None);
+        let b = monte_carlo(24, 7, 0.01, LimitSet::Random, None, None);
         assert_eq!(a.len(), 24);
         assert!(a.iter().any(|r| r.regime == Regime::Far));
         assert!(a.iter().any(|r| r.regime == Regime::Near));
