@@ -13,7 +13,9 @@ use crate::message::{
 };
 use crate::sampled::{Guidance, Policy};
 use crate::status::Status;
-use crate::wire::{encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME};
+use crate::wire::{
+    encode_frame, header_sequence, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
+};
 
 /// Wire status code of the watchdog's safe command (the law's statuses are 0 to 5).
 pub const STATUS_STALE_INPUT: u8 = 6;
@@ -165,6 +167,10 @@ impl Unit {
             Feed::Error(e) => Err((e, None)),
             Feed::Frame(bytes) => match Frame::new_checked(bytes) {
                 Ok(frame) => session.handle(&frame, now_ms, reply),
+                // The CRC held, so the header is readable: the refusal echoes its sequence.
+                Err(WireError::BadVersion) => {
+                    Err((WireError::BadVersion, Some(header_sequence(bytes))))
+                }
                 Err(e) => Err((e, None)),
             },
         };
@@ -242,6 +248,11 @@ impl Session {
                     .configured
                     .as_mut()
                     .ok_or(refuse(WireError::NotConfigured))?;
+                // The contract's order: a non-finite field anywhere before any envelope check.
+                let mut fields = message.pursuer.iter().chain(message.evader.iter());
+                if fields.any(|v| !v.is_finite()) {
+                    return Err(refuse(WireError::NonFiniteField));
+                }
                 let state = |s: [f32; 3]| {
                     VehicleState::<f32>::new(s[0], s[1], s[2]).map_err(|status| match status {
                         Status::NonFiniteInput => refuse(WireError::NonFiniteField),

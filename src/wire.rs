@@ -255,6 +255,16 @@ mod field {
     pub const SEQUENCE: core::ops::Range<usize> = 2..4;
 }
 
+/// The sequence number in a decoded frame's header (0 where the frame is shorter): readable
+/// wherever the CRC held, a frame of another protocol version included.
+pub fn header_sequence(bytes: &[u8]) -> u16 {
+    let s = bytes.get(field::SEQUENCE).unwrap_or(&[0, 0]);
+    u16::from_le_bytes([
+        s.first().copied().unwrap_or(0),
+        s.get(1).copied().unwrap_or(0),
+    ])
+}
+
 /// A checked view of a decoded frame: header and CRC verified, payload length not yet.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Frame<'a> {
@@ -295,11 +305,7 @@ impl<'a> Frame<'a> {
 
     /// Sequence number.
     pub fn sequence(&self) -> u16 {
-        let s = self.bytes.get(field::SEQUENCE).unwrap_or(&[0, 0]);
-        u16::from_le_bytes([
-            s.first().copied().unwrap_or(0),
-            s.get(1).copied().unwrap_or(0),
-        ])
+        header_sequence(self.bytes)
     }
 
     /// Payload bytes.

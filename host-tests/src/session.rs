@@ -169,7 +169,7 @@ pub fn script() -> Vec<Step> {
             "bad version",
             12,
             with_bad_version(12),
-            Expect::Error(WireError::BadVersion, false),
+            Expect::Error(WireError::BadVersion, true),
         ),
         step(
             "bad COBS",

@@ -306,3 +306,55 @@ fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
         assert_eq!(served.counters(), unit.counters());
     }
 }
+
+/// Golden bytes (issue 27, item 1): a State of protocol version 2, sequence 0x0278, valid CRC.
+/// Its header is readable, so the Error (code 6, bad_version) echoes its sequence: reply body
+/// `01 8f 78 02 06 01` with CRC 0x1fc8, COBS-framed. Before, the reply carried sequence 0 and
+/// echo 0 (`03 01 8f 01 02 06 03 3f a6 00`).
+#[test]
+fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
+    let mut body = vec![0x02, 0x02, 0x78, 0x02];
+    body.extend([0x5a; 44]);
+    let crc = twocars::wire::crc16(&body);
+    body.extend(crc.to_le_bytes());
+    let mut encoded = [0u8; 80];
+    let n = twocars::wire::cobs_encode(&body, &mut encoded).expect("fits");
+    let mut frame = encoded[..n].to_vec();
+    frame.push(0);
+    let mut unit = Unit::new();
+    let mut reply = None;
+    for &b in &frame {
+        if let Some(r) = unit.receive(b, 0) {
+            reply = Some(r.as_bytes().to_vec());
+        }
+    }
+    assert_eq!(
+        reply.as_deref(),
+        Some(&[0x09, 0x01, 0x8f, 0x78, 0x02, 0x06, 0x01, 0xc8, 0x1f, 0x00][..])
+    );
+}
+
+/// Golden bytes (issue 27, item 2): the contract checks non-finite fields before the envelope,
+/// across the whole State. A State (sequence 0x0102) whose pursuer heading is out of the envelope
+/// (2e4 rad) and whose evader y is NaN gets Error 7 (non_finite_field) with its sequence echoed,
+/// `01 8f 02 01 07 01` with CRC 0x5f77; before, the pursuer's fields were checked first and the
+/// reply was Error 8 (out_of_range_field).
+#[test]
+fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_state() {
+    let mut unit = Unit::new();
+    let acks = send(&mut unit, &link::configure(1, &paper_configure()), 0);
+    assert_eq!(acks.len(), 1);
+    let mut state = paper_state(0, 10);
+    state.pursuer[2] = 2.0e4;
+    state.evader[1] = f32::NAN;
+    let mut reply = None;
+    for &b in &link::state(0x0102, &state) {
+        if let Some(r) = unit.receive(b, 10) {
+            reply = Some(r.as_bytes().to_vec());
+        }
+    }
+    assert_eq!(
+        reply.as_deref(),
+        Some(&[0x09, 0x01, 0x8f, 0x02, 0x01, 0x07, 0x01, 0x77, 0x5f, 0x00][..])
+    );
+}
