@@ -39,6 +39,17 @@ fn circle_code(d: Direction) -> u8 {
     }
 }
 
+/// The circle a turn rate (rad/s) turns on: A for > 0, C for < 0, none for straight.
+fn turned_code(rate: f32) -> u8 {
+    if rate > 0.0 {
+        circle_code(Direction::Anticlockwise)
+    } else if rate < 0.0 {
+        circle_code(Direction::Clockwise)
+    } else {
+        NO_CIRCLE
+    }
+}
+
 /// A reply frame ready to send: COBS-encoded, delimiter included.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Reply {
@@ -373,21 +384,30 @@ fn command_message(evaluation: &Decision<f32>, configured: &Configured) -> Comma
     let rate = |role: u8, w: f32, v: f32| if roles & role != 0 { v * w } else { 0.0 };
     let solution = evaluation.solution;
     let value = |v: Option<Option<f32>>| v.flatten().unwrap_or(f32::INFINITY);
+    let pursuer_rate = rate(
+        ROLE_PURSUER,
+        evaluation.command.pursuer,
+        limits.pursuer.v_max(),
+    );
+    let evader_rate = rate(
+        ROLE_EVADER,
+        evaluation.command.evader,
+        limits.evader.v_max(),
+    );
+    // The game's circles where it has a saddle to play; under the fallback (no valid tangent)
+    // the circle each player actually turns on (none when straight), as the contract binds.
+    let (row, col) = match (evaluation.status, solution) {
+        (Status::NoValidTangent, _) => (turned_code(pursuer_rate), turned_code(evader_rate)),
+        (_, Some(s)) => (circle_code(s.row), circle_code(s.col)),
+        (_, None) => (NO_CIRCLE, NO_CIRCLE),
+    };
     CommandMsg {
         status: status_code(evaluation.status),
         roles,
-        pursuer_rate: rate(
-            ROLE_PURSUER,
-            evaluation.command.pursuer,
-            limits.pursuer.v_max(),
-        ),
-        evader_rate: rate(
-            ROLE_EVADER,
-            evaluation.command.evader,
-            limits.evader.v_max(),
-        ),
-        row: solution.map_or(NO_CIRCLE, |s| circle_code(s.row)),
-        col: solution.map_or(NO_CIRCLE, |s| circle_code(s.col)),
+        pursuer_rate,
+        evader_rate,
+        row,
+        col,
         predicted: value(solution.map(|s| s.upper)),
         upper: value(solution.map(|s| s.upper)),
         lower: value(solution.map(|s| s.lower)),

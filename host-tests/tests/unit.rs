@@ -358,3 +358,50 @@ fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_stat
         Some(&[0x09, 0x01, 0x8f, 0x02, 0x01, 0x07, 0x01, 0x77, 0x5f, 0x00][..])
     );
 }
+
+/// Issue 27, item 3: under the fallback (status 5, no valid tangent) the Command's circle bytes
+/// name the circle each player actually turns on, 0xFF where it goes straight (the shared
+/// contract), not the game's row and column. Over a scan of states within 2 m at the paper's
+/// limits, every status-5 Command's bytes agree with the signs of its rates.
+#[test]
+fn fallback_commands_name_the_circle_actually_turned() {
+    let mut unit = Unit::new();
+    assert_eq!(
+        send(&mut unit, &link::configure(1, &paper_configure()), 0).len(),
+        1
+    );
+    let code = |rate: f32| match rate.partial_cmp(&0.0) {
+        Some(std::cmp::Ordering::Greater) => 0,
+        Some(std::cmp::Ordering::Less) => 1,
+        _ => 0xFF,
+    };
+    let (mut fallbacks, mut t_ms) = (0, 10);
+    for i in 0..21 {
+        for j in 0..21 {
+            for k in 0..8 {
+                let evader = [
+                    -2.0 + 0.2 * i as f32,
+                    -2.0 + 0.2 * j as f32,
+                    -3.0 + 0.75 * k as f32,
+                ];
+                let state = twocars::message::StateMsg {
+                    time_ms: t_ms,
+                    pursuer: [0.0, 0.0, 0.0],
+                    evader,
+                };
+                let replies = send(&mut unit, &link::state(7, &state), t_ms);
+                t_ms += 10;
+                let c = command(&replies);
+                if c.status == 5 {
+                    fallbacks += 1;
+                    assert_eq!(
+                        (c.row, c.col),
+                        (code(c.pursuer_rate), code(c.evader_rate)),
+                        "{evader:?}: {c:?}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(fallbacks >= 10, "{fallbacks} fallback states");
+}
