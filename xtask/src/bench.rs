@@ -13,6 +13,7 @@ use twocars::num::fixed::Fixed;
 use twocars::num::micro::Micro;
 use twocars::{Guidance, Law, Limits, Scalar, Variant, VehicleState};
 
+use crate::progress::Progress;
 use crate::qemu::{self, root};
 
 /// One emulated CPU the bench runs on.
@@ -376,13 +377,22 @@ fn host_throughput() -> (f64, f64) {
 
 /// Runs the bench; returns the exit code.
 pub fn run() -> i32 {
-    let rows = [
-        measure(M4F, "f32 (own polynomials + VSQRT)", "bench-firmware"),
-        measure(M4F, "micromath (f32)", "bench-micromath"),
-        measure(M0, "fixed point (Q17.14)", "bench-fixed"),
-        measure(M0, "f32 soft-float (own polynomials)", "bench-firmware"),
-        measure(M4F, "f32, `step` with the per-pair report", "bench-report"),
+    let images = [
+        (M4F, "f32 (own polynomials + VSQRT)", "bench-firmware"),
+        (M4F, "micromath (f32)", "bench-micromath"),
+        (M0, "fixed point (Q17.14)", "bench-fixed"),
+        (M0, "f32 soft-float (own polynomials)", "bench-firmware"),
+        (M4F, "f32, `step` with the per-pair report", "bench-report"),
     ];
+    // Each row builds and runs two images (the law and its empty baseline).
+    let progress = Progress::new(images.len() as u64, "bench images (law and baseline each)");
+    let rows = images.map(|(cpu, numeric, features)| {
+        progress.step(&format!("{} {numeric}", cpu.name()));
+        let row = measure(cpu, numeric, features);
+        progress.inc();
+        row
+    });
+    progress.finish();
     let mut md = String::new();
     let _ = writeln!(md, "# Bench\n");
     let _ = writeln!(

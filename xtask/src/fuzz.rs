@@ -6,6 +6,7 @@
 use std::path::Path;
 use std::process::{Command, Stdio};
 
+use crate::progress::Progress;
 use crate::qemu::root;
 
 /// The fuzz targets.
@@ -197,8 +198,12 @@ pub fn command(args: &FuzzArgs) -> i32 {
     let mut ok = true;
     println!("| target | budget | executions | corpus | failures |");
     println!("|---|---|---|---|---|");
+    let progress = Progress::new(targets.len() as u64, "fuzz targets");
     for target in targets {
-        match run_target(target, budget) {
+        progress.step(&format!("fuzzing {target} ({budget:?})"));
+        let result = run_target(target, budget);
+        progress.inc();
+        match result {
             Ok(r) => {
                 println!(
                     "| {} | {budget:?} | {} | {} | {} |",
@@ -215,5 +220,6 @@ pub fn command(args: &FuzzArgs) -> i32 {
             }
         }
     }
+    progress.finish();
     i32::from(!ok)
 }
