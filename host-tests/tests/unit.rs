@@ -307,6 +307,17 @@ fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
     }
 }
 
+/// The raw bytes (COBS-framed) of the last reply `unit` wrote while fed `bytes` at `now_ms`.
+fn last_reply_bytes(unit: &mut Unit, bytes: &[u8], now_ms: u32) -> Option<Vec<u8>> {
+    let mut reply = None;
+    for &b in bytes {
+        if let Some(r) = unit.receive(b, now_ms) {
+            reply = Some(r.as_bytes().to_vec());
+        }
+    }
+    reply
+}
+
 /// Golden bytes (issue 27, item 1): a State of protocol version 2, sequence 0x0278, valid CRC.
 /// Its header is readable, so the Error (code 6, bad_version) echoes its sequence: reply body
 /// `01 8f 78 02 06 01` with CRC 0x1fc8, COBS-framed. Before, the reply carried sequence 0 and
@@ -321,13 +332,7 @@ fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
     let n = twocars::wire::cobs_encode(&body, &mut encoded).expect("fits");
     let mut frame = encoded[..n].to_vec();
     frame.push(0);
-    let mut unit = Unit::new();
-    let mut reply = None;
-    for &b in &frame {
-        if let Some(r) = unit.receive(b, 0) {
-            reply = Some(r.as_bytes().to_vec());
-        }
-    }
+    let reply = last_reply_bytes(&mut Unit::new(), &frame, 0);
     assert_eq!(
         reply.as_deref(),
         Some(&[0x09, 0x01, 0x8f, 0x78, 0x02, 0x06, 0x01, 0xc8, 0x1f, 0x00][..])
@@ -347,12 +352,7 @@ fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_stat
     let mut state = paper_state(0, 10);
     state.pursuer[2] = 2.0e4;
     state.evader[1] = f32::NAN;
-    let mut reply = None;
-    for &b in &link::state(0x0102, &state) {
-        if let Some(r) = unit.receive(b, 10) {
-            reply = Some(r.as_bytes().to_vec());
-        }
-    }
+    let reply = last_reply_bytes(&mut unit, &link::state(0x0102, &state), 10);
     assert_eq!(
         reply.as_deref(),
         Some(&[0x09, 0x01, 0x8f, 0x02, 0x01, 0x07, 0x01, 0x77, 0x5f, 0x00][..])

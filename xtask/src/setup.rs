@@ -82,42 +82,40 @@ fn rustup(args: &[&str]) -> Result<String, String> {
 /// Adds the pinned toolchain's missing targets and components.
 fn toolchain() -> Result<(), String> {
     let (targets, components) = pinned()?;
-    let installed = rustup(&["target", "list", "--installed"])?;
-    let missing: Vec<&str> = targets
-        .iter()
-        .map(String::as_str)
-        .filter(|t| !installed.lines().any(|l| l.trim() == *t))
-        .collect();
-    if !missing.is_empty() {
-        eprintln!(
-            "xtask: installing Rust targets {} (rustup target add)",
-            missing.join(", ")
-        );
-        let mut args = vec!["target", "add"];
-        args.extend(&missing);
-        rustup(&args)?;
-    }
-    let installed = rustup(&["component", "list", "--installed"])?;
+    add_missing("target", "targets", &targets, |line, t| line == t)?;
     // Installed components are listed with their host triple: `clippy-x86_64-unknown-linux-gnu`.
-    let missing: Vec<&str> = components
+    add_missing("component", "components", &components, |line, c| {
+        line == c
+            || line
+                .strip_prefix(c)
+                .is_some_and(|rest| rest.starts_with('-'))
+    })
+}
+
+/// `rustup <kind> add` of those `wanted` that no line of `rustup <kind> list --installed`
+/// matches (`matches(line, name)`); says what it installs in one line.
+fn add_missing(
+    kind: &str,
+    plural: &str,
+    wanted: &[String],
+    matches: impl Fn(&str, &str) -> bool,
+) -> Result<(), String> {
+    let installed = rustup(&[kind, "list", "--installed"])?;
+    let missing: Vec<&str> = wanted
         .iter()
         .map(String::as_str)
-        .filter(|c| {
-            !installed
-                .lines()
-                .any(|l| l.trim() == *c || l.trim().starts_with(&format!("{c}-")))
-        })
+        .filter(|w| !installed.lines().any(|l| matches(l.trim(), w)))
         .collect();
-    if !missing.is_empty() {
-        eprintln!(
-            "xtask: installing Rust components {} (rustup component add)",
-            missing.join(", ")
-        );
-        let mut args = vec!["component", "add"];
-        args.extend(&missing);
-        rustup(&args)?;
+    if missing.is_empty() {
+        return Ok(());
     }
-    Ok(())
+    eprintln!(
+        "xtask: installing Rust {plural} {} (rustup {kind} add)",
+        missing.join(", ")
+    );
+    let mut args = vec![kind, "add"];
+    args.extend(&missing);
+    rustup(&args).map(|_| ())
 }
 
 /// Whether this process runs as root (`id -u` prints 0).

@@ -75,24 +75,30 @@ const ON_TARGET: [(&str, &str); 2] = [
     ("thumbv6m-none-eabi", "on-target,board-microbit"),
 ];
 
+/// `cargo <subcommand>` of the on-target tests for `target` with `features`.
+fn on_target_args<'a>(subcommand: &'a str, target: &'a str, features: &'a str) -> [&'a str; 10] {
+    [
+        subcommand,
+        "-p",
+        "twocars",
+        "--release",
+        "--target",
+        target,
+        "--features",
+        features,
+        "--test",
+        "on_target",
+    ]
+}
+
 /// Runs the on-target tests, echoing their output; each run's `on_target: N passed, M failed`
 /// line summed into (passed, failed), a run that does not report counting as one failure.
 fn on_target(cargo: &str) -> (u64, u64) {
     let (mut passed, mut failed) = (0, 0);
     for (target, features) in ON_TARGET {
         println!("== xtask test: on-target tests on {target} in QEMU ({features})");
-        let args = [
-            "test",
-            "--release",
-            "--target",
-            target,
-            "--features",
-            features,
-            "--test",
-            "on_target",
-        ];
         let Ok(mut child) = Command::new(cargo)
-            .args(args)
+            .args(on_target_args("test", target, features))
             .stdout(Stdio::piped())
             .spawn()
         else {
@@ -202,21 +208,8 @@ pub fn run() -> i32 {
             );
     }
     for (target, features) in ON_TARGET {
-        let clippy = [
-            "clippy",
-            "-p",
-            "twocars",
-            "--release",
-            "--target",
-            target,
-            "--features",
-            features,
-            "--test",
-            "on_target",
-            "--",
-            "-D",
-            "warnings",
-        ];
+        let mut clippy = on_target_args("clippy", target, features).to_vec();
+        clippy.extend(["--", "-D", "warnings"]);
         ok = ok
             && step(
                 &format!("clippy of the on-target tests for {target}"),
