@@ -50,8 +50,6 @@ pub mod bench;
 #[cfg(any(feature = "board-qemu", feature = "board-stm32f405"))]
 pub mod board;
 pub mod capture;
-#[cfg(feature = "firmware")]
-pub mod firmware;
 pub mod game;
 pub mod geometry;
 pub mod law;
@@ -60,6 +58,8 @@ pub mod message;
 pub mod near_field;
 pub mod num;
 pub mod sampled;
+#[cfg(feature = "firmware")]
+pub mod serial;
 pub mod status;
 pub mod unit;
 pub mod wire;

@@ -230,7 +230,52 @@ impl ErrorMsg {
     }
 }
 
-/// Counters: valid messages handled, watchdog expiries, and refused inputs per [`WireError`] code.
+/// Faults of the serial line below the framing, counted by the UART's interrupt and the loop
+/// (`crate::serial`): the bytes the line lost or damaged, not frames. Appended to [`Counters`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LineCounts {
+    /// Receive overruns: a byte arrived before the previous one was read (one byte lost).
+    pub overrun: u32,
+    /// Framing errors: a byte without its stop bit (the byte is dropped).
+    pub framing: u32,
+    /// Noise flagged on a received byte (the byte is kept; its frame's CRC decides).
+    pub noise: u32,
+    /// Parity errors (the byte is dropped; the link is 8N1, so only a misconfigured peer).
+    pub parity: u32,
+    /// Received bytes dropped because the receive queue was full.
+    pub rx_full: u32,
+    /// Replies dropped whole because the transmit queue had no room for them.
+    pub tx_full: u32,
+}
+
+impl LineCounts {
+    /// Payload length, bytes.
+    pub const LEN: usize = 24;
+
+    fn parse(r: &mut Reader<'_>) -> Result<Self, WireError> {
+        Ok(LineCounts {
+            overrun: r.u32()?,
+            framing: r.u32()?,
+            noise: r.u32()?,
+            parity: r.u32()?,
+            rx_full: r.u32()?,
+            tx_full: r.u32()?,
+        })
+    }
+
+    fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        w.u32(self.overrun)?;
+        w.u32(self.framing)?;
+        w.u32(self.noise)?;
+        w.u32(self.parity)?;
+        w.u32(self.rx_full)?;
+        w.u32(self.tx_full)
+    }
+}
+
+/// Counters: valid messages handled, watchdog expiries, refused inputs per [`WireError`] code,
+/// then the line's faults (appended in the same protocol version: a reader of the first
+/// [`Counters::LEN_V1`] bytes keeps working).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     /// Valid messages handled.
@@ -239,11 +284,15 @@ pub struct Counters {
     pub stale: u32,
     /// Refused inputs, index = code - 1.
     pub errors: [u32; crate::wire::ERROR_KINDS],
+    /// Faults of the serial line (0 where the unit has no UART of its own, as on the host).
+    pub line: LineCounts,
 }
 
 impl Counters {
+    /// Payload length of the first release (no line faults), bytes.
+    pub const LEN_V1: usize = 8 + 4 * crate::wire::ERROR_KINDS;
     /// Payload length, bytes.
-    pub const LEN: usize = 8 + 4 * crate::wire::ERROR_KINDS;
+    pub const LEN: usize = Self::LEN_V1 + LineCounts::LEN;
 
     /// Counts one refused input.
     pub fn count(&mut self, error: WireError) {
@@ -259,7 +308,8 @@ impl Counters {
         self.errors.get(index).copied().unwrap_or(0)
     }
 
-    /// Parses a payload.
+    /// Parses a payload: [`Counters::LEN`] bytes, or the first release's [`Counters::LEN_V1`]
+    /// (line faults then 0).
     ///
     /// # Errors
     /// `Truncated` if short, `Oversized` if long.
@@ -273,6 +323,9 @@ impl Counters {
         for c in m.errors.iter_mut() {
             *c = r.u32()?;
         }
+        if payload.len() > Self::LEN_V1 {
+            m.line = LineCounts::parse(&mut r)?;
+        }
         r.finish()?;
         Ok(m)
     }
@@ -284,6 +337,6 @@ impl Counters {
         for c in self.errors {
             w.u32(c)?;
         }
-        Some(())
+        self.line.emit(w)
     }
 }

@@ -9,7 +9,8 @@ use crate::capture::Variant;
 use crate::geometry::{Direction, Limits, VehicleState};
 use crate::law::{Decision, Law};
 use crate::message::{
-    kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg, NO_CIRCLE, ROLE_EVADER, ROLE_PURSUER,
+    kind, CommandMsg, Configure, Counters, ErrorMsg, LineCounts, StateMsg, NO_CIRCLE, ROLE_EVADER,
+    ROLE_PURSUER,
 };
 use crate::sampled::{Guidance, Policy};
 use crate::status::Status;
@@ -146,6 +147,14 @@ impl Unit {
                     accepted: 0,
                     stale: 0,
                     errors: [0; crate::wire::ERROR_KINDS],
+                    line: LineCounts {
+                        overrun: 0,
+                        framing: 0,
+                        noise: 0,
+                        parity: 0,
+                        rx_full: 0,
+                        tx_full: 0,
+                    },
                 },
                 watchdog: Watchdog::Idle,
             },
@@ -156,6 +165,12 @@ impl Unit {
     /// Counters so far.
     pub fn counters(&self) -> &Counters {
         &self.session.counters
+    }
+
+    /// Records the serial line's fault counts (kept by the board's UART interrupt), for the
+    /// next Counters reply.
+    pub fn record_line(&mut self, line: LineCounts) {
+        self.session.counters.line = line;
     }
 
     /// Feeds one received byte at device time `now_ms`; returns the reply to send, if any.

@@ -8,7 +8,7 @@
 /// Protocol version carried in every frame.
 pub const VERSION: u8 = 1;
 /// Largest decoded frame (header, payload and CRC), bytes.
-pub const MAX_FRAME: usize = 64;
+pub const MAX_FRAME: usize = 96;
 /// Largest encoded frame on the wire: COBS overhead and the 0x00 delimiter included.
 pub const MAX_ENCODED: usize = MAX_FRAME + MAX_FRAME / 254 + 2;
 /// Header bytes: version, type, sequence.

@@ -8,3 +8,4 @@ pub mod rng;
 pub mod scenarios;
 pub mod session;
 pub mod sim;
+pub mod uart_model;

@@ -234,15 +234,12 @@ fn the_configure_message_selects_the_policy() {
 }
 
 /// The bench's session of the serial loop (`twocars::bench::main_loop`, which `cargo xtask bench`
-/// times on the Cortex-M4F): `firmware::serve` over the scripted port answers it as the unit
-/// answers it byte by byte, ends at its Shutdown, and the script holds what it says: two
+/// times on the Cortex-M4F): the interrupt handler and the loop over the scripted UART answer it
+/// as the unit answers it byte by byte, ends at its Shutdown, and the script holds what it says: two
 /// Configures, a Command for each State, four refusals, Counters.
 #[test]
 fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
-    use embedded_io::Write;
-    use twocars::bench::main_loop::{
-        script, ScriptedPort, StillClock, SCRIPT_CAPACITY, STATE_FRAMES,
-    };
+    use twocars::bench::main_loop::{script, serve_script, SCRIPT_CAPACITY, STATE_FRAMES};
     for with_states in [true, false] {
         let mut bytes = [0u8; SCRIPT_CAPACITY];
         let n = script(with_states, &mut bytes).expect("the script fits its capacity");
@@ -292,18 +289,16 @@ fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
         assert!(matches!(replies[replies.len() - 2], Reply::Counters(..)));
         assert!(matches!(replies[replies.len() - 1], Reply::ShutdownAck(_)));
 
-        let mut expected = ScriptedPort::new(&[]);
-        expected
-            .write_all(&written)
-            .expect("the port takes every byte");
-        let mut port = ScriptedPort::new(script);
-        let mut served = Unit::new();
-        let stop = twocars::firmware::serve(&mut port, &StillClock, &mut served);
-        assert_eq!(stop, twocars::firmware::Stop::Shutdown);
-        assert_eq!(port.replies as usize, replies.len());
-        assert_eq!(port.digest, expected.digest);
-        assert_eq!(port.replies, expected.replies);
-        assert_eq!(served.counters(), unit.counters());
+        let digest = written
+            .iter()
+            .fold(0u32, |d, &b| d.rotate_left(5) ^ u32::from(b));
+        let served = serve_script(&mut twocars::serial::Line::new(), script);
+        let counters = unit.counters();
+        assert!(served.shutdown);
+        assert_eq!(served.replies as usize, replies.len());
+        assert_eq!(served.digest, digest);
+        assert_eq!(served.accepted, counters.accepted);
+        assert_eq!(served.refused, counters.errors.iter().sum::<u32>());
     }
 }
 

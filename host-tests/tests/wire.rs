@@ -184,7 +184,10 @@ fn messages_round_trip() {
 #[test]
 fn frame_checks_refuse_each_defect() {
     assert_eq!(Frame::new_checked(&[1, 2, 0]), Err(WireError::Truncated));
-    assert_eq!(Frame::new_checked(&[0u8; 65]), Err(WireError::Oversized));
+    assert_eq!(
+        Frame::new_checked(&[0u8; MAX_FRAME + 1]),
+        Err(WireError::Oversized)
+    );
     let mut good = [1u8, 2, 7, 0, 0, 0];
     let crc = crc16(&good[..4]).to_le_bytes();
     good[4..].copy_from_slice(&crc);
@@ -263,4 +266,40 @@ fn deframing_slices_gives_what_deframing_bytes_gives() {
         let by_slice = host_tests::link::deframe(&stream, Some(cut));
         assert_eq!(by_slice, by_byte, "slices of {cut}");
     }
+}
+
+/// Counters grew by the line's six fault counts (76 bytes) in protocol version 1: a payload of
+/// the first release's 52 bytes still parses (line counts 0), the first 52 bytes of the new one
+/// are the old layout, and any other length is refused.
+#[test]
+fn counters_append_the_line_faults_and_still_read_the_old_length() {
+    use twocars::message::{Counters, LineCounts};
+    let mut c = Counters {
+        accepted: 7,
+        stale: 1,
+        ..Counters::default()
+    };
+    c.count(WireError::BadCrc);
+    c.line = LineCounts {
+        overrun: 2,
+        framing: 3,
+        noise: 4,
+        parity: 5,
+        rx_full: 6,
+        tx_full: 8,
+    };
+    let mut buf = [0u8; Counters::LEN];
+    let mut w = twocars::wire::Writer::new(&mut buf);
+    c.emit(&mut w).unwrap();
+    assert_eq!(w.len(), 76);
+    assert_eq!(Counters::parse(&buf), Ok(c));
+    assert_eq!(&buf[52..56], &2u32.to_le_bytes());
+    assert_eq!(&buf[72..76], &8u32.to_le_bytes());
+    let old = Counters::parse(&buf[..Counters::LEN_V1]).unwrap();
+    assert_eq!(old.line, LineCounts::default());
+    assert_eq!((old.accepted, old.stale, old.errors), (7, 1, c.errors));
+    assert_eq!(Counters::parse(&buf[..60]), Err(WireError::Truncated));
+    let mut long = buf.to_vec();
+    long.push(0);
+    assert_eq!(Counters::parse(&long), Err(WireError::Oversized));
 }

@@ -1,5 +1,6 @@
-//! The main loop's bench session: the firmware's serial loop ([`crate::firmware::serve`]) fed a
-//! fixed byte script from memory instead of a UART, so that `cargo xtask bench` can count its
+//! The main loop's bench session: the firmware's serial path — the UART interrupt's handler
+//! ([`crate::serial::InterruptEnd::on_interrupt`]) and the loop ([`service`]) over the `heapless` queues — fed a
+//! fixed byte script from memory by a scripted UART, so that `cargo xtask bench` can count its
 //! instructions per State frame and paint its stack in QEMU, and the host can run the same
 //! session and compare the replies.
 //!
@@ -9,8 +10,8 @@
 //! a bad CRC), ReadCounters and Shutdown. Without the states it is
 //! the same session less its State frames: the difference of the two is the State frames' cost.
 
-use crate::firmware::{serve, Clock, Stop};
 use crate::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use crate::serial::{service, Board, Line, RxFlags, UartRegisters};
 use crate::unit::Unit;
 use crate::wire::{cobs_encode, encode_frame, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME};
 
@@ -121,92 +122,75 @@ pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
     Some(script.len)
 }
 
-/// The script ran out before a Shutdown: the loop's only way to end without one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ScriptEnded;
-
-impl embedded_io::Error for ScriptEnded {
-    fn kind(&self) -> embedded_io::ErrorKind {
-        embedded_io::ErrorKind::Other
-    }
-}
-
-/// A serial port that reads a script and keeps a digest of what is written to it: the number of
-/// replies (frame delimiters) and a rotate-and-xor hash of their bytes (a few instructions a
-/// byte, as a UART's status poll and data write cost; enough to tell two reply streams apart).
+/// A UART without FIFO whose receiver delivers a script and whose transmitter keeps a digest of
+/// what is written: the number of replies (frame delimiters) and a rotate-and-xor hash of their
+/// bytes (enough to tell two reply streams apart). One byte each way per interrupt, as such a
+/// UART raises them.
 #[derive(Debug)]
-pub struct ScriptedPort<'a> {
+pub struct ScriptedUart<'a> {
     script: &'a [u8],
+    /// A script byte is in the receive data register.
+    received: Option<u8>,
+    /// The transmit data register is empty.
+    tx_empty: bool,
     /// Reply frames written.
     pub replies: u32,
     /// Hash of every byte written: `digest.rotate_left(5) ^ byte`, from 0.
     pub digest: u32,
 }
 
-impl<'a> ScriptedPort<'a> {
-    /// A port that delivers `script`, then reports [`ScriptEnded`].
+impl<'a> ScriptedUart<'a> {
+    /// A UART about to receive `script`.
     pub fn new(script: &'a [u8]) -> Self {
-        ScriptedPort {
+        ScriptedUart {
             script,
+            received: None,
+            tx_empty: false,
             replies: 0,
             digest: 0,
         }
     }
-}
 
-impl embedded_io::ErrorType for ScriptedPort<'_> {
-    type Error = ScriptEnded;
-}
-
-impl embedded_io::ReadReady for ScriptedPort<'_> {
-    fn read_ready(&mut self) -> Result<bool, ScriptEnded> {
-        if self.script.is_empty() {
-            Err(ScriptEnded)
-        } else {
-            Ok(true)
-        }
-    }
-}
-
-impl embedded_io::Read for ScriptedPort<'_> {
-    fn read(&mut self, buf: &mut [u8]) -> Result<usize, ScriptEnded> {
-        let n = buf.len().min(self.script.len());
-        let (now, rest) = self.script.split_at(n);
-        if let Some(dst) = buf.get_mut(..n) {
-            dst.copy_from_slice(now);
-        }
+    /// The next script byte lands in the data register; false once the script is over.
+    fn arrive(&mut self) -> Option<u8> {
+        let (&byte, rest) = self.script.split_first()?;
         self.script = rest;
-        Ok(n)
+        self.received = Some(byte);
+        Some(byte)
     }
 }
 
-impl embedded_io::Write for ScriptedPort<'_> {
-    fn write(&mut self, buf: &[u8]) -> Result<usize, ScriptEnded> {
-        for &byte in buf {
-            self.digest = self.digest.rotate_left(5) ^ u32::from(byte);
-            if byte == 0 {
-                self.replies = self.replies.wrapping_add(1);
-            }
+impl UartRegisters for ScriptedUart<'_> {
+    fn take_received(&mut self) -> Option<(Option<u8>, RxFlags)> {
+        self.received.take().map(|b| (Some(b), RxFlags::default()))
+    }
+    fn can_transmit(&self) -> bool {
+        self.tx_empty
+    }
+    fn transmit(&mut self, byte: u8) {
+        self.tx_empty = false;
+        self.digest = self.digest.rotate_left(5) ^ u32::from(byte);
+        if byte == 0 {
+            self.replies = self.replies.wrapping_add(1);
         }
-        Ok(buf.len())
     }
-    fn flush(&mut self) -> Result<(), ScriptEnded> {
-        Ok(())
-    }
+    fn transmit_idle(&mut self) {}
 }
 
-/// A clock that stands still: the watchdog never fires during a session.
+/// A board whose clock stands still (the watchdog never fires during a session) and whose
+/// transmitter is drained by the session's driver.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct StillClock;
+pub struct StillBoard;
 
-impl Clock for StillClock {
+impl Board for StillBoard {
     fn now_ms(&self) -> u32 {
         0
     }
+    fn start_transmit(&self) {}
 }
 
 /// What one session of the serial loop left: whether it ended at its Shutdown, the replies and
-/// their digest ([`ScriptedPort`]), the unit's accepted and refused inputs.
+/// their digest ([`ScriptedUart`]), the unit's accepted and refused inputs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Outcome {
     /// The loop returned at the script's Shutdown.
@@ -221,19 +205,43 @@ pub struct Outcome {
     pub refused: u32,
 }
 
-/// The firmware's loop over `script`, with a fresh unit and a still clock. The unit and the port
-/// live in this frame, as in a firmware's `main`; out of line, so that the bench's stack paint
-/// sees them.
+/// The firmware's serial path over `script` with a fresh unit and a still clock: each script
+/// byte raised as a receive interrupt (the shared handler queues it), the loop's pass after each
+/// frame's delimiter, then one transmit interrupt per reply byte until the queue is empty. The
+/// unit lives in this frame, as in a firmware's `main` (the queues in `line`, a static on a
+/// board); out of line, so that the bench's stack paint sees it.
 #[inline(never)]
-pub fn serve_script(script: &[u8]) -> Outcome {
-    let mut port = ScriptedPort::new(script);
+pub fn serve_script(line: &mut Line, script: &[u8]) -> Outcome {
+    let (mut interrupt, mut main) = line.split();
+    let mut uart = ScriptedUart::new(script);
     let mut unit = Unit::new();
-    let stop = serve(&mut port, &StillClock, &mut unit);
+    let mut shutdown = false;
+    while !shutdown {
+        let mut arrived = false;
+        while let Some(byte) = uart.arrive() {
+            arrived = true;
+            interrupt.on_interrupt(&mut uart);
+            if byte == 0 {
+                break;
+            }
+        }
+        shutdown = service(&mut main, &StillBoard, &mut unit).shutdown;
+        loop {
+            uart.tx_empty = true;
+            interrupt.on_interrupt(&mut uart);
+            if uart.tx_empty {
+                break;
+            }
+        }
+        if !arrived {
+            break;
+        }
+    }
     let counters = unit.counters();
     Outcome {
-        shutdown: stop == Stop::Shutdown,
-        replies: port.replies,
-        digest: port.digest,
+        shutdown,
+        replies: uart.replies,
+        digest: uart.digest,
         accepted: counters.accepted,
         refused: counters.errors.iter().fold(0, |a, &b| a.wrapping_add(b)),
     }

@@ -9,9 +9,10 @@
 //! the baseline of the law's flash. The numeric backend: f32, or `Fixed` with `bench-fixed`, or
 //! micromath with `bench-micromath`.
 //!
-//! With `bench-loop` it runs the firmware's serial loop instead (`twocars::firmware::serve` over
-//! the script of `twocars::bench::main_loop`, with and without the bench states) and prints one
-//! `loop` line per session: its ticks, the loop's stack and a digest of its replies.
+//! With `bench-loop` it runs the firmware's serial path instead (the UART interrupt's handler and
+//! `twocars::serial::service` over the queues, fed the script of `twocars::bench::main_loop` by a
+//! scripted UART, with and without the bench states) and prints one `loop` line per session: its
+//! ticks, the loop's stack and a digest of its replies.
 #![no_std]
 #![no_main]
 
@@ -185,6 +186,11 @@ fn bench_law() {
 fn bench_loop() {
     use twocars::bench::main_loop::{script, serve_script, SCRIPT_CAPACITY};
     let mut bytes = [0u8; SCRIPT_CAPACITY];
+    // The queues are a static on a board, outside the loop's stack.
+    let Some(line) = cortex_m::singleton!(: twocars::serial::Line = twocars::serial::Line::new())
+    else {
+        return;
+    };
     for with_states in [true, false] {
         let Some(script) = script(with_states, &mut bytes).and_then(|n| bytes.get(..n)) else {
             hprintln!("script does not fit");
@@ -192,7 +198,7 @@ fn bench_loop() {
         };
         let bottom = paint();
         let start = cortex_m::peripheral::SYST::get_current();
-        let session = serve_script(black_box(script));
+        let session = serve_script(line, black_box(script));
         let ticks = ticks_since(start);
         let stack = used(bottom);
         if !session.shutdown {

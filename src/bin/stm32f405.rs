@@ -1,5 +1,6 @@
 //! Firmware entry for STM32F405 flight controllers: clocks, USART1, then the guidance loop.
-//! A flight build: no log transport; a panic or a serial fault resets the MCU.
+//! A flight build: no log transport. Line faults are counted, not fatal; only a failed start or
+//! a panic resets the MCU.
 #![no_std]
 #![no_main]
 
@@ -7,8 +8,8 @@ use stm32f4xx_hal::pac;
 use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::Config;
 use stm32f4xx_hal::serial::Serial;
-use twocars::board::stm32f405::{Port, SysTickClock};
-use twocars::firmware::{serve, Stop};
+use twocars::board::stm32f405::{take_uart, Stm32f405};
+use twocars::serial::serve;
 use twocars::unit::Unit;
 
 /// Core clock, Hz.
@@ -25,15 +26,14 @@ fn main() -> ! {
     else {
         cortex_m::peripheral::SCB::sys_reset()
     };
-    let clock = SysTickClock::start(cp.SYST, SYSCLK_HZ);
-    let mut port = Port::new(serial);
+    let board = Stm32f405::start(cp.SYST, SYSCLK_HZ);
+    let Some((_serial, mut line)) = take_uart(serial) else {
+        cortex_m::peripheral::SCB::sys_reset()
+    };
     let mut unit = Unit::new();
     loop {
-        match serve(&mut port, &clock, &mut unit) {
-            // A flight unit has no session to end: keep serving.
-            Stop::Shutdown => {}
-            Stop::Serial(_) => cortex_m::peripheral::SCB::sys_reset(),
-        }
+        // A flight unit has no session to end: after a Shutdown it keeps serving.
+        serve(&mut line, &board, &mut unit);
     }
 }
 

@@ -1,90 +1,86 @@
-//! STM32F405 flight controller: USART1 (PA9 TX, PA10 RX, 115200 8N1) and a SysTick millisecond
-//! clock at 168 MHz from an 8 MHz crystal.
+//! STM32F405 flight controller: USART1 (PA9 TX, PA10 RX, 115200 8N1), interrupt-driven, and a
+//! SysTick millisecond clock at 168 MHz from an 8 MHz crystal.
 //!
-//! The HAL implements `embedded_io::Write` but reads through `embedded-hal-nb`; [`Port`] adds
-//! `Read` and `ReadReady` with a one-byte look-ahead so the shared loop serves this board too.
+//! The HAL configures clocks, pins and the USART; the interrupt handler reads the status and
+//! data registers itself, because the HAL's `read` discards the byte that comes with an overrun
+//! or a noise flag, and counts faults per byte. USART1's one interrupt line serves RXNE (also
+//! raised by an overrun) and TXE (enabled while the transmit queue has bytes).
 
 use core::sync::atomic::{AtomicU32, Ordering};
 
 use cortex_m::peripheral::syst::SystClkSource;
-use cortex_m::peripheral::SYST;
-use embedded_hal_nb::nb;
-use embedded_hal_nb::serial::Read as _;
-use stm32f4xx_hal::pac::USART1;
-use stm32f4xx_hal::serial::{Error, Serial};
+use cortex_m::peripheral::{NVIC, SYST};
+use stm32f4xx_hal::pac::{self, interrupt, USART1};
+use stm32f4xx_hal::serial::Serial;
 
-use crate::firmware::Clock;
+use crate::serial::{Board, LoopEnd, RxFlags, UartRegisters};
 
-/// USART1 with a one-byte look-ahead.
-pub struct Port {
-    serial: Serial<USART1>,
-    pending: Option<u8>,
+fn usart1() -> &'static pac::usart1::RegisterBlock {
+    // SAFETY: USART1's register block is valid for the program's life; the handler and the
+    // loop touch disjoint bits (the loop only sets TXEIE, inside a critical section).
+    unsafe { &*USART1::ptr() }
 }
 
-impl Port {
-    /// Wraps a configured USART1.
-    pub fn new(serial: Serial<USART1>) -> Self {
-        Port {
-            serial,
-            pending: None,
-        }
-    }
+/// USART1's registers as the interrupt handler uses them.
+struct Usart1;
 
-    fn poll(&mut self) -> Result<(), Error> {
-        if self.pending.is_none() {
-            match self.serial.read() {
-                Ok(byte) => self.pending = Some(byte),
-                Err(nb::Error::WouldBlock) => {}
-                Err(nb::Error::Other(e)) => return Err(e),
-            }
-        }
-        Ok(())
-    }
-}
-
-impl embedded_io::ErrorType for Port {
-    type Error = Error;
-}
-
-impl embedded_io::ReadReady for Port {
-    fn read_ready(&mut self) -> Result<bool, Error> {
-        self.poll()?;
-        Ok(self.pending.is_some())
-    }
-}
-
-impl embedded_io::Read for Port {
-    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Error> {
-        let Some(first) = buf.first_mut() else {
-            return Ok(0);
+impl UartRegisters for Usart1 {
+    fn take_received(&mut self) -> Option<(Option<u8>, RxFlags)> {
+        let usart = usart1();
+        let sr = usart.sr().read();
+        let flags = RxFlags {
+            overrun: sr.ore().bit_is_set(),
+            framing: sr.fe().bit_is_set(),
+            noise: sr.nf().bit_is_set(),
+            parity: sr.pe().bit_is_set(),
         };
-        loop {
-            self.poll()?;
-            if let Some(byte) = self.pending.take() {
-                *first = byte;
-                return Ok(1);
-            }
+        let full = sr.rxne().bit_is_set();
+        if !full && flags == RxFlags::default() {
+            return None;
         }
+        // Reading DR after SR clears RXNE and every error flag; with an overrun DR still holds
+        // the byte received before the lost one.
+        let byte = usart.dr().read().dr().bits() as u8;
+        Some((full.then_some(byte), flags))
+    }
+
+    fn can_transmit(&self) -> bool {
+        usart1().sr().read().txe().bit_is_set()
+    }
+
+    fn transmit(&mut self, byte: u8) {
+        usart1().dr().write(|w| w.dr().set(u16::from(byte)));
+    }
+
+    fn transmit_idle(&mut self) {
+        // TXE is a level: stop its interrupt until the loop queues more.
+        usart1().cr1().modify(|_, w| w.txeie().clear_bit());
     }
 }
 
-impl embedded_io::Write for Port {
-    fn write(&mut self, buf: &[u8]) -> Result<usize, Error> {
-        embedded_io::Write::write(&mut self.serial, buf)
-    }
-    fn flush(&mut self) -> Result<(), Error> {
-        embedded_io::Write::flush(&mut self.serial)
-    }
+#[interrupt]
+fn USART1() {
+    super::on_uart_interrupt(&mut Usart1);
+}
+
+/// Takes over a configured USART1: its receive interrupt on, the loop's end of its queues
+/// returned (`None` on a second call). The `Serial` stays owned here: its pins stay configured.
+pub fn take_uart(serial: Serial<USART1>) -> Option<(Serial<USART1>, LoopEnd<'static>)> {
+    let line = super::take_line()?;
+    usart1().cr1().modify(|_, w| w.rxneie().set_bit());
+    // SAFETY: the handler only touches USART1 and the line's interrupt end.
+    unsafe { NVIC::unmask(pac::Interrupt::USART1) };
+    Some((serial, line))
 }
 
 static MILLIS: AtomicU32 = AtomicU32::new(0);
 
-/// SysTick at 1 kHz on the core clock.
-pub struct SysTickClock {
+/// SysTick at 1 kHz on the core clock, and USART1's transmit start.
+pub struct Stm32f405 {
     _syst: SYST,
 }
 
-impl SysTickClock {
+impl Stm32f405 {
     /// Starts SysTick with a 1 ms period for a core clock of `core_hz`.
     pub fn start(mut syst: SYST, core_hz: u32) -> Self {
         syst.set_clock_source(SystClkSource::Core);
@@ -92,13 +88,20 @@ impl SysTickClock {
         syst.clear_current();
         syst.enable_interrupt();
         syst.enable_counter();
-        SysTickClock { _syst: syst }
+        Stm32f405 { _syst: syst }
     }
 }
 
-impl Clock for SysTickClock {
+impl Board for Stm32f405 {
     fn now_ms(&self) -> u32 {
         MILLIS.load(Ordering::Relaxed)
+    }
+    fn start_transmit(&self) {
+        // A read-modify-write of CR1, which the handler also writes: masked.
+        cortex_m::interrupt::free(|_| usart1().cr1().modify(|_, w| w.txeie().set_bit()));
+    }
+    fn sleep_while(&self, idle: &mut dyn FnMut() -> bool) {
+        super::sleep_while(idle);
     }
 }
 

@@ -179,7 +179,7 @@ pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
 fn host_session(with_states: bool) -> Result<Outcome, String> {
     let mut bytes = [0u8; SCRIPT_CAPACITY];
     let n = script(with_states, &mut bytes).ok_or("the script does not fit")?;
-    let outcome = serve_script(&bytes[..n]);
+    let outcome = serve_script(&mut twocars::serial::Line::new(), &bytes[..n]);
     if !outcome.shutdown {
         return Err("the host's session ended without its Shutdown".to_string());
     }
@@ -450,15 +450,18 @@ pub fn run() -> i32 {
         Ok(l) => {
             let _ = writeln!(
                 md,
-                "Main loop (Cortex-M4F, f32; `bench-loop` image: `twocars::firmware::serve`, the \
-                 firmware's loop, over the script of `src/bench/main_loop.rs` from memory instead \
-                 of a UART: the bench states as State frames under each policy, {} replies, all \
-                 equal to the host's): **{:.0} instructions per State frame** (deframe, CRC, \
-                 parse, the law for both roles, the Command encoded and written: the session's \
+                "Main loop (Cortex-M4F, f32; `bench-loop` image: the firmware's serial path, the \
+                 UART interrupt's handler and `twocars::serial::service` over the `heapless` \
+                 queues, fed the script of `src/bench/main_loop.rs` by a scripted UART one byte \
+                 per interrupt: the bench states as State frames under each policy, {} replies, \
+                 all equal to the host's): **{:.0} instructions per State frame** (each byte \
+                 queued by the handler and dequeued by the loop, deframe, CRC, parse, the law \
+                 for both roles, the Command encoded, queued and handed to the transmitter by \
+                 the handler; exception entry and return are not instructions: the session's \
                  instructions less those of the same session without its State frames, {:.0}, \
                  over its State frames); **stack \
                  {} B** (the unit, its buffers and the law below the loop's frame, as in the \
-                 firmware's `main`; an interrupt adds its exception frame, 104 B with the FPU \
+                 firmware's `main`; the queues are statics; an interrupt adds its exception frame, 104 B with the FPU \
                  context (108 B when realigned), and its handler's).\n",
                 l.replies, l.per_state, l.rest, l.stack
             );

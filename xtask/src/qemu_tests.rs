@@ -162,6 +162,59 @@ fn watchdog(elf: &std::path::Path) -> Outcome {
     )
 }
 
+/// 400 States written back to back without waiting, each after a burst of line noise (1 to 24
+/// random bytes, zeros included) and a delimiter: every State answered with its Command, in
+/// order; the noise refused with Errors that the counters match; no reset.
+fn noisy_stream(elf: &std::path::Path) -> Outcome {
+    const STATES: u16 = 400;
+    let mut q = Qemu::start(elf, false)?;
+    q.send(&host_tests::link::configure(1, &paper_configure()))?;
+    match q.reply()? {
+        Reply::ConfigureAck(1) => {}
+        other => return Err(format!("expected ConfigureAck, got {other:?}")),
+    }
+    let mut rng = host_tests::rng::Rng::new(27);
+    let (mut stream, mut noise_bytes) = (Vec::new(), 0);
+    for k in 0..STATES {
+        let noise = 1 + rng.next_u64() % 24;
+        noise_bytes += noise;
+        stream.extend((0..noise).map(|_| rng.next_u64() as u8));
+        stream.push(0);
+        let t_ms = 10 * u32::from(k);
+        stream.extend(host_tests::link::state(
+            100 + k,
+            &paper_state(usize::from(k), t_ms),
+        ));
+    }
+    q.send(&stream)?;
+    let (mut answered, mut errors) = (Vec::new(), 0u32);
+    while answered.len() < usize::from(STATES) {
+        match q.reply()? {
+            Reply::Command(s, c) if c.status == 0 => answered.push(s),
+            Reply::Error(None, _) => errors += 1,
+            other => return Err(format!("unexpected reply {other:?}")),
+        }
+    }
+    if !answered.iter().copied().eq(100..100 + STATES) {
+        return Err(format!("Commands out of order or missing: {answered:?}"));
+    }
+    let mut sequence = 1000;
+    let counters = firmware_loop::counters(&mut q, &mut sequence)?;
+    let refused: u32 = counters.errors.iter().sum();
+    // Accepted: the Configure and the States (the ReadCounters counts after its reply).
+    if refused != errors || counters.accepted != 1 + u32::from(STATES) {
+        return Err(format!(
+            "counters {counters:?}: {errors} Errors received, {} messages sent",
+            STATES + 2
+        ));
+    }
+    firmware_loop::shutdown(q, &mut sequence)?;
+    Ok(format!(
+        "{STATES} States behind {noise_bytes} bytes of noise: {STATES} Commands in order, \
+         {errors} Errors for the noise, counters agree"
+    ))
+}
+
 /// The fixed-point law on a Cortex-M0 (QEMU micro:bit, the bench image): every bench state's
 /// value and commands equal to the host's fixed-point law bit for bit (integer arithmetic), and
 /// the paper's four values (the first four bench states) within 1e-3 s.
@@ -220,7 +273,7 @@ pub fn run() -> (u64, u64) {
             return (0, 1);
         }
     };
-    let tests: [(&str, QemuTest); 3] = [
+    let tests: [(&str, QemuTest); 4] = [
         (
             "qemu::scripted_session_matches_the_host_unit_byte_for_byte",
             scripted_session,
@@ -229,6 +282,10 @@ pub fn run() -> (u64, u64) {
         (
             "qemu::watchdog_latches_the_safe_command_until_reset",
             watchdog,
+        ),
+        (
+            "qemu::states_back_to_back_through_line_noise_are_all_answered_in_order",
+            noisy_stream,
         ),
     ];
     let (mut passed, mut failed) = (0, 0);
