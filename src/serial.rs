@@ -148,6 +148,7 @@ impl Line {
                 received: rx_out,
                 to_send: tx_in,
                 faults,
+                chunk: [0; CHUNK],
             },
         )
     }
@@ -185,6 +186,18 @@ impl InterruptEnd<'_> {
     /// that followed a lost one (overrun). The damaged frame is refused as usual; the next one
     /// arrives whole, even when the fault hit its delimiter.
     fn receive(&mut self, byte: Option<u8>, flags: RxFlags) {
+        if flags != RxFlags::default() && self.fault(flags) {
+            return;
+        }
+        if let Some(byte) = byte {
+            self.push(byte);
+        }
+    }
+
+    /// Counts `flags` and ends the frame; whether the byte that came with them is garbage.
+    #[cold]
+    #[inline(never)]
+    fn fault(&mut self, flags: RxFlags) -> bool {
         let faults = self.faults;
         for (flagged, counter) in [
             (flags.overrun, &faults.overrun),
@@ -200,9 +213,7 @@ impl InterruptEnd<'_> {
         if flags.overrun || garbage {
             self.push(0);
         }
-        if let Some(byte) = byte.filter(|_| !garbage) {
-            self.push(byte);
-        }
+        garbage
     }
 
     /// Queues `byte`; a byte dropped for a full queue ends its frame the same way (a delimiter
@@ -224,6 +235,9 @@ pub struct LoopEnd<'a> {
     received: Consumer<'a, u8, RX_CAPACITY>,
     to_send: Producer<'a, u8, TX_CAPACITY>,
     faults: &'a LineFaults,
+    /// Bytes taken from the receive queue, fed to the unit as a slice (kept here: a local
+    /// array was zeroed on every pass).
+    chunk: [u8; CHUNK],
 }
 
 /// What one [`service`] pass did.
@@ -253,25 +267,25 @@ impl LoopEnd<'_> {
     pub fn faults(&self) -> LineCounts {
         self.faults.snapshot()
     }
-
-    /// Queues a whole reply, or drops it whole (counted) if the queue has no room for it: a
-    /// receiver resynchronises on the next delimiter either way, but half a frame would cost it
-    /// the next one too.
-    fn queue(&mut self, bytes: &[u8]) {
-        let room = self.to_send.capacity() - self.to_send.len();
-        if bytes.len() > room {
-            bump(&self.faults.tx_full);
-            return;
-        }
-        for &byte in bytes {
-            // Cannot fail: there was room for all of them, and only this end adds.
-            let _ = self.to_send.enqueue(byte);
-        }
-    }
 }
 
 /// Bytes taken from the receive queue at a time.
 const CHUNK: usize = 32;
+
+/// Queues a whole reply, or drops it whole (counted) if the queue has no room for it: a
+/// receiver resynchronises on the next delimiter either way, but half a frame would cost it the
+/// next one too.
+fn queue(to_send: &mut Producer<'_, u8, TX_CAPACITY>, faults: &LineFaults, bytes: &[u8]) {
+    let room = to_send.capacity() - to_send.len();
+    if bytes.len() > room {
+        bump(&faults.tx_full);
+        return;
+    }
+    for &byte in bytes {
+        // Cannot fail: there was room for all of them, and only this end adds.
+        let _ = to_send.enqueue(byte);
+    }
+}
 
 /// One pass of the loop: the watchdog, then every byte received so far, replies queued and the
 /// transmitter started.
@@ -280,15 +294,20 @@ pub fn service<B: Board>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit) -> 
     let now = board.now_ms();
     if let Some(reply) = unit.poll(now) {
         crate::log_warn!("no valid State within the watchdog time: safe command");
-        line.queue(reply.as_bytes());
+        queue(&mut line.to_send, line.faults, reply.as_bytes());
         pass.replies += 1;
     }
     unit.record_line(line.faults());
     loop {
-        let mut chunk = [0u8; CHUNK];
+        let LoopEnd {
+            received,
+            to_send,
+            faults,
+            chunk,
+        } = line;
         let mut n = 0;
         for slot in chunk.iter_mut() {
-            match line.received.dequeue() {
+            match received.dequeue() {
                 Some(byte) => *slot = byte,
                 None => break,
             }
@@ -302,7 +321,7 @@ pub fn service<B: Board>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit) -> 
         while !bytes.is_empty() {
             let (taken, reply) = unit.receive_slice(bytes, now);
             if let Some(reply) = reply {
-                line.queue(reply.as_bytes());
+                queue(to_send, faults, reply.as_bytes());
                 pass.replies += 1;
                 if reply.is_shutdown() {
                     pass.shutdown = true;
