@@ -121,6 +121,10 @@ impl<S: Scalar> VehicleLimits<S> {
     }
 }
 
+/// Distance at or below which the positions coincide (status `captured`), as a fraction of the
+/// pursuer's turning radius.
+pub const CAPTURE_RADIUS_FRACTION: f32 = 1.0e-6;
+
 /// Largest speed (m/s) and curvature (1/m) the law accepts, the largest turning radius (m) and
 /// the smallest speed (m/s): beyond them products and quotients of the law leave every backend's
 /// range (a subnormal evader speed made a capture time inf - inf = NaN; found by fuzzing).
@@ -316,7 +320,7 @@ impl<S: Scalar> Limits<S> {
         let evader = VehicleState::new(dx, dy, reduce(theta_e))?;
         // Apart by more than the capture radius, yet both offsets round to zero: the backend
         // would read one point and report a capture that has not happened.
-        let radius = crate::law::CAPTURE_RADIUS_FRACTION;
+        let radius = CAPTURE_RADIUS_FRACTION;
         if evader.x == S::zero() && evader.y == S::zero() && dx * dx + dy * dy > radius * radius {
             return Err(Status::OutOfRange);
         }

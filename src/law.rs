@@ -5,14 +5,12 @@
 
 use crate::capture::{capture_time, CaptureTime, Variant};
 use crate::game::{solve_values, GameSolution, MatrixGame};
+pub use crate::geometry::CAPTURE_RADIUS_FRACTION;
 use crate::geometry::{
     CirclePairs, Direction, Limits, Units, ValidTangent, VehicleLimits, VehicleState,
 };
 use crate::num::Scalar;
 use crate::status::Status;
-
-/// Distance at or below which the positions coincide, as a fraction of the pursuer's radius.
-pub const CAPTURE_RADIUS_FRACTION: f32 = 1.0e-6;
 
 /// Curvature command of both players, 1/m. Zero is straight ahead, the safe command.
 #[derive(Clone, Copy, Debug, PartialEq)]
