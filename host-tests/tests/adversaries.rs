@@ -340,6 +340,63 @@ fn circling_evaders_the_old_near_field_policy_orbited_are_captured() {
     }
 }
 
+/// Circling evaders that the tail chase's pure pursuit passed 1 to 3 cm off once a lap, never
+/// capturing (docs/closed-loop.md, session 34; random limits, v_pm / v_em = 2.2 to 2.8): the
+/// terminal arc, led by a period, captures each, the one from beyond the threshold before its
+/// guarantee.
+#[test]
+fn circling_evaders_passed_a_centimetre_off_in_the_tail_chase_are_captured() {
+    let starts = [
+        (
+            [8.047_965_6, 2.272_263, 2.835_283, 1.730_647_5],
+            [
+                -2.456_618_456_931_308_5,
+                21.070_918_569_868_127,
+                -2.951_624_249_955_057_3,
+                -1.320_232_342_959_050_3,
+            ],
+        ),
+        (
+            [6.745_991_8, 2.244_176_4, 2.784_589_3, 1.977_780_1],
+            [
+                -2.379_071_092_570_259_6,
+                1.081_181_115_036_944_4,
+                -0.056_099_593_147_007_59,
+                2.428_463_021_121_869_4,
+            ],
+        ),
+        (
+            [6.257_981_5, 2.374_066, 2.206_607, 1.527_749_8],
+            [
+                -2.684_171_815_892_505,
+                6.086_223_714_102_485,
+                3.610_103_876_681_902_2,
+                2.889_933_293_051_110_6,
+            ],
+        ),
+    ];
+    for (limits, [theta_p, x_e, y_e, theta_e]) in starts {
+        let p = SimParams {
+            limits: limits.map(f64::from),
+            pursuer: [0.0, 0.0, theta_p],
+            evader: [x_e, y_e, theta_e],
+            dt: DT,
+            t_max: 30.0,
+            eps: EPS,
+        };
+        let circle = Opponent::Evader(EvaderKind::Circle {
+            left: true,
+            half: false,
+        });
+        let r =
+            simulate_against::<f32>(&p, Variant::Paper, Policy::Flight, Some((circle, 1)), false);
+        assert_eq!(r.status, SimStatus::Captured, "{p:?}: d_min {}", r.d_min);
+        if far(&p) {
+            assert!(lateness(&r, p.limits) <= FEW_DT, "{r:?}");
+        }
+    }
+}
+
 /// Every adversary answers within its limits, and the same seed gives the same answers.
 #[test]
 fn adversaries_are_seeded_and_within_their_limits() {
