@@ -3,7 +3,8 @@
 //!
 //! Frames: metres, radians anticlockwise from +x. Curvature `w` in 1/m (theta_dot = v w).
 
-use crate::num::Scalar;
+use crate::num::fixed_wire::Reciprocal;
+use crate::num::{ieee, Scalar};
 use crate::status::Status;
 
 /// Turning direction of a minimum-radius circle. As a number (`as usize`), its index in Table 1's
@@ -188,6 +189,8 @@ pub struct Limits<S> {
     pub units: Units,
     /// 1 / (v_pm - v_em), s/m: the time the pursuer needs to close one metre on a common line.
     seconds_per_metre_closed: S,
+    /// 1 / `units.metres`, for the integer conversion of wire positions on a normalised backend.
+    per_metre: Reciprocal,
 }
 
 impl<S: Scalar> Limits<S> {
@@ -282,6 +285,11 @@ impl<S: Scalar> Limits<S> {
             evader,
             units,
             seconds_per_metre_closed,
+            per_metre: if S::NORMALISED {
+                Reciprocal::of(units.metres)
+            } else {
+                Reciprocal::ONE
+            },
         })
     }
 
@@ -309,22 +317,38 @@ impl<S: Scalar> Limits<S> {
                 VehicleState::new(x_e, y_e, theta_e)?,
             ));
         }
-        // The metres envelope first, so that the differences below stay finite.
-        VehicleState::<f32>::new(x_p, y_p, theta_p)?;
-        VehicleState::<f32>::new(x_e, y_e, theta_e)?;
-        let m = self.units.metres;
-        // The f32 backend's reduction (2 pi in three parts, within 3e-7 rad): one f32 2 pi times
-        // the turns was 7.5e-4 rad off at 1e4 rad.
-        let reduce = crate::num::f32_math::wrap_signed;
-        let (dx, dy) = ((x_e - x_p) / m, (y_e - y_p) / m);
-        let evader = VehicleState::new(dx, dy, reduce(theta_e))?;
-        // Apart by more than the capture radius, yet both offsets round to zero: the backend
-        // would read one point and report a capture that has not happened.
-        let radius = CAPTURE_RADIUS_FRACTION;
-        if evader.x == S::zero() && evader.y == S::zero() && dx * dx + dy * dy > radius * radius {
+        // The metres envelope first, on the bits (no float operation on a core without an
+        // FPU), so that the differences below stay finite.
+        let envelope = |s: [f32; 3]| {
+            let bits = s.map(f32::to_bits);
+            if !bits.iter().all(|&b| ieee::is_finite_bits(b)) {
+                return Err(Status::NonFiniteInput);
+            }
+            let [x, y, theta] = bits.map(ieee::magnitude_bits);
+            let coordinate = <f32 as Scalar>::MAX_COORDINATE.to_bits();
+            if x > coordinate || y > coordinate || theta > <f32 as Scalar>::MAX_HEADING.to_bits() {
+                return Err(Status::OutOfRange);
+            }
+            Ok(())
+        };
+        envelope(pursuer)?;
+        envelope(evader)?;
+        let (dx, dy) = S::relative_position(
+            (x_p, x_e),
+            (y_p, y_e),
+            self.units.metres,
+            &self.per_metre,
+            CAPTURE_RADIUS_FRACTION,
+        )?;
+        let c = S::from_f32(S::MAX_COORDINATE);
+        if dx.abs() > c || dy.abs() > c {
             return Err(Status::OutOfRange);
         }
-        Ok((VehicleState::new(0.0, 0.0, reduce(theta_p))?, evader))
+        let at = |x, y, theta| VehicleState { x, y, theta };
+        Ok((
+            at(S::zero(), S::zero(), S::reduced_heading(theta_p)),
+            at(dx, dy, S::reduced_heading(theta_e)),
+        ))
     }
 
     /// r_p x, metres for x in radians (or r_p times any factor): x itself on a normalised backend,

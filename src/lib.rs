@@ -47,7 +47,11 @@
 
 #[cfg(feature = "bench")]
 pub mod bench;
-#[cfg(any(feature = "board-qemu", feature = "board-stm32f405"))]
+#[cfg(any(
+    feature = "board-qemu",
+    feature = "board-stm32f405",
+    feature = "firmware-microbit"
+))]
 pub mod board;
 pub mod capture;
 pub mod game;

@@ -12,6 +12,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use heapless::spsc::{Consumer, Producer, Queue};
 
 use crate::message::LineCounts;
+use crate::num::Scalar;
 use crate::unit::Unit;
 
 /// Receive queue slots (it holds one byte fewer): 14 State frames, 5.5 ms of input at 921600
@@ -289,7 +290,7 @@ fn queue(to_send: &mut Producer<'_, u8, TX_CAPACITY>, faults: &LineFaults, bytes
 
 /// One pass of the loop: the watchdog, then every byte received so far, replies queued and the
 /// transmitter started.
-pub fn service<B: Board>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit) -> Pass {
+pub fn service<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit<S>) -> Pass {
     let mut pass = Pass::default();
     let now = board.now_ms();
     if let Some(reply) = unit.poll(now) {
@@ -340,7 +341,7 @@ pub fn service<B: Board>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit) -> 
 
 /// Serves the line until Shutdown (acknowledged and queued; the caller waits for
 /// [`LoopEnd::all_sent`] before it stops the board). Sleeps while nothing was received.
-pub fn serve<B: Board>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit) {
+pub fn serve<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit<S>) {
     loop {
         if service(line, board, unit).shutdown {
             return;

@@ -12,6 +12,7 @@ use crate::message::{
     kind, CommandMsg, Configure, Counters, ErrorMsg, LineCounts, StateMsg, NO_CIRCLE, ROLE_EVADER,
     ROLE_PURSUER,
 };
+use crate::num::{ieee, Scalar};
 use crate::sampled::{Guidance, Policy};
 use crate::status::Status;
 use crate::wire::{
@@ -40,11 +41,11 @@ fn circle_code(d: Direction) -> u8 {
     }
 }
 
-/// The circle a turn rate (rad/s) turns on: A for > 0, C for < 0, none for straight.
-fn turned_code(rate: f32) -> u8 {
-    if rate > 0.0 {
+/// The circle a turn rate turns on: A for > 0, C for < 0, none for straight.
+fn turned_code<S: Scalar>(rate: S) -> u8 {
+    if rate > S::zero() {
         circle_code(Direction::Anticlockwise)
-    } else if rate < 0.0 {
+    } else if rate < S::zero() {
         circle_code(Direction::Clockwise)
     } else {
         NO_CIRCLE
@@ -93,17 +94,22 @@ impl Reply {
 }
 
 #[derive(Clone, Copy, Debug)]
-struct Configured {
-    guidance: Guidance<f32>,
+struct Configured<S> {
+    guidance: Guidance<S>,
     roles: u8,
     watchdog_ms: u32,
+    /// Wire units per law unit: rad/s per turn rate, seconds per time (1 on SI backends).
+    rate_scale: f32,
+    time_scale: f32,
 }
 
-/// The unit's state: configuration, deframer, counters, watchdog, and its last reply.
+/// The unit's state: configuration, deframer, counters, watchdog, and its last reply. Generic
+/// over the law's numeric backend: `f32` on cores with an FPU, [`crate::num::fixed::Fixed`]
+/// (Q17.14) on those without, where the wire's `f32` values are converted with integers only.
 #[derive(Debug)]
-pub struct Unit {
+pub struct Unit<S = f32> {
     deframer: Deframer<MAX_FRAME>,
-    session: Session,
+    session: Session<S>,
     /// Written in place and lent to the caller: a reply by value was copied (76 bytes) at each
     /// of its moves.
     reply: Reply,
@@ -112,8 +118,8 @@ pub struct Unit {
 /// Everything but the deframer: a decoded frame borrows the deframer's buffer while the session
 /// handles it (no copy of the frame).
 #[derive(Debug)]
-struct Session {
-    configured: Option<Configured>,
+struct Session<S> {
+    configured: Option<Configured<S>>,
     counters: Counters,
     watchdog: Watchdog,
 }
@@ -130,13 +136,13 @@ enum Watchdog {
     Latched,
 }
 
-impl Default for Unit {
+impl<S: Scalar> Default for Unit<S> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl Unit {
+impl<S: Scalar> Unit<S> {
     /// An unconfigured unit.
     pub const fn new() -> Self {
         Unit {
@@ -227,7 +233,7 @@ impl Unit {
     }
 }
 
-impl Session {
+impl<S: Scalar> Session<S> {
     /// [`Unit::poll`]: whether the stale reply was written into `reply`.
     fn poll(&mut self, now_ms: u32, reply: &mut Reply) -> bool {
         let Some(configured) = self.configured else {
@@ -274,19 +280,31 @@ impl Session {
                     .configured
                     .as_mut()
                     .ok_or(refuse(WireError::NotConfigured))?;
-                // The contract's order: a non-finite field anywhere before any envelope check.
+                // The contract's order: a non-finite field anywhere before any envelope check
+                // (on the bits: no float operation on a core without an FPU).
                 let mut fields = message.pursuer.iter().chain(message.evader.iter());
-                if fields.any(|v| !v.is_finite()) {
+                if fields.any(|v| !ieee::is_finite_bits(v.to_bits())) {
                     return Err(refuse(WireError::NonFiniteField));
                 }
-                let state = |s: [f32; 3]| {
-                    VehicleState::<f32>::new(s[0], s[1], s[2]).map_err(|status| match status {
-                        Status::NonFiniteInput => refuse(WireError::NonFiniteField),
-                        _ => refuse(WireError::OutOfRangeField),
-                    })
+                let refusal = |status| match status {
+                    Status::NonFiniteInput => refuse(WireError::NonFiniteField),
+                    _ => refuse(WireError::OutOfRangeField),
                 };
-                let pursuer = state(message.pursuer)?;
-                let evader = state(message.evader)?;
+                // A normalised backend converts through the limits (integers only on fixed
+                // point); an SI one takes the f32 values as they are, directly (through
+                // `Limits::states` the M4F's State frame cost 62 instructions more).
+                let (pursuer, evader) = if S::NORMALISED {
+                    let limits = &configured.guidance.law().limits;
+                    limits
+                        .states(message.pursuer, message.evader)
+                        .map_err(refusal)?
+                } else {
+                    let state = |s: [f32; 3]| VehicleState::<S>::new(s[0], s[1], s[2]);
+                    (
+                        state(message.pursuer).map_err(refusal)?,
+                        state(message.evader).map_err(refusal)?,
+                    )
+                };
                 let roles = configured.roles;
                 // Staleness by the sender's own timestamps: a gap longer than the watchdog time
                 // (or a timestamp going backwards, which wraps to a huge gap) latches.
@@ -344,9 +362,9 @@ impl Session {
 /// Largest watchdog time accepted, seconds.
 pub const MAX_WATCHDOG_S: f32 = 3600.0;
 
-fn configure(message: &Configure) -> Result<Configured, WireError> {
+fn configure<S: Scalar>(message: &Configure) -> Result<Configured<S>, WireError> {
     let [v_pm, w_pm, v_em, w_em] = message.limits;
-    let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|status| match status {
+    let limits = Limits::<S>::new(v_pm, w_pm, v_em, w_em).map_err(|status| match status {
         Status::NonFiniteInput => WireError::NonFiniteField,
         Status::InvalidLimits => WireError::InvalidLimits,
         _ => WireError::OutOfRangeField,
@@ -371,10 +389,13 @@ fn configure(message: &Configure) -> Result<Configured, WireError> {
         .with_policy(policy);
     // In range by the check above: at most 3.6e6 ms.
     let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
+    let units = limits.units;
     Ok(Configured {
         guidance,
         roles: message.roles,
         watchdog_ms,
+        rate_scale: units.metres_per_second / units.metres,
+        time_scale: units.metres / units.metres_per_second,
     })
 }
 
@@ -393,12 +414,25 @@ fn stale_command(roles: u8) -> CommandMsg {
     }
 }
 
-fn command_message(evaluation: &Decision<f32>, configured: &Configured) -> CommandMsg {
-    let limits = configured.guidance.law().limits;
+/// A law value in wire units: `value * scale` on a normalised backend, `value` on SI ones.
+fn to_wire<S: Scalar>(value: S, scale: f32) -> f32 {
+    if S::NORMALISED {
+        value.to_f32_scaled(scale)
+    } else {
+        value.to_f32()
+    }
+}
+
+fn command_message<S: Scalar>(evaluation: &Decision<S>, configured: &Configured<S>) -> CommandMsg {
+    let limits = &configured.guidance.law().limits;
     let roles = configured.roles;
-    let rate = |role: u8, w: f32, v: f32| if roles & role != 0 { v * w } else { 0.0 };
+    // Turn rates v w in the law's units (zero for a role not played), then in rad/s.
+    let rate = |role: u8, w: S, v: S| if roles & role != 0 { v * w } else { S::zero() };
     let solution = evaluation.solution;
-    let value = |v: Option<Option<f32>>| v.flatten().unwrap_or(f32::INFINITY);
+    let value = |v: Option<Option<S>>| {
+        v.flatten()
+            .map_or(f32::INFINITY, |v| to_wire(v, configured.time_scale))
+    };
     let pursuer_rate = rate(
         ROLE_PURSUER,
         evaluation.command.pursuer,
@@ -419,8 +453,8 @@ fn command_message(evaluation: &Decision<f32>, configured: &Configured) -> Comma
     CommandMsg {
         status: status_code(evaluation.status),
         roles,
-        pursuer_rate,
-        evader_rate,
+        pursuer_rate: to_wire(pursuer_rate, configured.rate_scale),
+        evader_rate: to_wire(evader_rate, configured.rate_scale),
         row,
         col,
         predicted: value(solution.map(|s| s.upper)),

@@ -1,11 +1,14 @@
 //! The whole unit, bytes in -> bytes out: after an optional valid Configure (first input byte
 //! odd), arbitrary bytes; every reply must itself be a valid frame of a known type whose payload
-//! parses, every command finite and within +-v_max w_max, and never `ok` for a refused input.
+//! parses, every command finite and within +-v_max w_max, and never `ok` for a refused input;
+//! on the f32 and the fixed-point backends.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use twocars::message::{kind, CommandMsg, Configure, Counters, ErrorMsg};
+use twocars::num::fixed::Fixed;
 use twocars::unit::Unit;
+use twocars::Scalar;
 use twocars::wire::{encode_frame, Deframer, Feed, Frame, MAX_ENCODED, MAX_FRAME};
 
 const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];
@@ -51,7 +54,13 @@ fn check_reply(bytes: &[u8]) {
 }
 
 fuzz_target!(|data: &[u8]| {
-    let mut unit = Unit::new();
+    // The f32 unit (the M4F images) and the fixed-point one (the micro:bit's).
+    session::<f32>(data);
+    session::<Fixed>(data);
+});
+
+fn session<S: Scalar>(data: &[u8]) {
+    let mut unit = Unit::<S>::new();
     let mut now = 0u32;
     if data.first().is_some_and(|b| b & 1 == 1) {
         let c = Configure {
@@ -79,4 +88,4 @@ fuzz_target!(|data: &[u8]| {
             check_reply(r.as_bytes());
         }
     }
-});
+}

@@ -186,7 +186,7 @@ fn every_line_fault_costs_only_the_frame_it_lands_in() {
     let state = |s| link::state(s, &paper_state(0, 0));
     let mut line = Line::new();
     let (mut interrupt, mut main) = line.split();
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     let mut uart = FakeUart::default();
     let replies = |uart: &mut FakeUart| {
         let bytes = std::mem::take(&mut uart.sent);

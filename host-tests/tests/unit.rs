@@ -4,11 +4,12 @@
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::session::{paper_configure, paper_state, script, Expect};
 use twocars::message::ROLE_PURSUER;
+use twocars::num::fixed::Fixed;
 use twocars::unit::{Unit, STATUS_STALE_INPUT};
 use twocars::wire::WireError;
-use twocars::{Guidance, Law, Limits, Variant, VehicleState};
+use twocars::{Guidance, Law, Limits, Scalar, Variant, VehicleState};
 
-fn send(unit: &mut Unit, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
+fn send<S: Scalar>(unit: &mut Unit<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
     let mut decoder = ReplyDecoder::default();
     let mut replies = Vec::new();
     for &b in bytes {
@@ -26,7 +27,7 @@ fn send(unit: &mut Unit, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
 
 #[test]
 fn the_scripted_session_gets_the_documented_replies_and_the_loop_survives() {
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     for step in script() {
         let replies = send(&mut unit, &step.bytes, 0);
         assert_eq!(replies.len(), 1, "{}: {replies:?}", step.name);
@@ -61,7 +62,7 @@ fn the_scripted_session_gets_the_documented_replies_and_the_loop_survives() {
 
 #[test]
 fn commands_equal_the_host_law_bit_for_bit() {
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
     let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
     let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.01).unwrap();
@@ -85,8 +86,43 @@ fn commands_equal_the_host_law_bit_for_bit() {
 }
 
 #[test]
+fn the_fixed_point_unit_answers_with_the_fixed_point_law_in_wire_units() {
+    let mut unit = Unit::<Fixed>::new();
+    send(&mut unit, &link::configure(1, &paper_configure()), 0);
+    let limits = Limits::<Fixed>::new(2.0, 2.0, 1.0, 1.0).unwrap();
+    let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.01).unwrap();
+    let mut float = Unit::<f32>::new();
+    send(&mut float, &link::configure(1, &paper_configure()), 0);
+    for case in 0..4 {
+        let s = paper_state(case, 0);
+        let want = f64::from(command(&send(&mut float, &link::state(2, &s), 0)).predicted);
+        let c = command(&send(&mut unit, &link::state(2, &s), 0));
+        let (p, e) = limits.states(s.pursuer, s.evader).unwrap();
+        let ev = guidance.step(&p, &e);
+        let units = ev.units;
+        // Rates: v w in rad/s; the law's command converted in f64, rounded once to f32.
+        let rate = |w: Fixed, v: f64| (units.curvature(w) * v) as f32;
+        assert_eq!(c.pursuer_rate, rate(ev.command.pursuer, 2.0), "case {case}");
+        assert_eq!(c.evader_rate, rate(ev.command.evader, 1.0), "case {case}");
+        let upper = units.seconds(ev.report.unwrap().solution.upper.unwrap());
+        assert_eq!(c.predicted, upper as f32, "case {case}");
+        // Within the fixed-point law's documented error (docs/numeric.md: 5.3e-4 relative).
+        let error = (f64::from(c.predicted) - want).abs() / want;
+        assert!(error < 5.3e-4, "case {case}: {} vs f32 {want}", c.predicted);
+    }
+    // Outside the fixed-point envelope (200 r_p = 100 m here): out_of_range, safe command.
+    let mut far = paper_state(0, 10);
+    far.evader[0] = 150.0;
+    let replies = send(&mut unit, &link::state(3, &far), 10);
+    assert!(
+        matches!(replies[..], [Reply::Error(Some(3), e)] if e.code == WireError::OutOfRangeField as u8),
+        "{replies:?}"
+    );
+}
+
+#[test]
 fn a_role_not_computed_gets_zero_rate() {
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     let config = twocars::message::Configure {
         roles: ROLE_PURSUER,
         ..paper_configure()
@@ -109,7 +145,7 @@ fn command(replies: &[Reply]) -> twocars::message::CommandMsg {
 
 #[test]
 fn the_watchdog_sends_the_safe_command_once_after_silence_and_stays_latched() {
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     assert!(unit.poll(10_000).is_none(), "unconfigured: silent");
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
     assert!(
@@ -154,7 +190,7 @@ fn the_watchdog_sends_the_safe_command_once_after_silence_and_stays_latched() {
 
 #[test]
 fn a_gap_in_the_senders_timestamps_latches_even_when_frames_keep_arriving() {
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
     assert_eq!(
         command(&send(&mut unit, &link::state(2, &paper_state(0, 100)), 0)).status,
@@ -210,7 +246,7 @@ fn the_configure_message_selects_the_policy() {
     let p = VehicleState::new(state.pursuer[0], state.pursuer[1], state.pursuer[2]).unwrap();
     let e = VehicleState::new(state.evader[0], state.evader[1], state.evader[2]).unwrap();
     for (byte, policy) in [(0, twocars::Policy::Paper), (1, twocars::Policy::Flight)] {
-        let mut unit = Unit::new();
+        let mut unit = Unit::<f32>::new();
         let config = twocars::message::Configure {
             policy: byte,
             ..paper_configure()
@@ -221,7 +257,7 @@ fn the_configure_message_selects_the_policy() {
         assert_eq!(c.pursuer_rate.to_bits(), (2.0 * want.pursuer).to_bits());
         assert_eq!(c.evader_rate.to_bits(), want.evader.to_bits());
     }
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     let config = twocars::message::Configure {
         policy: 2,
         ..paper_configure()
@@ -244,7 +280,7 @@ fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
         let mut bytes = [0u8; SCRIPT_CAPACITY];
         let n = script(with_states, &mut bytes).expect("the script fits its capacity");
         let script = &bytes[..n];
-        let mut unit = Unit::new();
+        let mut unit = Unit::<f32>::new();
         let mut written = Vec::new();
         for &b in script {
             if let Some(r) = unit.receive(b, 0) {
@@ -327,7 +363,7 @@ fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
     let n = twocars::wire::cobs_encode(&body, &mut encoded).expect("fits");
     let mut frame = encoded[..n].to_vec();
     frame.push(0);
-    let reply = last_reply_bytes(&mut Unit::new(), &frame, 0);
+    let reply = last_reply_bytes(&mut Unit::<f32>::new(), &frame, 0);
     assert_eq!(
         reply.as_deref(),
         Some(&[0x09, 0x01, 0x8f, 0x78, 0x02, 0x06, 0x01, 0xc8, 0x1f, 0x00][..])
@@ -341,7 +377,7 @@ fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
 /// reply was Error 8 (out_of_range_field).
 #[test]
 fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_state() {
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     let acks = send(&mut unit, &link::configure(1, &paper_configure()), 0);
     assert_eq!(acks.len(), 1);
     let mut state = paper_state(0, 10);
@@ -360,7 +396,7 @@ fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_stat
 /// limits, every status-5 Command's bytes agree with the signs of its rates.
 #[test]
 fn fallback_commands_name_the_circle_actually_turned() {
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     assert_eq!(
         send(&mut unit, &link::configure(1, &paper_configure()), 0).len(),
         1

@@ -11,6 +11,7 @@
 //! the same session less its State frames: the difference of the two is the State frames' cost.
 
 use crate::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use crate::num::Scalar;
 use crate::serial::{service, Board, Line, RxFlags, UartRegisters};
 use crate::unit::Unit;
 use crate::wire::{cobs_encode, encode_frame, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME};
@@ -212,9 +213,21 @@ pub struct Outcome {
 /// board); out of line, so that the bench's stack paint sees it.
 #[inline(never)]
 pub fn serve_script(line: &mut Line, script: &[u8]) -> Outcome {
+    serve_script_on::<f32>(line, script)
+}
+
+/// [`serve_script`] with the fixed-point unit (the Cortex-M0 image).
+#[inline(never)]
+pub fn serve_script_fixed(line: &mut Line, script: &[u8]) -> Outcome {
+    serve_script_on::<crate::num::fixed::Fixed>(line, script)
+}
+
+/// [`serve_script`] with the unit on backend `S`.
+#[inline(always)]
+pub fn serve_script_on<S: Scalar>(line: &mut Line, script: &[u8]) -> Outcome {
     let (mut interrupt, mut main) = line.split();
     let mut uart = ScriptedUart::new(script);
-    let mut unit = Unit::new();
+    let mut unit = Unit::<S>::new();
     let mut shutdown = false;
     while !shutdown {
         let mut arrived = false;

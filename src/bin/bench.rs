@@ -28,7 +28,7 @@ const PAINT: u32 = 0xA5A5_5A5A;
 /// Bytes of stack painted below the caller's frame.
 const PAINT_BYTES: usize = 4096;
 
-#[cfg(feature = "bench-fixed")]
+#[cfg(all(feature = "bench-fixed", not(feature = "bench-loop")))]
 type Number = twocars::num::fixed::Fixed;
 #[cfg(all(feature = "bench-micromath", not(feature = "bench-fixed")))]
 type Number = twocars::num::micro::Micro;
@@ -184,7 +184,7 @@ fn bench_law() {
 /// `loop <with states> <ticks> <stack bytes> <replies> <digest> <accepted> <refused>`.
 #[cfg(feature = "bench-loop")]
 fn bench_loop() {
-    use twocars::bench::main_loop::{script, serve_script, SCRIPT_CAPACITY};
+    use twocars::bench::main_loop::{script, SCRIPT_CAPACITY};
     let mut bytes = [0u8; SCRIPT_CAPACITY];
     // The queues are a static on a board, outside the loop's stack.
     let Some(line) = cortex_m::singleton!(: twocars::serial::Line = twocars::serial::Line::new())
@@ -198,7 +198,10 @@ fn bench_loop() {
         };
         let bottom = paint();
         let start = cortex_m::peripheral::SYST::get_current();
-        let session = serve_script(line, black_box(script));
+        #[cfg(not(feature = "bench-fixed"))]
+        let session = twocars::bench::main_loop::serve_script(line, black_box(script));
+        #[cfg(feature = "bench-fixed")]
+        let session = twocars::bench::main_loop::serve_script_fixed(line, black_box(script));
         let ticks = ticks_since(start);
         let stack = used(bottom);
         if !session.shutdown {

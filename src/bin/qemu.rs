@@ -20,7 +20,7 @@ fn main() -> ! {
     let Some(mut line) = take_uart() else {
         halt(EXIT_FAILURE)
     };
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     twocars::log_info!("twocars guidance unit up (mps2-an386, UART0, interrupt-driven)");
     serve(&mut line, &board, &mut unit);
     // The ShutdownAck is queued: let the transmit interrupt send it before QEMU exits.

@@ -30,7 +30,7 @@ fn main() -> ! {
     let Some((_serial, mut line)) = take_uart(serial) else {
         cortex_m::peripheral::SCB::sys_reset()
     };
-    let mut unit = Unit::new();
+    let mut unit = Unit::<f32>::new();
     loop {
         // A flight unit has no session to end: after a Shutdown it keeps serving.
         serve(&mut line, &board, &mut unit);

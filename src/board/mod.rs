@@ -14,6 +14,9 @@ pub mod qemu_mps2;
 #[cfg(feature = "board-stm32f405")]
 pub mod stm32f405;
 
+#[cfg(feature = "firmware-microbit")]
+pub mod microbit;
+
 /// The UART interrupt's end of the board's one [`Line`], handed over by [`take_line`].
 static INTERRUPT_END: Mutex<RefCell<Option<InterruptEnd<'static>>>> =
     Mutex::new(RefCell::new(None));

@@ -30,7 +30,9 @@
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use super::Scalar;
+use super::fixed_wire::{self, Reciprocal};
+use super::{ieee, Scalar};
+use crate::status::Status;
 
 /// Fractional bits.
 const FRAC: u32 = 14;
@@ -400,16 +402,14 @@ impl Scalar for Fixed {
     /// a value less dt plus the tie floor stays below 2^17, as does 4 v_pm dt.
     const MAX_PERIOD_TERM: f32 = 32_768.0;
 
-    #[inline]
+    /// Rounded to nearest (ties away from zero) from the exact `f32`, with integers only;
+    /// invalid for NaN, the infinities and magnitudes from 2^17.
+    #[inline(always)]
     fn from_f32(value: f32) -> Self {
-        let scaled = value * ONE as f32;
-        // Beyond +-2^31 (and for NaN) there is no Q17.14 number: invalid, never saturated.
-        if scaled.is_nan() || scaled.abs() >= 2_147_483_520.0 {
-            return Fixed(INVALID);
+        match ieee::to_fixed(value.to_bits(), FRAC as i32, 31) {
+            Some(raw) => Fixed(raw as i32),
+            None => Fixed(INVALID),
         }
-        let half = if scaled < 0.0 { -0.5 } else { 0.5 };
-        // In range (checked above): the cast is exact after rounding.
-        Fixed((scaled + half) as i32)
     }
     #[inline]
     fn from_f32_toward_zero(value: f32) -> Self {
@@ -421,10 +421,34 @@ impl Scalar for Fixed {
         Fixed(scaled as i32)
     }
     fn to_f32(self) -> f32 {
-        if self.is_invalid() {
-            return f32::NAN;
+        fixed_wire::scaled_to_f32(self, 1.0)
+    }
+    #[inline]
+    fn to_f32_scaled(self, scale: f32) -> f32 {
+        fixed_wire::scaled_to_f32(self, scale)
+    }
+    fn relative_position(
+        x: (f32, f32),
+        y: (f32, f32),
+        _metres: f32,
+        per_metre: &Reciprocal,
+        radius: f32,
+    ) -> Result<(Self, Self), Status> {
+        let (dx, dy) = (
+            fixed_wire::offset(x.0, x.1, per_metre),
+            fixed_wire::offset(y.0, y.1, per_metre),
+        );
+        if dx.is_invalid() || dy.is_invalid() {
+            return Err(Status::OutOfRange);
         }
-        self.0 as f32 / ONE as f32
+        if dx.0 == 0 && dy.0 == 0 && fixed_wire::apart_beyond(x, y, per_metre, radius) {
+            return Err(Status::OutOfRange);
+        }
+        Ok((dx, dy))
+    }
+    #[inline]
+    fn reduced_heading(theta: f32) -> Self {
+        fixed_wire::heading(theta)
     }
     fn to_f64(self) -> f64 {
         if self.is_invalid() {

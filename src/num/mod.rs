@@ -10,11 +10,16 @@
 
 pub mod f32_math;
 pub mod fixed;
+pub mod fixed_wire;
+pub mod ieee;
 #[cfg(feature = "micromath")]
 pub mod micro;
 
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
+
+use crate::status::Status;
+use fixed_wire::Reciprocal;
 
 /// A real number as one numeric backend represents it.
 ///
@@ -66,6 +71,36 @@ pub trait Scalar:
     }
     /// Converts to `f32` (for reports and the wire).
     fn to_f32(self) -> f32;
+    /// `self * scale` as an `f32` (a law value to the wire's units). Fixed point forms the exact
+    /// product with integers and rounds it once (no soft-float call).
+    #[inline(always)]
+    fn to_f32_scaled(self, scale: f32) -> f32 {
+        self.to_f32() * scale
+    }
+    /// On a normalised backend: the evader's offset from the pursuer, `(x, y)` each as
+    /// (pursuer, evader) in metres (finite, within the f32 envelope), in units of `metres`
+    /// (`per_metre` its reciprocal); `OutOfRange` where the players are apart by more than
+    /// `radius` units yet both offsets round to zero (the backend would read one point).
+    /// Fixed point converts with integers only ([`fixed_wire`]).
+    fn relative_position(
+        x: (f32, f32),
+        y: (f32, f32),
+        metres: f32,
+        per_metre: &Reciprocal,
+        radius: f32,
+    ) -> Result<(Self, Self), Status> {
+        let _ = per_metre;
+        let (dx, dy) = ((x.1 - x.0) / metres, (y.1 - y.0) / metres);
+        let (sx, sy) = (Self::from_f32(dx), Self::from_f32(dy));
+        if sx == Self::zero() && sy == Self::zero() && dx * dx + dy * dy > radius * radius {
+            return Err(Status::OutOfRange);
+        }
+        Ok((sx, sy))
+    }
+    /// On a normalised backend: a finite heading (radians) reduced to [-pi, pi].
+    fn reduced_heading(theta: f32) -> Self {
+        Self::from_f32(f32_math::wrap_signed(theta))
+    }
     /// Converts to `f64` (for reports on the host).
     fn to_f64(self) -> f64;
     /// Whether the value is a number: false only where a backend's arithmetic left its range

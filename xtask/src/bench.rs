@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use twocars::bench::main_loop::{script, serve_script, Outcome, SCRIPT_CAPACITY};
+use twocars::bench::main_loop::{script, serve_script_on, Outcome, SCRIPT_CAPACITY};
 use twocars::bench::{DT, LIMITS, STATES};
 use twocars::num::fixed::Fixed;
 use twocars::num::micro::Micro;
@@ -176,10 +176,10 @@ pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
 }
 
 /// The session of `twocars::bench::main_loop` served on the host.
-fn host_session(with_states: bool) -> Result<Outcome, String> {
+fn host_session<S: Scalar>(with_states: bool) -> Result<Outcome, String> {
     let mut bytes = [0u8; SCRIPT_CAPACITY];
     let n = script(with_states, &mut bytes).ok_or("the script does not fit")?;
-    let outcome = serve_script(&mut twocars::serial::Line::new(), &bytes[..n]);
+    let outcome = serve_script_on::<S>(&mut twocars::serial::Line::new(), &bytes[..n]);
     if !outcome.shutdown {
         return Err("the host's session ended without its Shutdown".to_string());
     }
@@ -203,10 +203,23 @@ pub struct LoopMeasured {
     pub replies: u32,
 }
 
-/// Runs the serial loop's bench session on the Cortex-M4F; an error where its replies, their
-/// digest or its counters differ from the host's.
-pub fn measure_loop() -> Result<LoopMeasured, String> {
-    let (out, _) = build_and_print(M4F, "bench-loop")?;
+/// The serial loop's images: the Cortex-M4F with the f32 law, the Cortex-M0 with fixed point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LoopImage {
+    /// mps2-an386, f32.
+    M4fFloat,
+    /// micro:bit, Q17.14.
+    M0Fixed,
+}
+
+/// Runs the serial loop's bench session on `image`'s CPU; an error where its replies, their
+/// digest or its counters differ from the host's (the same unit and backend on the host).
+pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
+    let (cpu, features) = match image {
+        LoopImage::M4fFloat => (M4F, "bench-loop"),
+        LoopImage::M0Fixed => (M0, "bench-loop,bench-fixed"),
+    };
+    let (out, _) = build_and_print(cpu, features)?;
     let mut ticks = [None, None];
     let mut stack = 0;
     let mut replies = 0;
@@ -225,10 +238,14 @@ pub fn measure_loop() -> Result<LoopMeasured, String> {
             accepted: a.parse().map_err(|_| bad())?,
             refused: x.parse().map_err(|_| bad())?,
         };
-        let want = host_session(with_states)?;
+        let want = match image {
+            LoopImage::M4fFloat => host_session::<f32>(with_states)?,
+            LoopImage::M0Fixed => host_session::<Fixed>(with_states)?,
+        };
         if got != want {
             return Err(format!(
-                "serial loop (with states: {with_states}): Cortex-M4F {got:?}, host {want:?}"
+                "serial loop (with states: {with_states}): {} {got:?}, host {want:?}",
+                cpu.name
             ));
         }
         ticks[usize::from(with_states)] = Some(t.parse::<f64>().map_err(|_| bad())?);
@@ -242,7 +259,7 @@ pub fn measure_loop() -> Result<LoopMeasured, String> {
             "the serial loop's image did not report both sessions:\n{out}"
         ));
     };
-    let per_instruction = M4F.ticks_per_instruction;
+    let per_instruction = cpu.ticks_per_instruction;
     Ok(LoopMeasured {
         per_state: (with - without)
             / per_instruction
@@ -446,7 +463,7 @@ pub fn run() -> i32 {
         value_error::<Micro>(),
         value_error::<Fixed>()
     );
-    match measure_loop() {
+    match measure_loop(LoopImage::M4fFloat) {
         Ok(l) => {
             let _ = writeln!(
                 md,
@@ -463,6 +480,22 @@ pub fn run() -> i32 {
                  {} B** (the unit, its buffers and the law below the loop's frame, as in the \
                  firmware's `main`; the queues are statics; an interrupt adds its exception frame, 104 B with the FPU \
                  context (108 B when realigned), and its handler's).\n",
+                l.replies, l.per_state, l.rest, l.stack
+            );
+        }
+        Err(e) => {
+            eprintln!("xtask bench: {e}");
+            ok = false;
+        }
+    }
+    match measure_loop(LoopImage::M0Fixed) {
+        Ok(l) => {
+            let _ = writeln!(
+                md,
+                "Main loop (Cortex-M0, fixed point; the same `bench-loop` session on the micro:bit \
+                 with the Q17.14 law, the wire's f32 values converted with integers only, {} \
+                 replies, all equal to the same unit's on the host): **{:.0} instructions per \
+                 State frame** (the session without its State frames: {:.0}); **stack {} B**.\n",
                 l.replies, l.per_state, l.rest, l.stack
             );
         }

@@ -2,12 +2,70 @@
 //! every control period over the serial link, applies the firmware's turn rates (the host law
 //! plays a role the firmware does not compute), and stops at capture or timeout.
 
-use host_tests::link::{self, Reply};
+use std::collections::VecDeque;
+
+use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::sim::{closed_loop, SimParams, SimResult, StepCommand};
 use twocars::message::{Configure, Counters, StateMsg, ROLE_EVADER, ROLE_PURSUER};
-use twocars::{Direction, Guidance, Law, Limits, Policy, Variant, VehicleState};
+use twocars::unit::Unit;
+use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant, VehicleState};
 
 use crate::qemu::Qemu;
+
+/// A serial link to a guidance unit: the firmware in QEMU, or the same unit in this process.
+pub trait Link {
+    /// Sends raw bytes.
+    fn send(&mut self, bytes: &[u8]) -> Result<(), String>;
+    /// The next reply.
+    fn reply(&mut self) -> Result<Reply, String>;
+}
+
+impl Link for Qemu {
+    fn send(&mut self, bytes: &[u8]) -> Result<(), String> {
+        Qemu::send(self, bytes)
+    }
+    fn reply(&mut self) -> Result<Reply, String> {
+        Qemu::reply(self)
+    }
+}
+
+/// The guidance unit on backend `S` in this process, fed the frames a firmware image would be:
+/// the host's twin of the image, for a bit-for-bit comparison (its clock stands still).
+pub struct HostUnit<S> {
+    unit: Unit<S>,
+    decoder: ReplyDecoder,
+    pending: VecDeque<Reply>,
+}
+
+impl<S: Scalar> HostUnit<S> {
+    /// An unconfigured unit.
+    pub fn new() -> Self {
+        HostUnit {
+            unit: Unit::new(),
+            decoder: ReplyDecoder::default(),
+            pending: VecDeque::new(),
+        }
+    }
+}
+
+impl<S: Scalar> Link for HostUnit<S> {
+    fn send(&mut self, bytes: &[u8]) -> Result<(), String> {
+        for &byte in bytes {
+            if let Some(reply) = self.unit.receive(byte, 0) {
+                for r in self.decoder.feed(reply.as_bytes()) {
+                    self.pending
+                        .push_back(r.map_err(|e| format!("undecodable reply: {e:?}"))?);
+                }
+            }
+        }
+        Ok(())
+    }
+    fn reply(&mut self) -> Result<Reply, String> {
+        self.pending
+            .pop_front()
+            .ok_or_else(|| "the unit sent no reply".to_string())
+    }
+}
 
 /// What one firmware run shows besides the simulation figures.
 #[derive(Debug, Clone)]
@@ -34,7 +92,7 @@ fn circle(code: u8) -> Option<Direction> {
 
 /// Configures the firmware and runs one closed loop.
 pub fn run_case(
-    qemu: &mut Qemu,
+    qemu: &mut impl Link,
     sequence: &mut u16,
     params: &SimParams,
     roles: u8,
@@ -130,7 +188,7 @@ pub fn run_case(
 }
 
 /// Reads the firmware's counters.
-pub fn counters(qemu: &mut Qemu, sequence: &mut u16) -> Result<Counters, String> {
+pub fn counters(qemu: &mut impl Link, sequence: &mut u16) -> Result<Counters, String> {
     *sequence = sequence.wrapping_add(1);
     qemu.send(&link::read_counters(*sequence))?;
     match qemu.reply()? {

@@ -1,4 +1,5 @@
-//! `cargo xtask fuzz`: the libFuzzer targets in `fuzz/` (frame decoder, unit step, law), each
+//! `cargo xtask fuzz`: the libFuzzer targets in `fuzz/` (frame decoder, unit step, law, the
+//! fixed-point backend's f32 conversions), each
 //! started from its committed seed corpus (`fuzz/seeds/<target>`), with a time or run budget;
 //! prints executions, corpus size and failures per target. `cargo xtask test` runs a short
 //! smoke run of each; the long run is recorded in `docs/reliability.md`.
@@ -10,7 +11,7 @@ use crate::progress::Progress;
 use crate::qemu::root;
 
 /// The fuzz targets.
-pub const TARGETS: [&str; 3] = ["frame_decoder", "unit_step", "law"];
+pub const TARGETS: [&str; 4] = ["frame_decoder", "unit_step", "law", "conversion"];
 
 /// Budget of one run.
 #[derive(Clone, Copy, Debug)]

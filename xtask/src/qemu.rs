@@ -20,26 +20,43 @@ pub enum Board {
     Qemu,
     /// STM32F405 flight controller (Cortex-M4F): build and size only.
     Stm32f405,
+    /// BBC micro:bit (nRF51822, Cortex-M0, the fixed-point law), in QEMU's `microbit` machine.
+    Microbit,
 }
 
 impl Board {
     /// Every board.
-    pub const ALL: [Board; 2] = [Board::Qemu, Board::Stm32f405];
+    pub const ALL: [Board; 3] = [Board::Qemu, Board::Stm32f405, Board::Microbit];
 
-    fn target(self) -> &'static str {
-        "thumbv7em-none-eabihf"
+    /// The Rust target of the board's core.
+    pub fn target(self) -> &'static str {
+        match self {
+            Board::Qemu | Board::Stm32f405 => "thumbv7em-none-eabihf",
+            Board::Microbit => "thumbv6m-none-eabi",
+        }
     }
     fn bin(self) -> &'static str {
         match self {
             Board::Qemu => "twocars-qemu",
             Board::Stm32f405 => "twocars-stm32f405",
+            Board::Microbit => "twocars-microbit",
         }
     }
-    fn feature(self) -> &'static str {
+    /// Features of the image `cargo xtask build` and `run` use.
+    pub fn feature(self) -> &'static str {
         match self {
             // The QEMU image logs with defmt over semihosting.
             Board::Qemu => "qemu-log",
             Board::Stm32f405 => "board-stm32f405",
+            Board::Microbit => "firmware-microbit",
+        }
+    }
+    /// QEMU's machine options for the board (`None`: no emulator).
+    fn machine(self) -> Option<&'static [&'static str]> {
+        match self {
+            Board::Qemu => Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"]),
+            Board::Microbit => Some(&["-M", "microbit"]),
+            Board::Stm32f405 => None,
         }
     }
     /// Features of the flight image: no logger, so panic freedom can be proven at link time.
@@ -47,12 +64,13 @@ impl Board {
         match self {
             Board::Qemu => "board-qemu,panic-never",
             Board::Stm32f405 => "board-stm32f405,panic-never",
+            Board::Microbit => "firmware-microbit,panic-never",
         }
     }
     /// Flash origin of the board's memory map: where the vector table must be.
     pub fn flash_origin(self) -> u64 {
         match self {
-            Board::Qemu => 0x0000_0000,
+            Board::Qemu | Board::Microbit => 0x0000_0000,
             Board::Stm32f405 => 0x0800_0000,
         }
     }
@@ -60,6 +78,7 @@ impl Board {
         match self {
             Board::Qemu => "qemu (mps2-an386)",
             Board::Stm32f405 => "stm32f405",
+            Board::Microbit => "microbit (nRF51822)",
         }
     }
 }
@@ -164,12 +183,16 @@ pub struct Qemu {
 }
 
 impl Qemu {
-    /// Starts QEMU with `elf`; logs decoded to stderr when `show_logs`.
-    pub fn start(elf: &Path, show_logs: bool) -> Result<Qemu, String> {
+    /// Starts QEMU with `board`'s image `elf`; logs decoded to stderr when `show_logs` (the
+    /// mps2-an386 image logs with defmt).
+    pub fn start(elf: &Path, board: Board, show_logs: bool) -> Result<Qemu, String> {
+        let machine = board
+            .machine()
+            .ok_or_else(|| format!("{}: QEMU has no model of this board", board.name()))?;
         let port = free_port()?;
         let mut command = Command::new(qemu_binary()?);
         command
-            .args(["-M", "mps2-an386", "-cpu", "cortex-m4"])
+            .args(machine)
             .args(["-display", "none", "-monitor", "none"])
             .args(["-semihosting-config", "enable=on,target=native"])
             .arg("-serial")
@@ -303,7 +326,9 @@ pub enum BoardArg {
     Qemu,
     /// STM32F405 flight controller (built and sized only).
     Stm32f405,
-    /// Both.
+    /// BBC micro:bit (nRF51822, Cortex-M0, fixed point).
+    Microbit,
+    /// Every board.
     All,
 }
 
@@ -315,12 +340,13 @@ pub struct BuildArgs {
     board: BoardArg,
 }
 
-/// `cargo xtask build [--board qemu|stm32f405|all]`: builds each image, checks its memory map
+/// `cargo xtask build [--board qemu|stm32f405|microbit|all]`: builds each image, checks its memory map
 /// and prints its size.
 pub fn build_command(args: &BuildArgs) -> i32 {
     let boards: Vec<Board> = match args.board {
         BoardArg::Qemu => vec![Board::Qemu],
         BoardArg::Stm32f405 => vec![Board::Stm32f405],
+        BoardArg::Microbit => vec![Board::Microbit],
         BoardArg::All => Board::ALL.to_vec(),
     };
     let mut rows = Vec::new();

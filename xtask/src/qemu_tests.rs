@@ -9,8 +9,9 @@ use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
 use host_tests::session::{paper_configure, paper_state, script};
 use host_tests::sim::{simulate, SimParams};
 use twocars::message::{ROLE_EVADER, ROLE_PURSUER};
+use twocars::num::fixed::Fixed;
 use twocars::unit::{Unit, STATUS_STALE_INPUT};
-use twocars::{Policy, Variant};
+use twocars::{Policy, Scalar, Variant};
 
 use crate::firmware_loop;
 use crate::qemu::{self, Board, Qemu};
@@ -18,7 +19,7 @@ use crate::qemu::{self, Board, Qemu};
 type Outcome = Result<String, String>;
 type QemuTest = fn(&std::path::Path) -> Outcome;
 
-fn host_replies(bytes: &[u8], unit: &mut Unit) -> Vec<Reply> {
+fn host_replies<S: Scalar>(bytes: &[u8], unit: &mut Unit<S>) -> Vec<Reply> {
     let mut decoder = ReplyDecoder::default();
     bytes
         .iter()
@@ -45,8 +46,13 @@ fn same(a: &Reply, b: &Reply) -> bool {
 }
 
 fn scripted_session(elf: &std::path::Path) -> Outcome {
-    let mut q = Qemu::start(elf, false)?;
-    let mut unit = Unit::new();
+    scripted_session_on::<f32>(elf, Board::Qemu)
+}
+
+/// The scripted session on `board`'s image, each reply equal to the host unit's on backend `S`.
+fn scripted_session_on<S: Scalar>(elf: &std::path::Path, board: Board) -> Outcome {
+    let mut q = Qemu::start(elf, board, false)?;
+    let mut unit = Unit::<S>::new();
     for step in script() {
         q.send(&step.bytes)?;
         let got = q.reply().map_err(|e| format!("{}: {e}", step.name))?;
@@ -73,7 +79,7 @@ fn scripted_session(elf: &std::path::Path) -> Outcome {
 }
 
 fn closed_loop(elf: &std::path::Path) -> Outcome {
-    let mut q = Qemu::start(elf, false)?;
+    let mut q = Qemu::start(elf, Board::Qemu, false)?;
     let mut sequence = 0;
     let mut report = Vec::new();
     // Both policies: Configure's policy byte selects the firmware's, the host runs the same.
@@ -114,7 +120,7 @@ fn closed_loop(elf: &std::path::Path) -> Outcome {
 }
 
 fn watchdog(elf: &std::path::Path) -> Outcome {
-    let mut q = Qemu::start(elf, false)?;
+    let mut q = Qemu::start(elf, Board::Qemu, false)?;
     q.send(&host_tests::link::configure(1, &paper_configure()))?;
     q.reply()?;
     q.send(&host_tests::link::state(2, &paper_state(0, 0)))?;
@@ -167,7 +173,7 @@ fn watchdog(elf: &std::path::Path) -> Outcome {
 /// order; the noise refused with Errors that the counters match; no reset.
 fn noisy_stream(elf: &std::path::Path) -> Outcome {
     const STATES: u16 = 400;
-    let mut q = Qemu::start(elf, false)?;
+    let mut q = Qemu::start(elf, Board::Qemu, false)?;
     q.send(&host_tests::link::configure(1, &paper_configure()))?;
     match q.reply()? {
         Reply::ConfigureAck(1) => {}
@@ -256,11 +262,71 @@ fn fixed_point_on_cortex_m0() -> Outcome {
 /// mps2-an386): the bench session's replies (their count and digest) and the unit's counters
 /// equal the host's.
 fn serial_loop_on_cortex_m4f() -> Outcome {
-    let l = crate::bench::measure_loop()?;
+    let l = crate::bench::measure_loop(crate::bench::LoopImage::M4fFloat)?;
     Ok(format!(
         "{} replies equal to the host's; {:.0} instructions per State frame, stack {} B",
         l.replies, l.per_state, l.stack
     ))
+}
+
+/// The micro:bit image (Cortex-M0, fixed point) in closed loop on the paper's four cases under
+/// both policies: every run identical to the same unit's on the host (`HostUnit<Fixed>` fed the
+/// same frames), bit for bit: capture time, switches and sign flips.
+fn microbit_closed_loop(elf: &std::path::Path) -> Outcome {
+    let mut q = Qemu::start(elf, Board::Microbit, false)?;
+    let (mut sequence, mut twin_sequence) = (0, 0);
+    let mut twin = firmware_loop::HostUnit::<Fixed>::new();
+    let mut times = Vec::new();
+    for policy in [Policy::Paper, Policy::Flight] {
+        for case in paper_cases() {
+            let params = SimParams {
+                limits: PAPER_LIMITS,
+                pursuer: case.pursuer,
+                evader: case.evader,
+                dt: 0.01,
+                t_max: 30.0,
+                eps: 0.01,
+            };
+            let how = (Variant::Paper, policy);
+            let both = ROLE_PURSUER | ROLE_EVADER;
+            let fw = firmware_loop::run_case(&mut q, &mut sequence, &params, both, how)?;
+            let host = firmware_loop::run_case(&mut twin, &mut twin_sequence, &params, both, how)?;
+            let (f, h) = (&fw.result, &host.result);
+            if f.status != h.status
+                || f.t_capture.to_bits() != h.t_capture.to_bits()
+                || (f.switches, f.sign_flips) != (h.switches, h.sign_flips)
+                || fw.errors_received > 0
+            {
+                return Err(format!(
+                    "{} {policy:?}: firmware {f:?} vs the host's unit {h:?}",
+                    case.name
+                ));
+            }
+            times.push(format!("{} {policy:?} {:.4} s", case.name, f.t_capture));
+        }
+    }
+    firmware_loop::shutdown(q, &mut sequence)?;
+    Ok(format!("identical runs: {}", times.join(", ")))
+}
+
+/// Runs the micro:bit image's QEMU tests; returns (passed, failed).
+fn run_microbit(record: &mut impl FnMut(&str, Outcome)) {
+    println!("== xtask test: firmware in QEMU (micro:bit, Cortex-M0, fixed point)");
+    let elf = match qemu::build_checked(Board::Microbit) {
+        Ok((elf, _)) => elf,
+        Err(e) => {
+            record("qemu::microbit_image_builds", Err(e));
+            return;
+        }
+    };
+    record(
+        "qemu::microbit_scripted_session_matches_the_host_fixed_point_unit",
+        scripted_session_on::<Fixed>(&elf, Board::Microbit),
+    );
+    record(
+        "qemu::microbit_closed_loop_equals_the_same_unit_on_the_host_bit_for_bit",
+        microbit_closed_loop(&elf),
+    );
 }
 
 /// Runs the QEMU tests; returns (passed, failed).
@@ -302,6 +368,7 @@ pub fn run() -> (u64, u64) {
     for (name, test) in tests {
         record(name, test(&elf));
     }
+    run_microbit(&mut record);
     println!("== xtask test: the serial loop's bench session in QEMU (mps2-an386)");
     record(
         "qemu::serial_loop_bench_session_on_cortex_m4f_equals_the_host",

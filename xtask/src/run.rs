@@ -68,6 +68,20 @@ pub struct RunArgs {
     /// The host simulation only, no QEMU.
     #[arg(long)]
     pub host_only: bool,
+    /// The board QEMU runs: mps2-an386 (Cortex-M4F, f32) or the micro:bit (Cortex-M0, the
+    /// fixed-point law; the host then simulates fixed point too, and runs the same unit in this
+    /// process to compare bit for bit).
+    #[arg(long, value_enum, default_value = "qemu")]
+    board: RunBoard,
+}
+
+/// The boards `run` can put in QEMU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunBoard {
+    /// QEMU mps2-an386 (Cortex-M4F, f32 law).
+    Qemu,
+    /// QEMU microbit (nRF51822, Cortex-M0, fixed-point law).
+    Microbit,
 }
 
 /// `N` comma-separated numbers.
@@ -189,9 +203,58 @@ fn closing(o: &RunOptions, t: f64) -> f64 {
     t + EPS / (o.limits[0] - o.limits[2])
 }
 
+/// The micro:bit image's twin: the same fixed-point unit in this process, fed the same frames;
+/// prints the difference of the capture times (0 when the M0 computes what the host does, bit
+/// for bit) and whether the two runs are identical.
+fn twin_agrees(
+    o: &RunOptions,
+    case: &Case,
+    options: &Options,
+    firmware: &host_tests::sim::SimResult,
+) -> bool {
+    let mut twin = firmware_loop::HostUnit::<twocars::num::fixed::Fixed>::new();
+    let mut sequence = 0u16;
+    match firmware_loop::run_case(
+        &mut twin,
+        &mut sequence,
+        &params(o, case),
+        o.roles,
+        (options.variant, options.policy),
+    ) {
+        Ok(t) => {
+            let r = &t.result;
+            let same = r.status == firmware.status
+                && r.t_capture.to_bits() == firmware.t_capture.to_bits()
+                && r.switches == firmware.switches
+                && r.sign_flips == firmware.sign_flips;
+            println!(
+                "  the same unit on the host (fixed point): {}, captured at {:.4} s; firmware - host: {} s ({})",
+                r.status.name(),
+                r.t_capture,
+                firmware.t_capture - r.t_capture,
+                if same { "identical runs" } else { "RUNS DIFFER" }
+            );
+            same
+        }
+        Err(e) => {
+            eprintln!("xtask run: the host twin: {e}");
+            false
+        }
+    }
+}
+
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
-    let options = &args.law.options(Policy::Flight);
+    let mut options = args.law.options(Policy::Flight);
+    let board = match args.board {
+        RunBoard::Qemu => Board::Qemu,
+        RunBoard::Microbit => {
+            // The image's law: the host simulates the same backend.
+            options.numeric = crate::options::Numeric::Fixed;
+            Board::Microbit
+        }
+    };
+    let options = &options;
     let o = match parse(args) {
         Ok(o) => o,
         Err(e) => {
@@ -201,13 +264,14 @@ pub fn run(args: &RunArgs) -> i32 {
     };
     let [v_pm, w_pm, v_em, w_em] = o.limits;
     println!(
-        "limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m; variant {:?}, policy {:?}",
-        options.variant, options.policy
+        "limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m; variant {:?}, policy {:?}, numeric {:?}",
+        options.variant, options.policy, options.numeric
     );
     let mut ok = true;
     let mut session = None;
     if !o.host_only {
-        let started = qemu::build_checked(Board::Qemu).and_then(|(elf, _)| Qemu::start(&elf, true));
+        let started =
+            qemu::build_checked(board).and_then(|(elf, _)| Qemu::start(&elf, board, true));
         match started {
             Ok(q) => session = Some(q),
             Err(e) => {
@@ -258,6 +322,9 @@ pub fn run(args: &RunArgs) -> i32 {
                 let agree = r.status == host.status
                     && (r.status != SimStatus::Captured || diff.abs() <= AGREEMENT_PERIODS * o.dt);
                 ok &= agree;
+                if board == Board::Microbit {
+                    ok &= twin_agrees(&o, case, options, r);
+                }
             }
             Err(e) => {
                 eprintln!("xtask run: {}: {e}", case.name);

@@ -175,15 +175,17 @@ pub fn run() -> i32 {
                 &[],
             );
     }
-    for (feature, name) in [
-        ("qemu-log", "QEMU"),
-        ("board-stm32f405", "STM32F405"),
-        ("bench-firmware", "bench"),
-        ("bench-empty", "empty bench"),
-        ("bench-fixed", "fixed-point bench"),
-        ("bench-micromath", "micromath bench"),
-        ("bench-report", "report bench"),
-        ("bench-loop", "serial loop bench"),
+    const M4F: &str = "thumbv7em-none-eabihf";
+    for (feature, name, target) in [
+        ("qemu-log", "QEMU", M4F),
+        ("board-stm32f405", "STM32F405", M4F),
+        ("firmware-microbit", "micro:bit", "thumbv6m-none-eabi"),
+        ("bench-firmware", "bench", M4F),
+        ("bench-empty", "empty bench", M4F),
+        ("bench-fixed", "fixed-point bench", M4F),
+        ("bench-micromath", "micromath bench", M4F),
+        ("bench-report", "report bench", M4F),
+        ("bench-loop", "serial loop bench", M4F),
     ] {
         let firmware_clippy = [
             "clippy",
@@ -191,7 +193,7 @@ pub fn run() -> i32 {
             "twocars",
             "--release",
             "--target",
-            "thumbv7em-none-eabihf",
+            target,
             "--features",
             feature,
             "--bins",

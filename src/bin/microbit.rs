@@ -1,0 +1,55 @@
+//! Firmware entry for the BBC micro:bit (nRF51822, Cortex-M0, no FPU), in QEMU's `microbit`
+//! machine or on the board: TIMER0 and UART0, then the guidance loop with the fixed-point
+//! (Q17.14) law; the wire's f32 values are converted with integers only. The exit code goes out
+//! via semihosting under QEMU (0 after Shutdown, 1 on a failed start or a panic).
+#![no_std]
+#![no_main]
+
+use cortex_m_semihosting::debug::{exit, EXIT_FAILURE, EXIT_SUCCESS};
+use twocars::board::microbit::{take_uart, Microbit};
+use twocars::num::fixed::Fixed;
+use twocars::serial::{serve, Board};
+use twocars::unit::Unit;
+
+#[cortex_m_rt::entry]
+fn main() -> ! {
+    let Some(peripherals) = nrf51_pac::Peripherals::take() else {
+        halt(EXIT_FAILURE)
+    };
+    let board = Microbit::start(peripherals.TIMER0);
+    let Some(mut line) = take_uart() else {
+        halt(EXIT_FAILURE)
+    };
+    let mut unit = Unit::<Fixed>::new();
+    serve(&mut line, &board, &mut unit);
+    // The ShutdownAck is queued: let the transmit interrupt send it before QEMU exits.
+    while !line.all_sent() {
+        board.sleep_while(&mut || !line.all_sent());
+    }
+    halt(EXIT_SUCCESS)
+}
+
+/// Ends the QEMU session with `code`; sleeps if semihosting exit returns (not under QEMU).
+fn halt(code: cortex_m_semihosting::debug::ExitStatus) -> ! {
+    exit(code);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+#[cfg(not(feature = "panic-never"))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    halt(EXIT_FAILURE)
+}
+
+#[cfg(feature = "panic-never")]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    unsafe extern "C" {
+        /// Defined nowhere: linking fails if any panic path survives optimisation.
+        fn twocars_panic_path_is_reachable() -> !;
+    }
+    // SAFETY: never called in an image that links.
+    unsafe { twocars_panic_path_is_reachable() }
+}
