@@ -7,6 +7,8 @@ fn main() {
     let feature = |name: &str| std::env::var_os(format!("CARGO_FEATURE_{name}")).is_some();
     let map = if feature("BOARD_STM32F405") {
         "src/board/stm32f405.x"
+    } else if feature("FIRMWARE_RP2040") {
+        "src/board/rp2040.x"
     } else if feature("BOARD_MICROBIT") {
         "src/board/microbit.x"
     } else {
@@ -26,6 +28,7 @@ fn main() {
         "src/board/qemu_mps2.x",
         "src/board/stm32f405.x",
         "src/board/microbit.x",
+        "src/board/rp2040.x",
     ] {
         println!("cargo:rerun-if-changed={file}");
     }

@@ -50,7 +50,8 @@ pub mod bench;
 #[cfg(any(
     feature = "board-qemu",
     feature = "board-stm32f405",
-    feature = "firmware-microbit"
+    feature = "firmware-microbit",
+    feature = "firmware-rp2040"
 ))]
 pub mod board;
 pub mod capture;

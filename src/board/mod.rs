@@ -17,6 +17,9 @@ pub mod stm32f405;
 #[cfg(feature = "firmware-microbit")]
 pub mod microbit;
 
+#[cfg(feature = "firmware-rp2040")]
+pub mod rp2040;
+
 /// The UART interrupt's end of the board's one [`Line`], handed over by [`take_line`].
 static INTERRUPT_END: Mutex<RefCell<Option<InterruptEnd<'static>>>> =
     Mutex::new(RefCell::new(None));

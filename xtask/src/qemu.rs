@@ -22,17 +22,25 @@ pub enum Board {
     Stm32f405,
     /// BBC micro:bit (nRF51822, Cortex-M0, the fixed-point law), in QEMU's `microbit` machine.
     Microbit,
+    /// Raspberry Pi Pico (RP2040, Cortex-M0+, the fixed-point law): build, size and link check
+    /// only (no emulator models it).
+    Rp2040,
 }
 
 impl Board {
     /// Every board.
-    pub const ALL: [Board; 3] = [Board::Qemu, Board::Stm32f405, Board::Microbit];
+    pub const ALL: [Board; 4] = [
+        Board::Qemu,
+        Board::Stm32f405,
+        Board::Microbit,
+        Board::Rp2040,
+    ];
 
     /// The Rust target of the board's core.
     pub fn target(self) -> &'static str {
         match self {
             Board::Qemu | Board::Stm32f405 => "thumbv7em-none-eabihf",
-            Board::Microbit => "thumbv6m-none-eabi",
+            Board::Microbit | Board::Rp2040 => "thumbv6m-none-eabi",
         }
     }
     fn bin(self) -> &'static str {
@@ -40,6 +48,7 @@ impl Board {
             Board::Qemu => "twocars-qemu",
             Board::Stm32f405 => "twocars-stm32f405",
             Board::Microbit => "twocars-microbit",
+            Board::Rp2040 => "twocars-rp2040",
         }
     }
     /// Features of the image `cargo xtask build` and `run` use.
@@ -49,6 +58,7 @@ impl Board {
             Board::Qemu => "qemu-log",
             Board::Stm32f405 => "board-stm32f405",
             Board::Microbit => "firmware-microbit",
+            Board::Rp2040 => "firmware-rp2040",
         }
     }
     /// QEMU's machine options for the board (`None`: no emulator).
@@ -56,7 +66,7 @@ impl Board {
         match self {
             Board::Qemu => Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"]),
             Board::Microbit => Some(&["-M", "microbit"]),
-            Board::Stm32f405 => None,
+            Board::Stm32f405 | Board::Rp2040 => None,
         }
     }
     /// Features of the flight image: no logger, so panic freedom can be proven at link time.
@@ -65,6 +75,7 @@ impl Board {
             Board::Qemu => "board-qemu,panic-never",
             Board::Stm32f405 => "board-stm32f405,panic-never",
             Board::Microbit => "firmware-microbit,panic-never",
+            Board::Rp2040 => "firmware-rp2040,panic-never",
         }
     }
     /// Flash origin of the board's memory map: where the vector table must be.
@@ -72,6 +83,8 @@ impl Board {
         match self {
             Board::Qemu | Board::Microbit => 0x0000_0000,
             Board::Stm32f405 => 0x0800_0000,
+            // After the 256-byte second-stage bootloader at the start of flash.
+            Board::Rp2040 => 0x1000_0100,
         }
     }
     fn name(self) -> &'static str {
@@ -79,6 +92,7 @@ impl Board {
             Board::Qemu => "qemu (mps2-an386)",
             Board::Stm32f405 => "stm32f405",
             Board::Microbit => "microbit (nRF51822)",
+            Board::Rp2040 => "rp2040 (Raspberry Pi Pico)",
         }
     }
 }
@@ -308,6 +322,14 @@ impl Drop for Qemu {
 pub fn build_checked(board: Board) -> Result<(PathBuf, crate::size::ImageSize), String> {
     let elf = build(board)?;
     let size = crate::size::of(&elf)?;
+    // The RP2040's boot ROM runs the 256 bytes at the start of flash: boot2 must be there.
+    if board == Board::Rp2040 && size.boot2 != Some(0x1000_0000) {
+        return Err(format!(
+            "{}: no second-stage bootloader at 0x10000000 ({:?})",
+            board.name(),
+            size.boot2
+        ));
+    }
     if size.vector_table != board.flash_origin() {
         return Err(format!(
             "{}: vector table at {:#010x}, expected the board's flash origin {:#010x}",
@@ -328,6 +350,8 @@ pub enum BoardArg {
     Stm32f405,
     /// BBC micro:bit (nRF51822, Cortex-M0, fixed point).
     Microbit,
+    /// Raspberry Pi Pico (RP2040, Cortex-M0+, fixed point; built and sized only).
+    Rp2040,
     /// Every board.
     All,
 }
@@ -340,13 +364,14 @@ pub struct BuildArgs {
     board: BoardArg,
 }
 
-/// `cargo xtask build [--board qemu|stm32f405|microbit|all]`: builds each image, checks its memory map
+/// `cargo xtask build [--board qemu|stm32f405|microbit|rp2040|all]`: builds each image, checks its memory map
 /// and prints its size.
 pub fn build_command(args: &BuildArgs) -> i32 {
     let boards: Vec<Board> = match args.board {
         BoardArg::Qemu => vec![Board::Qemu],
         BoardArg::Stm32f405 => vec![Board::Stm32f405],
         BoardArg::Microbit => vec![Board::Microbit],
+        BoardArg::Rp2040 => vec![Board::Rp2040],
         BoardArg::All => Board::ALL.to_vec(),
     };
     let mut rows = Vec::new();

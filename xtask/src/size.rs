@@ -18,6 +18,8 @@ pub struct ImageSize {
     pub vector_table: u64,
     /// Entry point (reset handler, Thumb bit set).
     pub entry: u64,
+    /// Address of the RP2040's second-stage bootloader (`.boot2`, counted in `text`), if any.
+    pub boot2: Option<u64>,
 }
 
 impl ImageSize {
@@ -47,6 +49,10 @@ pub fn of(path: &std::path::Path) -> Result<ImageSize, String> {
         let name = section.name().unwrap_or("");
         let n = section.size();
         match section.kind() {
+            _ if name.starts_with(".boot2") => {
+                size.text += n;
+                size.boot2 = Some(section.address());
+            }
             _ if name.starts_with(".vector_table") => {
                 size.text += n;
                 size.vector_table = section.address();

@@ -180,6 +180,7 @@ pub fn run() -> i32 {
         ("qemu-log", "QEMU", M4F),
         ("board-stm32f405", "STM32F405", M4F),
         ("firmware-microbit", "micro:bit", "thumbv6m-none-eabi"),
+        ("firmware-rp2040", "RP2040", "thumbv6m-none-eabi"),
         ("bench-firmware", "bench", M4F),
         ("bench-empty", "empty bench", M4F),
         ("bench-fixed", "fixed-point bench", M4F),

@@ -1,0 +1,57 @@
+//! Firmware entry for the Raspberry Pi Pico (RP2040, Cortex-M0+, no FPU): the board started
+//! (125 MHz from the 12 MHz crystal, UART0 on GP0/GP1 at 115200 8N1), then the guidance loop
+//! with the fixed-point (Q17.14) law. Flash it as a UF2 (`elf2uf2-rs`) or over SWD; no emulator
+//! models the RP2040.
+#![no_std]
+#![no_main]
+
+use twocars::board::rp2040::Pico;
+use twocars::num::fixed::Fixed;
+use twocars::serial::{serve, Board};
+use twocars::unit::Unit;
+
+/// The second-stage bootloader for the Pico's W25Q080 flash, first in flash (src/board/rp2040.x).
+#[link_section = ".boot2"]
+#[used]
+pub static BOOT2_FIRMWARE: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
+
+#[cortex_m_rt::entry]
+fn main() -> ! {
+    let Some(peripherals) = rp2040_pac::Peripherals::take() else {
+        halt()
+    };
+    let Some((board, mut line)) = Pico::start(peripherals) else {
+        halt()
+    };
+    let mut unit = Unit::<Fixed>::new();
+    serve(&mut line, &board, &mut unit);
+    // The ShutdownAck is queued: let the transmit interrupt send it, then idle.
+    while !line.all_sent() {
+        board.sleep_while(&mut || !line.all_sent());
+    }
+    halt()
+}
+
+/// Sleeps for good (a failed start, or after Shutdown: the host power-cycles the unit).
+fn halt() -> ! {
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+#[cfg(not(feature = "panic-never"))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    halt()
+}
+
+#[cfg(feature = "panic-never")]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    unsafe extern "C" {
+        /// Defined nowhere: linking fails if any panic path survives optimisation.
+        fn twocars_panic_path_is_reachable() -> !;
+    }
+    // SAFETY: never called in an image that links.
+    unsafe { twocars_panic_path_is_reachable() }
+}
