@@ -3,10 +3,10 @@
 //! on a core without an FPU.
 //!
 //! - Positions: each coordinate exactly as an integer of 2^-40 m (|x| <= 1e6 m < 2^20 m), their
-//!   difference exact, times the reciprocal of the unit of length ([`Reciprocal`], to 2^-31
-//!   relative), rounded once to Q17.14.
+//!   difference exact (its top 32 bits kept), times the reciprocal of the unit of length
+//!   ([`Reciprocal`], to 2^-30 relative), rounded once to Q17.14.
 //! - Headings: reduced to [-pi, pi] as a binary angle (one turn = 2^32, the product of the exact
-//!   `f32` by 2^32 / (2 pi) to 2^-62 relative), then to Q17.14 radians.
+//!   `f32` by 2^32 / (2 pi) to 2^-38 relative), then to Q17.14 radians.
 //! - Back to `f32`: a Q17.14 value times an `f32` scale, the exact product rounded once.
 
 use super::fixed::Fixed;
@@ -14,8 +14,8 @@ use super::ieee::{f32_from_scaled, parts, shift_round, to_fixed};
 
 /// The fractional bits of the position integers, metres.
 const POSITION_BITS: i32 = 40;
-/// 2^64 / (2 pi), rounded: a binary angle per radian, times 2^32.
-const BINARY_ANGLE_PER_RADIAN_Q32: u128 = 2_935_890_503_282_001_226;
+/// 2^40 / (2 pi), rounded: a binary angle (2^32 per turn) per radian, times 2^8.
+const BINARY_ANGLE_PER_RADIAN_Q8: u64 = 174_992_710_548;
 /// pi in Q29: Q14 radians per binary-angle unit, times 2^46 (pi / 2^17 = 2 pi / 2^32 * 2^14).
 const PI_Q29: i64 = 1_686_629_713;
 
@@ -65,9 +65,13 @@ fn scaled_offset(
     let from = to_fixed(from.to_bits(), POSITION_BITS, 61)?;
     let to = to_fixed(to.to_bits(), POSITION_BITS, 61)?;
     let difference = to - from;
-    let product = u128::from(difference.unsigned_abs()) * u128::from(per_metre.mantissa);
+    // The difference's top 32 significant bits (to 2^-32 relative, below the reciprocal's
+    // 2^-30), so that the product by the 31-bit reciprocal fits 64 bits.
+    let exact = difference.unsigned_abs();
+    let dropped = 32u32.saturating_sub(exact.leading_zeros());
+    let product = shift_round(exact, dropped) * u64::from(per_metre.mantissa);
     // difference 2^-40 m times mantissa 2^-shift per metre, in units of 2^-fraction_bits.
-    let shift = POSITION_BITS + per_metre.shift - fraction_bits;
+    let shift = POSITION_BITS + per_metre.shift - fraction_bits - dropped as i32;
     let magnitude = if shift >= 0 {
         shift_round(product, shift.unsigned_abs())
     } else if product == 0 {
@@ -112,13 +116,18 @@ pub fn heading(theta: f32) -> Fixed {
     let Some(p) = parts(theta.to_bits()) else {
         return Fixed::from_raw(i32::MIN);
     };
-    // theta 2^32 / (2 pi) = mantissa C 2^(exponent - 32), C = 2^64 / (2 pi); modulo 2^32.
-    let product = u128::from(p.mantissa) * BINARY_ANGLE_PER_RADIAN_Q32;
-    let turns = if p.exponent >= 32 {
-        // Whole multiples of 2^32 turns: |theta| >= 2^55, outside every envelope; zero.
+    // theta 2^32 / (2 pi) = mantissa C 2^(exponent - 8), C = 2^40 / (2 pi) (38 bits: the
+    // product fits 64), modulo 2^32.
+    let product = u64::from(p.mantissa) * BINARY_ANGLE_PER_RADIAN_Q8;
+    let left = p.exponent - 8;
+    let turns = if left >= 32 {
+        // Whole multiples of 2^32: zero modulo 2^32.
         0
+    } else if left >= 0 {
+        // Bits above 2^32 are whole turns: the wrapping shift drops only those.
+        (product << left) as u32
     } else {
-        shift_round(product, (32 - p.exponent).unsigned_abs()) as u32
+        shift_round(product, left.unsigned_abs()) as u32
     };
     let turns = if p.negative {
         turns.wrapping_neg()

@@ -57,13 +57,13 @@ pub fn parts(bits: u32) -> Option<Parts> {
     })
 }
 
-/// `value >> shift` rounded to nearest, ties away from zero, for `value >= 0`; 0 for shifts of
-/// 128 and more.
+/// `value >> shift` rounded to nearest, ties away from zero; 0 for shifts of 64 and more. (64-bit
+/// operations only: on a Cortex-M0 each 128-bit one is a chain of library calls.)
 #[inline(always)]
-pub fn shift_round(value: u128, shift: u32) -> u128 {
+pub fn shift_round(value: u64, shift: u32) -> u64 {
     match shift {
         0 => value,
-        1..=127 => (value >> shift) + (value >> (shift - 1) & 1),
+        1..=63 => (value >> shift) + (value >> (shift - 1) & 1),
         _ => 0,
     }
 }
@@ -75,14 +75,16 @@ pub fn shift_round(value: u128, shift: u32) -> u128 {
 pub fn to_fixed(bits: u32, scale_bits: i32, limit_bits: u32) -> Option<i64> {
     let p = parts(bits)?;
     let shift = p.exponent + scale_bits;
-    let magnitude: u128 = if shift >= 0 {
-        // Beyond 2^limit_bits anyway: the mantissa is at least 1 when not zero.
-        if shift >= limit_bits as i32 && p.mantissa != 0 {
+    let mantissa = u64::from(p.mantissa);
+    let magnitude = if shift >= 0 {
+        // At or beyond 2^limit_bits (a mantissa is at least 1), or beyond 64 bits.
+        let shift = shift.unsigned_abs();
+        if mantissa != 0 && (shift >= limit_bits || mantissa.leading_zeros() < shift) {
             return None;
         }
-        u128::from(p.mantissa) << shift.clamp(0, 64)
+        mantissa << shift
     } else {
-        shift_round(u128::from(p.mantissa), shift.unsigned_abs())
+        shift_round(mantissa, shift.unsigned_abs())
     };
     if magnitude >> limit_bits != 0 {
         return None;
