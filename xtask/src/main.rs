@@ -6,6 +6,7 @@ mod csv;
 mod eval;
 mod firmware_loop;
 mod fuzz;
+mod hj;
 mod options;
 mod plot;
 mod profile;
@@ -61,6 +62,9 @@ enum Cmd {
     Sim(sim::SimArgs),
     /// Closed-loop Monte Carlo, both policies, split at the theorem's threshold, per evader.
     Report(report::ReportArgs),
+    /// The game's value function by value iteration on the Hamilton-Jacobi-Isaacs grid, checked
+    /// against the tail chase's exact value on three grid sizes.
+    Hj(hj::HjArgs),
     /// SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatters.
     Plot,
 }
@@ -103,6 +107,7 @@ fn main() -> ExitCode {
         Cmd::Bench => bench::run(),
         Cmd::Fuzz(args) => fuzz::command(args),
         Cmd::Report(args) => report::command(args),
+        Cmd::Hj(args) => hj::command(args),
         Cmd::Plot => plot::command(),
         Cmd::Profile => profile::command(),
         Cmd::Build(args) => qemu::build_command(args),

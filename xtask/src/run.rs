@@ -85,7 +85,7 @@ pub enum RunBoard {
 }
 
 /// `N` comma-separated numbers.
-fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
+pub(crate) fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
     let v: Vec<f64> = text
         .split(',')
         .map(|s| s.trim().parse::<f64>())

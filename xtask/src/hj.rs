@@ -1,0 +1,127 @@
+//! `cargo xtask hj`: the game's value function V by value iteration on the Hamilton-Jacobi-
+//! Isaacs grid (`host_tests::hj`), and its validation against what is known exactly: the tail
+//! chase, V = (d - eps) / (v_pm - v_em), on three grid sizes with the observed order of
+//! convergence. (Issue 30's first slice: the table in the firmware and the threshold comparison
+//! with the paper's values are not built yet.)
+
+use std::time::Instant;
+
+use host_tests::hj::{solve, Game, Grid, Solution, REACHED};
+
+use crate::progress::Progress;
+
+/// `cargo xtask hj`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct HjArgs {
+    /// Limits v_pm,w_pm,v_em,w_em (m/s, 1/m, m/s, 1/m); default the paper's 2,2,1,1.
+    #[arg(long, default_value = "2,2,1,1", value_parser = crate::run::numbers::<4>)]
+    limits: [f64; 4],
+    /// Capture radius, in units of r_p (the default a whole number of cells on each of the
+    /// three default grids, so that each resolves the same disc on its axes).
+    #[arg(long, default_value_t = 0.6)]
+    eps: f64,
+    /// Half the box's side, r_p.
+    #[arg(long, default_value_t = 6.0)]
+    half: f64,
+    /// Position nodes per axis of the finest grid (odd); the coarser two have 3/4 and 1/2 of
+    /// its intervals.
+    #[arg(long, default_value_t = 81)]
+    nodes: usize,
+    /// Sweeps stop once no value changes by more than this (r_p / v_pm) and none is new.
+    #[arg(long, default_value_t = 1e-6)]
+    tolerance: f64,
+}
+
+/// The tail-chase distances checked, r_p: the evader dead ahead with the pursuer's heading.
+const TAIL_CHASE: [f64; 4] = [1.0, 2.0, 3.0, 4.0];
+
+fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
+    // Headings: about as many per turn as position nodes span 2 pi r_p, at least 24, and even
+    // (0 and pi are nodes: the tail chase lies on one, and the mirror symmetry maps nodes to
+    // nodes).
+    let per_turn = (n - 1) as f64 * std::f64::consts::PI / args.half;
+    let grid = Grid {
+        n,
+        half: args.half,
+        headings: 2 * ((0.5 * per_turn).round().max(12.0) as usize),
+    };
+    // Half a cell per sweep at the pursuer's speed.
+    let tau = 0.5 * grid.spacing();
+    let progress = Progress::new(
+        0,
+        &format!("sweeps on the {n} x {n} x {} grid", grid.headings),
+    );
+    let started = Instant::now();
+    let solution = solve(
+        game,
+        grid,
+        tau,
+        args.tolerance,
+        20_000,
+        |sweep, residual| {
+            if sweep % 25 == 0 {
+                progress.step(&format!("sweep {sweep}, residual {residual:.2e}"));
+            }
+        },
+    );
+    progress.finish();
+    (solution, started.elapsed().as_secs_f64())
+}
+
+/// Runs the solver on three grids and prints the validation; returns the exit code.
+pub fn command(args: &HjArgs) -> i32 {
+    let game = Game {
+        eps: args.eps,
+        ..Game::of_limits(args.limits, 0.0)
+    };
+    if !(game.speed_ratio > 0.0 && game.speed_ratio < 1.0 && args.nodes >= 21 && args.eps > 0.0)
+        || args.nodes % 4 != 1
+    {
+        eprintln!("xtask hj: need v_pm > v_em > 0, --eps > 0 and --nodes >= 21 with nodes - 1 a multiple of 4");
+        return 2;
+    }
+    println!(
+        "# Hamilton-Jacobi-Isaacs value of the game of two cars\n\nv_em / v_pm = {:.4}, evader turn rate {:.4} rad per r_p / v_pm, capture radius {} r_p, box +-{} r_p; semi-Lagrangian value iteration, tau = half a cell at v_pm, trilinear, periodic in the relative heading; {} threads.\n",
+        game.speed_ratio,
+        game.evader_turn,
+        game.eps,
+        args.half,
+        rayon::current_num_threads()
+    );
+    println!("| grid | spacing (r_p) | sweeps | residual | solve time (s) | tail chase errors at d = 1, 2, 3, 4 r_p (r_p / v_pm) |");
+    println!("|---|---|---|---|---|---|");
+    let mut errors = Vec::new();
+    let mut ok = true;
+    let intervals = args.nodes - 1;
+    for n in [intervals / 2 + 1, intervals * 3 / 4 + 1, args.nodes] {
+        let (s, seconds) = run_grid(game, n, args);
+        let e: Vec<f64> = TAIL_CHASE
+            .iter()
+            .map(|&d| s.value(d, 0.0, 0.0) - (d - game.eps) / (1.0 - game.speed_ratio))
+            .collect();
+        ok &= TAIL_CHASE.iter().all(|&d| s.value(d, 0.0, 0.0) < REACHED);
+        println!(
+            "| {n} x {n} x {} | {:.4} | {} | {:.1e} | {seconds:.1} | {} |",
+            s.grid.headings,
+            s.grid.spacing(),
+            s.sweeps,
+            s.residual,
+            e.iter()
+                .map(|v| format!("{v:+.4}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        errors.push((
+            s.grid.spacing(),
+            e.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+        ));
+    }
+    if let [(h0, e0), (h1, e1), (h2, e2)] = errors[..] {
+        println!(
+            "\nObserved order of convergence of the largest tail-chase error: {:.2} (coarse to middle), {:.2} (middle to fine).",
+            (e0 / e1).ln() / (h0 / h1).ln(),
+            (e1 / e2).ln() / (h1 / h2).ln()
+        );
+    }
+    i32::from(!ok)
+}
