@@ -3,6 +3,7 @@
 
 pub mod adversary;
 pub mod hj;
+pub mod hj_policy;
 pub mod link;
 pub mod reference;
 pub mod rng;

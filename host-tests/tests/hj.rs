@@ -73,3 +73,77 @@ fn the_value_is_mirror_symmetric_and_finite_inside_the_box() {
     }
     assert!(checked > 1000, "{checked}");
 }
+
+/// A full-rate circling evader whose circle meshes with the pursuer's (random limits,
+/// v_em / v_pm = 0.79, r_e / r_p = 1.12; docs/closed-loop.md): the flight policy passes it
+/// 11 cm off once a lap and never captures; the pursuer that plays the table's gradient in the
+/// near field (the flight policy elsewhere) captures it.
+#[test]
+fn the_table_pursuer_captures_a_meshing_circler_the_flight_policy_never_catches() {
+    use host_tests::adversary::{Adversary, EvaderKind, Opponent};
+    use host_tests::hj_policy::pursuer_curvature;
+    use host_tests::sim::{closed_loop, SimParams, SimStatus, StepCommand};
+    use twocars::{Guidance, Law, Limits, Policy, Variant};
+
+    let limits = [2.330_756, 2.144_549, 1.851_558, 1.907_620];
+    let params = SimParams {
+        limits,
+        pursuer: [0.0, 0.0, -1.028_521_469_192_557_3],
+        evader: [
+            -4.607_939_447_529_535,
+            7.317_601_635_173_652,
+            -2.792_037_322_979_150_6,
+        ],
+        dt: 0.01,
+        t_max: 60.0,
+        eps: 0.01,
+    };
+    let grid = Grid {
+        n: 41,
+        half: 6.0,
+        headings: 24,
+    };
+    let game = Game {
+        eps: 2.0 * grid.spacing(),
+        ..Game::of_limits(limits, 0.0)
+    };
+    let table = solve(game, grid, 0.5 * grid.spacing(), 1e-5, 20_000, |_, _| {});
+    let narrow = limits.map(|v| v as f32);
+    let law_limits = Limits::<f32>::new(narrow[0], narrow[1], narrow[2], narrow[3]).unwrap();
+    let chase = |use_table: bool| {
+        let mut law = Guidance::new(Law::new(law_limits, Variant::Paper), 0.01)
+            .unwrap()
+            .with_policy(Policy::Flight);
+        let circle = Opponent::Evader(EvaderKind::Circle {
+            left: true,
+            half: false,
+        });
+        let mut evader = Adversary::new(circle, limits, 0.01, 0.01, 1).unwrap();
+        closed_loop(&params, false, |t, p, e| {
+            let (ps, es) = law_limits
+                .states(p.map(|v| v as f32), e.map(|v| v as f32))
+                .map_err(|_| ())?;
+            let flight = f64::from(law.step(&ps, &es).command.pursuer);
+            let table_turn = pursuer_curvature(&table, limits[1], p, e).filter(|_| use_table);
+            let (w, v) = evader.command(t, p, e);
+            Ok::<_, ()>(StepCommand {
+                pursuer: table_turn.unwrap_or(flight),
+                evader: w,
+                pursuer_speed: None,
+                evader_speed: Some(v),
+                choice: None,
+            })
+        })
+        .unwrap()
+    };
+    let flight = chase(false);
+    assert_eq!(flight.status, SimStatus::Timeout, "{flight:?}");
+    let with_table = chase(true);
+    assert_eq!(
+        with_table.status,
+        SimStatus::Captured,
+        "d_min {}",
+        with_table.d_min
+    );
+    assert!(with_table.t_capture < 20.0, "{}", with_table.t_capture);
+}
