@@ -349,3 +349,16 @@ pub fn serve<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mut 
         board.sleep_while(&mut || line.nothing_received());
     }
 }
+
+/// [`serve`], then waits (asleep) until the ShutdownAck has left the transmit queue: a board's
+/// `main` can stop once this returns.
+pub fn serve_to_shutdown<B: Board, S: Scalar>(
+    line: &mut LoopEnd<'_>,
+    board: &B,
+    unit: &mut Unit<S>,
+) {
+    serve(line, board, unit);
+    while !line.all_sent() {
+        board.sleep_while(&mut || !line.all_sent());
+    }
+}

@@ -318,25 +318,35 @@ fn circling_evaders_the_old_near_field_policy_orbited_are_captured() {
             2.659_614_932_929_863_5,
         ],
     ];
-    for [theta_p, x_e, y_e, theta_e] in starts {
-        let p = SimParams {
-            limits: PAPER_LIMITS,
-            pursuer: [0.0, 0.0, theta_p],
-            evader: [x_e, y_e, theta_e],
-            dt: DT,
-            t_max: 60.0,
-            eps: EPS,
-        };
-        let circle = Opponent::Evader(EvaderKind::Circle {
-            left: true,
-            half: false,
-        });
-        let r =
-            simulate_against::<f32>(&p, Variant::Paper, Policy::Flight, Some((circle, 1)), false);
-        assert_eq!(r.status, SimStatus::Captured, "{p:?}");
-        if far(&p) {
-            assert!(lateness(&r, p.limits) <= FEW_DT, "{r:?}");
-        }
+    for start in starts {
+        assert_the_flight_pursuer_captures_a_left_circler(PAPER_LIMITS, start, 60.0);
+    }
+}
+
+/// The flight pursuer at the origin with heading `theta_p` against a full-rate anticlockwise
+/// circler starting at (x_e, y_e, theta_e): captured within `t_max` seconds, and from beyond
+/// the threshold within a few periods of its guarantee.
+fn assert_the_flight_pursuer_captures_a_left_circler(
+    limits: [f64; 4],
+    [theta_p, x_e, y_e, theta_e]: [f64; 4],
+    t_max: f64,
+) {
+    let p = SimParams {
+        limits,
+        pursuer: [0.0, 0.0, theta_p],
+        evader: [x_e, y_e, theta_e],
+        dt: DT,
+        t_max,
+        eps: EPS,
+    };
+    let circle = Opponent::Evader(EvaderKind::Circle {
+        left: true,
+        half: false,
+    });
+    let r = simulate_against::<f32>(&p, Variant::Paper, Policy::Flight, Some((circle, 1)), false);
+    assert_eq!(r.status, SimStatus::Captured, "{p:?}: d_min {}", r.d_min);
+    if far(&p) {
+        assert!(lateness(&r, p.limits) <= FEW_DT, "{r:?}");
     }
 }
 
@@ -375,25 +385,8 @@ fn circling_evaders_passed_a_centimetre_off_in_the_tail_chase_are_captured() {
             ],
         ),
     ];
-    for (limits, [theta_p, x_e, y_e, theta_e]) in starts {
-        let p = SimParams {
-            limits: limits.map(f64::from),
-            pursuer: [0.0, 0.0, theta_p],
-            evader: [x_e, y_e, theta_e],
-            dt: DT,
-            t_max: 30.0,
-            eps: EPS,
-        };
-        let circle = Opponent::Evader(EvaderKind::Circle {
-            left: true,
-            half: false,
-        });
-        let r =
-            simulate_against::<f32>(&p, Variant::Paper, Policy::Flight, Some((circle, 1)), false);
-        assert_eq!(r.status, SimStatus::Captured, "{p:?}: d_min {}", r.d_min);
-        if far(&p) {
-            assert!(lateness(&r, p.limits) <= FEW_DT, "{r:?}");
-        }
+    for (limits, start) in starts {
+        assert_the_flight_pursuer_captures_a_left_circler(limits.map(f64::from), start, 30.0);
     }
 }
 

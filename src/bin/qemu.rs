@@ -4,11 +4,12 @@
 #![no_std]
 #![no_main]
 
-use cortex_m_semihosting::debug::{exit, EXIT_FAILURE, EXIT_SUCCESS};
+use cortex_m_semihosting::debug::{EXIT_FAILURE, EXIT_SUCCESS};
 #[cfg(feature = "qemu-log")]
 use defmt_semihosting as _;
+use twocars::board::exit_qemu as halt;
 use twocars::board::qemu_mps2::{take_uart, Mps2};
-use twocars::serial::{serve, Board};
+use twocars::serial::serve_to_shutdown;
 use twocars::unit::Unit;
 
 #[cortex_m_rt::entry]
@@ -22,11 +23,7 @@ fn main() -> ! {
     };
     let mut unit = Unit::<f32>::new();
     twocars::log_info!("twocars guidance unit up (mps2-an386, UART0, interrupt-driven)");
-    serve(&mut line, &board, &mut unit);
-    // The ShutdownAck is queued: let the transmit interrupt send it before QEMU exits.
-    while !line.all_sent() {
-        board.sleep_while(&mut || !line.all_sent());
-    }
+    serve_to_shutdown(&mut line, &board, &mut unit);
     let _c = unit.counters();
     let _f = line.faults();
     twocars::log_info!(
@@ -40,27 +37,9 @@ fn main() -> ! {
     halt(EXIT_SUCCESS)
 }
 
-/// Ends the QEMU session with `code`; sleeps if semihosting exit returns (not under QEMU).
-fn halt(code: cortex_m_semihosting::debug::ExitStatus) -> ! {
-    exit(code);
-    loop {
-        cortex_m::asm::wfi();
-    }
-}
-
+// The flight build (`panic-never`) takes the board module's link-time check instead.
 #[cfg(not(feature = "panic-never"))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     halt(EXIT_FAILURE)
-}
-
-#[cfg(feature = "panic-never")]
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    unsafe extern "C" {
-        /// Defined nowhere: linking fails if any panic path survives optimisation.
-        fn twocars_panic_path_is_reachable() -> !;
-    }
-    // SAFETY: never called in an image that links.
-    unsafe { twocars_panic_path_is_reachable() }
 }

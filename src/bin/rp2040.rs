@@ -7,7 +7,7 @@
 
 use twocars::board::rp2040::Pico;
 use twocars::num::fixed::Fixed;
-use twocars::serial::{serve, Board};
+use twocars::serial::serve_to_shutdown;
 use twocars::unit::Unit;
 
 /// The second-stage bootloader for the Pico's W25Q080 flash, first in flash (src/board/rp2040.x).
@@ -24,11 +24,7 @@ fn main() -> ! {
         halt()
     };
     let mut unit = Unit::<Fixed>::new();
-    serve(&mut line, &board, &mut unit);
-    // The ShutdownAck is queued: let the transmit interrupt send it, then idle.
-    while !line.all_sent() {
-        board.sleep_while(&mut || !line.all_sent());
-    }
+    serve_to_shutdown(&mut line, &board, &mut unit);
     halt()
 }
 
@@ -39,19 +35,9 @@ fn halt() -> ! {
     }
 }
 
+// The flight build (`panic-never`) takes the board module's link-time check instead.
 #[cfg(not(feature = "panic-never"))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     halt()
-}
-
-#[cfg(feature = "panic-never")]
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    unsafe extern "C" {
-        /// Defined nowhere: linking fails if any panic path survives optimisation.
-        fn twocars_panic_path_is_reachable() -> !;
-    }
-    // SAFETY: never called in an image that links.
-    unsafe { twocars_panic_path_is_reachable() }
 }

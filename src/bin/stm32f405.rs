@@ -37,19 +37,9 @@ fn main() -> ! {
     }
 }
 
+// The flight build (`panic-never`) takes the board module's link-time check instead.
 #[cfg(not(feature = "panic-never"))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     cortex_m::peripheral::SCB::sys_reset()
-}
-
-#[cfg(feature = "panic-never")]
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    unsafe extern "C" {
-        /// Defined nowhere: linking fails if any panic path survives optimisation.
-        fn twocars_panic_path_is_reachable() -> !;
-    }
-    // SAFETY: never called in an image that links.
-    unsafe { twocars_panic_path_is_reachable() }
 }

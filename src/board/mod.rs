@@ -58,3 +58,26 @@ fn sleep_while(idle: &mut dyn FnMut() -> bool) {
         }
     });
 }
+
+/// The flight images' panic handler (`panic-never`, every board): it calls a symbol defined
+/// nowhere, so an image with any reachable panic path fails to link (docs/reliability.md).
+#[cfg(feature = "panic-never")]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    unsafe extern "C" {
+        /// Defined nowhere: linking fails if any panic path survives optimisation.
+        fn twocars_panic_path_is_reachable() -> !;
+    }
+    // SAFETY: never called in an image that links.
+    unsafe { twocars_panic_path_is_reachable() }
+}
+
+/// Ends a QEMU session with `code` over semihosting (0 after Shutdown, 1 on a failed start or a
+/// panic); sleeps for good if the exit returns (not under QEMU).
+#[cfg(any(feature = "board-qemu", feature = "firmware-microbit"))]
+pub fn exit_qemu(code: cortex_m_semihosting::debug::ExitStatus) -> ! {
+    cortex_m_semihosting::debug::exit(code);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}

@@ -5,7 +5,7 @@
 use std::time::Duration;
 
 use host_tests::link::{Reply, ReplyDecoder};
-use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
+use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use host_tests::session::{paper_configure, paper_state, script};
 use host_tests::sim::{simulate, SimParams};
 use twocars::message::{ROLE_EVADER, ROLE_PURSUER};
@@ -78,6 +78,18 @@ fn scripted_session_on<S: Scalar>(elf: &std::path::Path, board: Board) -> Outcom
     ))
 }
 
+/// A paper case at the paper's limits, dt = 10 ms, 30 s, capture to 1 cm.
+fn paper_case_params(case: &Case) -> SimParams {
+    SimParams {
+        limits: PAPER_LIMITS,
+        pursuer: case.pursuer,
+        evader: case.evader,
+        dt: 0.01,
+        t_max: 30.0,
+        eps: 0.01,
+    }
+}
+
 fn closed_loop(elf: &std::path::Path) -> Outcome {
     let mut q = Qemu::start(elf, Board::Qemu, false)?;
     let mut sequence = 0;
@@ -85,14 +97,7 @@ fn closed_loop(elf: &std::path::Path) -> Outcome {
     // Both policies: Configure's policy byte selects the firmware's, the host runs the same.
     for policy in [Policy::Paper, Policy::Flight] {
         for case in paper_cases() {
-            let params = SimParams {
-                limits: PAPER_LIMITS,
-                pursuer: case.pursuer,
-                evader: case.evader,
-                dt: 0.01,
-                t_max: 30.0,
-                eps: 0.01,
-            };
+            let params = paper_case_params(&case);
             let fw = firmware_loop::run_case(
                 &mut q,
                 &mut sequence,
@@ -279,14 +284,7 @@ fn microbit_closed_loop(elf: &std::path::Path) -> Outcome {
     let mut times = Vec::new();
     for policy in [Policy::Paper, Policy::Flight] {
         for case in paper_cases() {
-            let params = SimParams {
-                limits: PAPER_LIMITS,
-                pursuer: case.pursuer,
-                evader: case.evader,
-                dt: 0.01,
-                t_max: 30.0,
-                eps: 0.01,
-            };
+            let params = paper_case_params(&case);
             let how = (Variant::Paper, policy);
             let both = ROLE_PURSUER | ROLE_EVADER;
             let fw = firmware_loop::run_case(&mut q, &mut sequence, &params, both, how)?;
