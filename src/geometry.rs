@@ -304,6 +304,7 @@ impl<S: Scalar> Limits<S> {
     /// law's frame), or on a normalised backend where the players are apart by more than the
     /// capture radius but closer than the backend resolves (fixed point: both offsets below half
     /// a raw unit, 2^-15 r_p).
+    #[inline(always)]
     pub fn states(
         &self,
         pursuer: [f32; 3],

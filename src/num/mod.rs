@@ -71,11 +71,16 @@ pub trait Scalar:
     }
     /// Converts to `f32` (for reports and the wire).
     fn to_f32(self) -> f32;
-    /// `self * scale` as an `f32` (a law value to the wire's units). Fixed point forms the exact
-    /// product with integers and rounds it once (no soft-float call).
+    /// A law value in the wire's units, `self * scale` as an `f32`, `scale` being the wire units
+    /// per law unit: 1 on an SI backend, whose value is taken as it is. Fixed point forms the
+    /// exact product with integers and rounds it once (no soft-float call).
     #[inline(always)]
     fn to_f32_scaled(self, scale: f32) -> f32 {
-        self.to_f32() * scale
+        if Self::NORMALISED {
+            self.to_f32() * scale
+        } else {
+            self.to_f32()
+        }
     }
     /// On a normalised backend: the evader's offset from the pursuer, `(x, y)` each as
     /// (pursuer, evader) in metres (finite, within the f32 envelope), in units of `metres`
