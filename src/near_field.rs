@@ -8,11 +8,12 @@
 //! players' circles overlap, so a row's maximum becomes infinite and min-max turns the pursuer
 //! away for a full loop; an arc wraps by 2 pi and an entry jumps by a turn's time; and an evader
 //! that circles never leaves its circle along the predicted tangent. The pursuer then homes on
-//! the evader's present state, which needs no prediction of the evader's choices:
+//! the evader's present state and its turn rate seen over the last period (a state cannot tell
+//! which way an evader turns; two states can), which needs no prediction of its choices:
 //!
 //! - within four periods' travel (a heading error there is a miss distance): the arc through
-//!   the point where it meets the evader running straight on (`terminal`), in the tail-chase
-//!   zone no more than one period ahead;
+//!   the point where it meets the evader going on as it goes, on the arc of its observed turn
+//!   (`terminal`), in the tail-chase zone no more than one period ahead;
 //! - in the tail-chase zone, pure pursuit: the evader ahead of the pursuer's beam, running away from it, and
 //!   the line of sight turning at most half the pursuer's full rate,
 //!   v_em |sin beta| / d <= (1/2) v_pm w_pm, beta being the angle between the evader's heading
@@ -20,8 +21,9 @@
 //!   the pursuer can turn with the line of sight, against any evader (a circling evader
 //!   included: behind it on its circle the line of sight turns at v_em / (2 r_e));
 //! - and once the law has lost its prediction (its upper value rose beyond the tie floor, or it
-//!   has none), until the players are beyond the threshold again: proportional navigation
-//!   while the evader is ahead and the distance closes (`navigation`), else pure pursuit;
+//!   has none), until the players are beyond the threshold again: augmented proportional
+//!   navigation (the evader's observed turn fed forward) while the evader is ahead and the
+//!   distance closes (`navigation`), else pure pursuit;
 //!   where the evader is inside the pursuer's turning circle on its side (turning cannot bring
 //!   it ahead) the pursuer runs straight to open the distance.
 //!
@@ -56,6 +58,12 @@ pub(crate) struct NearFieldTerms<S> {
     closing_squares: S,
     /// The control period dt, seconds: the tail chase's terminal lead.
     period: S,
+    /// The evader's full turn over one period, v_em w_em dt, radians: the bound of its
+    /// observed turn.
+    evader_turn: S,
+    /// (N / 2) v_em / v_pm^2, s/m: augmented navigation's curvature per rad/s of the evader's
+    /// turn rate, per unit of its velocity's share across the line of sight.
+    augment_gain: S,
 }
 
 impl<S: Scalar> NearFieldTerms<S> {
@@ -71,16 +79,20 @@ impl<S: Scalar> NearFieldTerms<S> {
             navigation_gain: S::from_f32(NAVIGATION_GAIN) / p.v_max(),
             closing_squares: p.v_max() * p.v_max() - limits.evader.v_max() * limits.evader.v_max(),
             period: dt,
+            evader_turn: limits.evader.max_turn_rate() * dt,
+            augment_gain: S::from_f32(NAVIGATION_GAIN / 2.0) * limits.evader.v_max()
+                / (p.v_max() * p.v_max()),
         }
     }
 }
 
-/// What the near field remembers: the law's last upper value (seconds) and whether the pursuer
-/// has left the law for pursuit.
+/// What the near field remembers: the law's last upper value (seconds), whether the pursuer
+/// has left the law for pursuit, and the evader's last heading (radians).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct NearFieldMemory<S> {
     last_upper: Option<S>,
     pursuing: bool,
+    last_evader_heading: Option<S>,
 }
 
 impl<S: Scalar> NearFieldMemory<S> {
@@ -88,6 +100,7 @@ impl<S: Scalar> NearFieldMemory<S> {
     pub const FRESH: Self = NearFieldMemory {
         last_upper: None,
         pursuing: false,
+        last_evader_heading: None,
     };
 
     /// The pursuer's curvature (1/m) below the threshold: `law` (the paper's sampled command)
@@ -110,7 +123,8 @@ impl<S: Scalar> NearFieldMemory<S> {
             self.pursuing = true;
         }
         let close = distance < terms.close;
-        let sight = Sight::new(pursuer, evader, distance);
+        let turn = self.evader_turn_rate(evader, terms);
+        let sight = Sight::new(pursuer, evader, distance, turn);
         // Pursuit, once begun, holds until the players are beyond the threshold again: a
         // pursuer that went back to the law at the zone's edge would chatter between the two.
         let tail = sight.tail_chase(terms);
@@ -118,8 +132,6 @@ impl<S: Scalar> NearFieldMemory<S> {
         if !self.pursuing {
             return law;
         }
-        // Out of the tail-chase zone: the collision triangle's arc within four periods'
-        // travel, proportional navigation while closing on an evader ahead.
         // Within four periods' travel: the collision triangle's arc; in the tail-chase zone
         // aimed at most one period ahead.
         if close {
@@ -140,6 +152,22 @@ impl<S: Scalar> NearFieldMemory<S> {
         } else {
             steer(to_go, limits, Some(per_radian))
         }
+    }
+
+    /// The evader's turn rate (rad/s, anticlockwise positive) observed over the last period:
+    /// its heading's change within +-v_em w_em dt, over dt; 0 on the first near-field period.
+    /// A state feedback cannot tell which way a circling evader turns; over two periods the
+    /// pursuer sees it. Records the heading.
+    fn evader_turn_rate(&mut self, evader: &VehicleState<S>, terms: &NearFieldTerms<S>) -> S {
+        let turn = match self.last_evader_heading {
+            Some(last) => (evader.theta - last)
+                .wrap_signed()
+                .max(S::zero() - terms.evader_turn)
+                .min(terms.evader_turn),
+            None => S::zero(),
+        };
+        self.last_evader_heading = Some(evader.theta);
+        turn / terms.period
     }
 
     /// Whether the law has lost its own prediction: on the first near-field period its game is
@@ -179,10 +207,12 @@ struct Sight<S> {
     evader: (S, S),
     /// r along the pursuer's heading, metres: > 0 where the evader is ahead of its beam.
     ahead: S,
+    /// The evader's observed turn rate, rad/s.
+    turn: S,
 }
 
 impl<S: Scalar> Sight<S> {
-    fn new(pursuer: &VehicleState<S>, evader: &VehicleState<S>, distance: S) -> Self {
+    fn new(pursuer: &VehicleState<S>, evader: &VehicleState<S>, distance: S, turn: S) -> Self {
         let (rx, ry) = (evader.x - pursuer.x, evader.y - pursuer.y);
         let (sin_p, cos_p) = pursuer.theta.sin_cos();
         Sight {
@@ -192,6 +222,7 @@ impl<S: Scalar> Sight<S> {
             pursuer: (sin_p, cos_p),
             evader: evader.theta.sin_cos(),
             ahead: rx * cos_p + ry * sin_p,
+            turn,
         }
     }
 
@@ -209,10 +240,10 @@ impl<S: Scalar> Sight<S> {
     }
 
     /// The terminal command within four periods' travel (1/m): the arc, tangent to the
-    /// pursuer's heading, through the point where the pursuer meets an evader running straight
-    /// on at v_em (the collision triangle |r + u T| = v_pm T, u the evader's velocity); in the
-    /// tail-chase zone (`tail`) through where the evader will be after at most one period
-    /// (T <= dt). Pure pursuit aims where the evader is; over a period the pursuer runs several
+    /// pursuer's heading, through where the evader will be at the collision time T of the
+    /// straight-line triangle |r + u T| = v_pm T (u the evader's velocity), placed on the arc
+    /// of its observed turn ([`Self::evader_after`]); in the tail-chase zone (`tail`) at most
+    /// one period ahead (T <= dt). Pure pursuit aims where the evader is; over a period the pursuer runs several
     /// capture radii, so aiming there misses by the evader's own travel across the line of
     /// sight (a circling evader was passed 1 to 3 cm off, lap after lap, against a 1 cm capture
     /// radius). In the tail chase the straight-line prediction is trusted for one period only:
@@ -227,12 +258,11 @@ impl<S: Scalar> Sight<S> {
             return S::zero();
         }
         let (sin_e, cos_e) = self.evader;
-        let (ux, uy) = (terms.evader_speed * cos_e, terms.evader_speed * sin_e);
-        let c = (self.rx * ux + self.ry * uy) / self.distance;
+        let c = terms.evader_speed * (self.rx * cos_e + self.ry * sin_e) / self.distance;
         let a = terms.closing_squares;
         let time = self.distance * (c + (c * c + a).sqrt()) / a;
         let time = if tail { time.min(terms.period) } else { time };
-        let (ax, ay) = (self.rx + ux * time, self.ry + uy * time);
+        let (ax, ay) = self.evader_after(time, terms);
         let (sin_p, cos_p) = self.pursuer;
         let cross = cos_p * ay - sin_p * ax;
         let run = terms.pursuer_speed * time;
@@ -244,8 +274,33 @@ impl<S: Scalar> Sight<S> {
         within_turn(two_sin, run, limits)
     }
 
-    /// Proportional navigation (1/m): curvature N lambda_dot / v_pm, lambda_dot being the line
-    /// of sight's rate (rad/s) with the evader at v_em on its heading, within +-w_max; `None`
+    /// Where the evader will be after `time` seconds relative to the pursuer now (metres): on
+    /// the arc of its observed turn rate at v_em, no more than half a turn of it. The chord of
+    /// an arc turned by phi has length v_em T sin(phi / 2) / (phi / 2) and heading
+    /// theta_e + phi / 2.
+    fn evader_after(&self, time: S, terms: &NearFieldTerms<S>) -> (S, S) {
+        let half_turn = S::pi() / S::from_f32(2.0);
+        let half = (self.turn * time / S::from_f32(2.0))
+            .max(S::zero() - half_turn)
+            .min(half_turn);
+        let (sin_h, cos_h) = half.sin_cos();
+        let run = terms.evader_speed * time;
+        let chord = if half.abs() > S::from_f32(S::ARC_RESOLUTION) {
+            run * (sin_h / half)
+        } else {
+            run
+        };
+        let (sin_e, cos_e) = self.evader;
+        (
+            self.rx + chord * (cos_e * cos_h - sin_e * sin_h),
+            self.ry + chord * (sin_e * cos_h + cos_e * sin_h),
+        )
+    }
+
+    /// Augmented proportional navigation (1/m): curvature N lambda_dot / v_pm, lambda_dot being
+    /// the line of sight's rate (rad/s) with the evader at v_em on its heading, plus
+    /// (N / 2) a_e / v_pm^2 for the evader's observed acceleration a_e across the line of
+    /// sight, within +-w_max; `None`
     /// unless the evader is ahead of the pursuer's beam and the distance closing. Pure
     /// pursuit's turn rate grows without bound in the last metre of a crossing chase when
     /// v_pm < 2 v_em (the pursuer misses by centimetres and comes round again, for ever against
@@ -263,6 +318,10 @@ impl<S: Scalar> Sight<S> {
         // N lambda_dot / v_pm = (N / v_pm) ((r x v) / d) / d: the first quotient is at most
         // N |v| / v_pm <= 2 N; compared with w_max d before the second division.
         let turn = terms.navigation_gain * ((self.rx * vy - self.ry * vx) / self.distance);
+        // Augmented: plus (N / 2) a_e / v_pm^2 with a_e the evader's observed acceleration
+        // across the line of sight, omega_e v_em (r . e_hat) / d (times d, as `turn`).
+        let across = (self.rx * cos_e + self.ry * sin_e) * self.turn;
+        let turn = turn + terms.augment_gain * across;
         Some(within_turn(turn, self.distance, limits))
     }
 }

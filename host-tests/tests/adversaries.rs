@@ -107,39 +107,30 @@ fn at_the_paper_limits_the_flight_pursuer_captures_every_evader_of_the_suite() {
     assert!(late.is_empty(), "late: {late:?} of {far_runs}");
 }
 
-/// At random limits every evader of the suite is captured but the one that circles at full
-/// rate, which still escapes the flight pursuer from some starts (docs/closed-loop.md traces
-/// them: circles of nearly equal size, where the pursuer meets the evader head-on on every
-/// lap): against it the flight pursuer captures at least as often as the paper's law in each
-/// direction, and more often over both.
+/// At random limits every evader of the suite is captured from 16 seeded starts each, the
+/// full-rate circles included (they escaped the flight pursuer before it saw them turn, and
+/// escape the paper's law from many starts: printed beside).
 #[test]
-fn at_random_limits_only_the_full_rate_circle_escapes_and_less_often_than_from_the_paper_law() {
+fn at_random_limits_the_flight_pursuer_captures_every_evader_of_the_suite() {
     let mut rng = Rng::new(seed() ^ 0xA5A5);
-    let (mut ours_total, mut paper_total) = (0, 0);
     for evader in EvaderKind::ALL {
         let full_circle = matches!(evader, EvaderKind::Circle { half: false, .. });
-        let (mut ours, mut paper) = (0, 0);
+        let mut paper = 0;
         for (p, seed) in starts(&mut rng, 16, None) {
             let r = run(&p, Policy::Flight, Opponent::Evader(evader), seed);
-            ours += usize::from(r.status == SimStatus::Captured);
+            assert_eq!(r.status, SimStatus::Captured, "{}: {p:?}", evader.name());
             if full_circle {
                 let q = run(&p, Policy::Paper, Opponent::Evader(evader), seed);
                 paper += usize::from(q.status == SimStatus::Captured);
-            } else {
-                assert_eq!(r.status, SimStatus::Captured, "{}: {p:?}", evader.name());
             }
         }
         if full_circle {
             println!(
-                "{}: captured flight {ours} / paper {paper} of 16",
+                "{}: captured flight 16 / paper {paper} of 16",
                 evader.name()
             );
-            assert!(ours >= paper, "{}: {ours} vs {paper}", evader.name());
-            ours_total += ours;
-            paper_total += paper;
         }
     }
-    assert!(ours_total > paper_total, "{ours_total} vs {paper_total}");
 }
 
 /// From beyond the threshold the law's evader is never caught before its own guarantee, the
@@ -319,15 +310,16 @@ fn circling_evaders_the_old_near_field_policy_orbited_are_captured() {
         ],
     ];
     for start in starts {
-        assert_the_flight_pursuer_captures_a_left_circler(PAPER_LIMITS, start, 60.0);
+        assert_the_flight_pursuer_captures_a_circler(PAPER_LIMITS, true, start, 60.0);
     }
 }
 
-/// The flight pursuer at the origin with heading `theta_p` against a full-rate anticlockwise
-/// circler starting at (x_e, y_e, theta_e): captured within `t_max` seconds, and from beyond
-/// the threshold within a few periods of its guarantee.
-fn assert_the_flight_pursuer_captures_a_left_circler(
+/// The flight pursuer at the origin with heading `theta_p` against a full-rate circler
+/// (anticlockwise if `left`) starting at (x_e, y_e, theta_e): captured within `t_max` seconds,
+/// and from beyond the threshold within a few periods of its guarantee.
+fn assert_the_flight_pursuer_captures_a_circler(
     limits: [f64; 4],
+    left: bool,
     [theta_p, x_e, y_e, theta_e]: [f64; 4],
     t_max: f64,
 ) {
@@ -339,10 +331,7 @@ fn assert_the_flight_pursuer_captures_a_left_circler(
         t_max,
         eps: EPS,
     };
-    let circle = Opponent::Evader(EvaderKind::Circle {
-        left: true,
-        half: false,
-    });
+    let circle = Opponent::Evader(EvaderKind::Circle { left, half: false });
     let r = simulate_against::<f32>(&p, Variant::Paper, Policy::Flight, Some((circle, 1)), false);
     assert_eq!(r.status, SimStatus::Captured, "{p:?}: d_min {}", r.d_min);
     if far(&p) {
@@ -386,7 +375,60 @@ fn circling_evaders_passed_a_centimetre_off_in_the_tail_chase_are_captured() {
         ),
     ];
     for (limits, start) in starts {
-        assert_the_flight_pursuer_captures_a_left_circler(limits.map(f64::from), start, 30.0);
+        assert_the_flight_pursuer_captures_a_circler(limits.map(f64::from), true, start, 30.0);
+    }
+}
+
+/// Full-rate circlers whose circles mesh with the pursuer's (random limits, v_em / v_pm 0.72
+/// to 0.84, r_e / r_p 1.1 to 1.4; docs/closed-loop.md): the pursuer that did not see the
+/// evader turn met each head-on once a lap, 2 to 3 cm off, and never captured in 60 s; with the
+/// observed turn in its navigation and terminal aim it captures each within 7 s.
+#[test]
+fn meshing_circlers_are_captured_once_the_pursuer_sees_them_turn() {
+    let starts = [
+        (
+            true,
+            [3.142_849, 2.618_686_4, 2.597_119, 1.940_573_4],
+            [
+                1.510_412_252_337_915_5,
+                -4.774_119_814_944_997_5,
+                0.565_778_837_325_696_9,
+                -0.658_429_979_589_831,
+            ],
+        ),
+        (
+            true,
+            [2.103_298_8, 2.106_236, 1.767_840_1, 1.864_752_1],
+            [
+                -0.437_265_996_056_898_75,
+                -2.665_024_219_842_565_3,
+                -3.322_175_184_660_250_7,
+                0.292_579_534_040_291_47,
+            ],
+        ),
+        (
+            false,
+            [3.414_209_4, 1.636_925_7, 2.467_970_3, 1.239_855_3],
+            [
+                2.748_790_770_734_903,
+                4.310_020_347_962_539,
+                9.080_305_339_801_603,
+                0.189_194_620_541_707,
+            ],
+        ),
+        (
+            false,
+            [3.103_351_4, 1.710_790_4, 2.405_224_6, 1.212_549_2],
+            [
+                2.900_031_770_187_068,
+                -5.841_076_400_187_694,
+                6.196_725_361_783_647,
+                0.186_084_680_882_227_63,
+            ],
+        ),
+    ];
+    for (left, limits, start) in starts {
+        assert_the_flight_pursuer_captures_a_circler(limits.map(f64::from), left, start, 10.0);
     }
 }
 
