@@ -25,7 +25,11 @@
 //!   navigation (the evader's observed turn fed forward) while the evader is ahead and the
 //!   distance closes (`navigation`), else pure pursuit;
 //!   where the evader is inside the pursuer's turning circle on its side (turning cannot bring
-//!   it ahead) the pursuer runs straight to open the distance.
+//!   it ahead) the pursuer runs straight to open the distance. An evader can ride that circle's
+//!   edge behind the beam, where pure pursuit alternates between turning toward it and running
+//!   straight (a sliding mode on the boundary); after a full turn's time 2 pi / (v_pm w_pm) of
+//!   pure pursuit with the evader inside the circle, the pursuer breaks away: a full turn to the
+//!   other side until the evader is ahead of its beam.
 //!
 //! Units: metres, seconds, radians anticlockwise from +x; curvature in 1/m.
 
@@ -64,6 +68,9 @@ pub(crate) struct NearFieldTerms<S> {
     /// (N / 2) v_em / v_pm^2, s/m: augmented navigation's curvature per rad/s of the evader's
     /// turn rate, per unit of its velocity's share across the line of sight.
     augment_gain: S,
+    /// A full turn of the pursuer, 2 pi / (v_pm w_pm), seconds: how long pure pursuit may
+    /// hold the evader inside its turning circle before it breaks away.
+    turn_time: S,
 }
 
 impl<S: Scalar> NearFieldTerms<S> {
@@ -82,17 +89,22 @@ impl<S: Scalar> NearFieldTerms<S> {
             evader_turn: limits.evader.max_turn_rate() * dt,
             augment_gain: S::from_f32(NAVIGATION_GAIN / 2.0) * limits.evader.v_max()
                 / (p.v_max() * p.v_max()),
+            turn_time: S::from_f32(2.0) * S::pi() / p.max_turn_rate(),
         }
     }
 }
 
 /// What the near field remembers: the law's last upper value (seconds), whether the pursuer
-/// has left the law for pursuit, and the evader's last heading (radians).
+/// has left the law for pursuit, the evader's last heading (radians), the time of pure
+/// pursuit since navigation or the terminal arc last steered (seconds), and the side of a
+/// break-away turn (anticlockwise: true) while it lasts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct NearFieldMemory<S> {
     last_upper: Option<S>,
     pursuing: bool,
     last_evader_heading: Option<S>,
+    homing_time: Option<S>,
+    breaking: Option<bool>,
 }
 
 impl<S: Scalar> NearFieldMemory<S> {
@@ -101,6 +113,8 @@ impl<S: Scalar> NearFieldMemory<S> {
         last_upper: None,
         pursuing: false,
         last_evader_heading: None,
+        homing_time: None,
+        breaking: None,
     };
 
     /// The pursuer's curvature (1/m) below the threshold: `law` (the paper's sampled command)
@@ -135,19 +149,36 @@ impl<S: Scalar> NearFieldMemory<S> {
         // Within four periods' travel: the collision triangle's arc; in the tail-chase zone
         // aimed at most one period ahead.
         if close {
+            self.homing_time = None;
+            self.breaking = None;
             return sight.terminal(limits, terms, tail);
         }
         if !tail {
             if let Some(w) = sight.navigation(limits, terms) {
+                self.homing_time = None;
+                self.breaking = None;
                 return w;
             }
         }
         // Pure pursuit; where the evader is inside the turning circle on its side, straight on
-        // to open the distance (not within four periods' travel: there the evader is ahead).
+        // to open the distance, and a break-away turn once pure pursuit has held for a full
+        // turn's time (module docs). The time saturates there (fixed point's range).
         let to_go = bearing(pursuer, evader.x, evader.y);
         // A bearing below the arc resolution is on course, as the law reads a tangent's arc.
         let on_course = to_go.abs() <= S::from_f32(S::ARC_RESOLUTION);
-        if on_course || (!close && inside_turn(pursuer, evader, limits, to_go)) {
+        let homed = (self.homing_time.unwrap_or(S::zero()) + dt).min(terms.turn_time);
+        self.homing_time = Some(homed);
+        if sight.ahead > S::zero() {
+            self.breaking = None;
+        }
+        let inside = inside_turn(pursuer, evader, limits, to_go);
+        if inside && homed >= terms.turn_time && self.breaking.is_none() {
+            self.breaking = Some(to_go < S::zero());
+            self.homing_time = None;
+        }
+        if let Some(left) = self.breaking {
+            full_turn(if left { S::one() } else { S::zero() - S::one() }, limits)
+        } else if on_course || inside {
             S::zero()
         } else {
             steer(to_go, limits, Some(per_radian))

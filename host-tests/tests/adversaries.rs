@@ -467,3 +467,94 @@ fn adversaries_are_seeded_and_within_their_limits() {
         }
     }
 }
+
+/// Evaders that rode the edge of the pursuer's turning circle behind its beam (random limits,
+/// v_pm / v_em near 1.1, docs/closed-loop.md): pure pursuit alternated between turning toward
+/// the evader and running straight (the evader inside the circle), a sliding mode on the
+/// circle's boundary, and never captured (greedy, greedy-10) or captured 3.9 s late (a
+/// full-rate circle). After a full turn's time so, the pursuer breaks away with a full turn
+/// until the evader is ahead of its beam; each is captured, the far one within 5 dt of its
+/// guarantee.
+#[test]
+fn evaders_riding_the_edge_of_the_turning_circle_are_captured() {
+    let formation = [
+        2.055_828_678_513_381,
+        1.593_875_301_947_557_6,
+        1.842_507_382_894_740_7,
+        0.609_477_546_883_446_8,
+    ];
+    let starts = [
+        (
+            EvaderKind::Greedy { periods: 1 },
+            6_042_947_526_466_250_561,
+            formation,
+            [
+                -0.376_425_657_031_918_44,
+                0.127_323_935_289_981_37,
+                1.255_939_550_129_288,
+                -1.293_659_007_118_582_3,
+            ],
+        ),
+        (
+            EvaderKind::Greedy { periods: 10 },
+            6_042_947_526_466_250_561,
+            formation,
+            [
+                -0.376_425_657_031_918_44,
+                0.127_323_935_289_981_37,
+                1.255_939_550_129_288,
+                -1.293_659_007_118_582_3,
+            ],
+        ),
+        (
+            EvaderKind::Greedy { periods: 1 },
+            16_907_565_306_870_885_937,
+            [
+                4.233_815_843_354_445,
+                3.624_590_839_799_279_4,
+                2.493_435_771_328_001_3,
+                1.780_964_050_062_644_2,
+            ],
+            [
+                -2.323_959_154_293_681,
+                -0.294_374_763_414_305_85,
+                0.328_351_898_462_547_7,
+                -2.173_431_854_573_406_6,
+            ],
+        ),
+        (
+            EvaderKind::Circle {
+                left: true,
+                half: false,
+            },
+            11_650_260_912_012_358_107,
+            [
+                3.324_529_559_777_444_5,
+                2.801_438_301_573_687_5,
+                1.532_123_129_493_467_9,
+                1.832_576_197_306_836_4,
+            ],
+            [
+                0.825_511_039_330_170_1,
+                13.658_740_888_618_494,
+                4.100_481_928_701_931,
+                2.743_797_618_933_516,
+            ],
+        ),
+    ];
+    for (evader, seed, limits, [theta_p, x_e, y_e, theta_e]) in starts {
+        let p = SimParams {
+            limits,
+            pursuer: [0.0, 0.0, theta_p],
+            evader: [x_e, y_e, theta_e],
+            dt: DT,
+            t_max: 0.0,
+            eps: EPS,
+        };
+        let r = run(&p, Policy::Flight, Opponent::Evader(evader), seed);
+        assert_eq!(r.status, SimStatus::Captured, "{}: {p:?}", evader.name());
+        if far(&p) {
+            assert!(lateness(&r, p.limits) <= FEW_DT, "{r:?}");
+        }
+    }
+}
