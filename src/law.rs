@@ -89,16 +89,13 @@ impl<S: Scalar> GameReport<S> {
         self.pairs[pursuer as usize][evader as usize].as_ref()
     }
 
-    /// Whether the game's prediction holds: a saddle (upper and lower within the tie band or
-    /// within `floor` seconds) whose chosen pair captures after the evader reaches its tangent
-    /// (not Algorithm 2's overshoot case, whose literal value is not a time the players can
-    /// realise). Below the theorem's threshold the flight policy replaces the pursuer's
-    /// command where this is false.
-    pub fn trusted(&self, floor: S) -> bool {
-        // A saddle at a finite value: at infinity there is no prediction to trust.
-        self.solution.upper.is_some()
-            && self.solution.saddle_within(floor)
-            && self.chosen_pair().is_some_and(|p| !p.capture.overshoot)
+    /// Whether the game's prediction can be played: a finite upper value whose chosen pair
+    /// captures after the evader reaches its tangent (not Algorithm 2's overshoot case, whose
+    /// literal value is not a time the players can realise). A saddle is not required: without
+    /// one the pursuer's min-max row still bounds the capture time. Below the theorem's
+    /// threshold the flight policy replaces the pursuer's command where this is false.
+    pub fn trusted(&self) -> bool {
+        self.solution.upper.is_some() && self.chosen_pair().is_some_and(|p| !p.capture.overshoot)
     }
 
     /// Predicted capture time, seconds: the upper value, the pursuer's min-max guarantee

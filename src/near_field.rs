@@ -216,7 +216,7 @@ impl<S: Scalar> NearFieldMemory<S> {
         let upper = report.solution.upper;
         let lost = match (self.last_upper, upper) {
             (_, None) => distance >= terms.close,
-            (None, Some(_)) => !report.trusted(tie_floor),
+            (None, Some(_)) => !report.trusted(),
             (Some(last), Some(now)) => now > last - dt + tie_floor,
         };
         self.last_upper = upper;
