@@ -56,6 +56,7 @@ pub mod bench;
 pub mod board;
 pub mod capture;
 pub mod game;
+pub mod geodetic;
 pub mod geometry;
 pub mod law;
 mod log;
