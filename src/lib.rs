@@ -60,6 +60,8 @@ pub mod geodetic;
 pub mod geometry;
 pub mod law;
 mod log;
+#[cfg(feature = "mavlink")]
+pub mod mavlink;
 pub mod message;
 pub mod near_field;
 pub mod num;

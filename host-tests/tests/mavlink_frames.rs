@@ -1,0 +1,262 @@
+//! The MAVLink endpoint's input path (`twocars::mavlink`): frames written here from the
+//! protocol's specification (header layout, X.25 checksum with CRC_EXTRA, MAVLink 2's trailing
+//! zero truncation and signature), independently of the `mavlink` crate the firmware uses, found
+//! in a byte stream one byte at a time, through noise and corruption, and decoded.
+
+use host_tests::rng::Rng;
+use twocars::mavlink::{decode, extra_crc, FrameReader, Message, MessageError, Version};
+
+/// CRC_EXTRA of the messages we read, from the common dialect's definitions.
+const GLOBAL_POSITION_INT: (u32, u8) = (33, 104);
+const PARAM_REQUEST_LIST: (u32, u8) = (21, 159);
+const HEARTBEAT: (u32, u8) = (0, 50);
+
+/// X.25 (CRC-16/MCRF4XX) as the MAVLink specification gives it.
+fn x25(bytes: &[u8]) -> u16 {
+    let mut crc: u16 = 0xFFFF;
+    for &b in bytes {
+        let mut tmp = b ^ (crc & 0xFF) as u8;
+        tmp ^= tmp << 4;
+        crc = (crc >> 8) ^ (u16::from(tmp) << 8) ^ (u16::from(tmp) << 3) ^ (u16::from(tmp) >> 4);
+    }
+    crc
+}
+
+/// A MAVLink 2 frame (trailing zero payload bytes dropped; 13 signature bytes if `signed`).
+fn v2(sequence: u8, system: u8, (id, extra): (u32, u8), payload: &[u8], signed: bool) -> Vec<u8> {
+    let mut p = payload.to_vec();
+    while p.len() > 1 && p.last() == Some(&0) {
+        p.pop();
+    }
+    let id = id.to_le_bytes();
+    let mut f = vec![
+        0xFD,
+        p.len() as u8,
+        u8::from(signed),
+        0,
+        sequence,
+        system,
+        1,
+        id[0],
+        id[1],
+        id[2],
+    ];
+    f.extend_from_slice(&p);
+    let mut checked = f[1..].to_vec();
+    checked.push(extra);
+    f.extend_from_slice(&x25(&checked).to_le_bytes());
+    if signed {
+        f.extend_from_slice(&[7; 13]);
+    }
+    f
+}
+
+/// A MAVLink 1 frame.
+fn v1(sequence: u8, system: u8, (id, extra): (u32, u8), payload: &[u8]) -> Vec<u8> {
+    let mut f = vec![0xFE, payload.len() as u8, sequence, system, 1, id as u8];
+    f.extend_from_slice(payload);
+    let mut checked = f[1..].to_vec();
+    checked.push(extra);
+    f.extend_from_slice(&x25(&checked).to_le_bytes());
+    f
+}
+
+/// GLOBAL_POSITION_INT's payload in wire order (fields by size, then as declared).
+fn position_payload(lat: i32, lon: i32, vx: i16, vy: i16, hdg: u16) -> Vec<u8> {
+    let mut p = Vec::new();
+    p.extend_from_slice(&123_456_u32.to_le_bytes());
+    for v in [lat, lon, 500_000, 10_000] {
+        p.extend_from_slice(&v.to_le_bytes());
+    }
+    for v in [vx, vy, 5] {
+        p.extend_from_slice(&v.to_le_bytes());
+    }
+    p.extend_from_slice(&hdg.to_le_bytes());
+    p
+}
+
+/// Every message decoded from `bytes`, pushed one at a time.
+fn read_all(
+    reader: &mut FrameReader,
+    bytes: &[u8],
+) -> Vec<(Version, u8, Result<Message, MessageError>)> {
+    let mut out = Vec::new();
+    for &b in bytes {
+        if let Some(frame) = reader.push(b, extra_crc) {
+            out.push((frame.version, frame.sequence, decode(&frame)));
+        }
+    }
+    out
+}
+
+fn position(m: &Result<Message, MessageError>) -> (i32, i32, i16, i16, u16) {
+    match m {
+        Ok(Message::GlobalPosition(p)) => (p.lat, p.lon, p.vx, p.vy, p.hdg),
+        other => panic!("not a position: {other:?}"),
+    }
+}
+
+/// The crate's CRC_EXTRA for our messages is the specification's.
+#[test]
+fn crc_extras_are_the_specifications() {
+    for (id, extra) in [
+        GLOBAL_POSITION_INT,
+        PARAM_REQUEST_LIST,
+        HEARTBEAT,
+        (24_u32 + 120, 127),
+        (23, 168),
+        (20, 214),
+    ] {
+        assert_eq!(extra_crc(id), Some(extra), "message {id}");
+    }
+    assert_eq!(extra_crc(30), None); // ATTITUDE: not read
+}
+
+/// MAVLink 1 and 2 (truncated and signed) positions, through noise, are decoded field for field.
+#[test]
+fn positions_in_both_versions_come_through_noise() {
+    let mut stream = vec![0x00, 0x55, 0xAA];
+    stream.extend(v2(
+        1,
+        1,
+        GLOBAL_POSITION_INT,
+        &position_payload(473_977_420, 85_455_940, 150, -220, 9_000),
+        false,
+    ));
+    stream.extend([0x11; 7]);
+    // hdg 0 and vy 0 at the end: MAVLink 2 drops the trailing zero bytes.
+    stream.extend(v2(
+        2,
+        2,
+        GLOBAL_POSITION_INT,
+        &position_payload(-1, 2, 3, 0, 0),
+        false,
+    ));
+    stream.extend(v1(
+        3,
+        1,
+        GLOBAL_POSITION_INT,
+        &position_payload(10, -20, -1, 1, 35_999),
+    ));
+    stream.extend(v2(
+        4,
+        1,
+        GLOBAL_POSITION_INT,
+        &position_payload(5, 6, 7, 8, 9),
+        true,
+    ));
+    let mut reader = FrameReader::new();
+    let got = read_all(&mut reader, &stream);
+    assert_eq!(got.len(), 4, "{got:?}");
+    assert_eq!((got[0].0, got[0].1), (Version::V2, 1));
+    assert_eq!(
+        position(&got[0].2),
+        (473_977_420, 85_455_940, 150, -220, 9_000)
+    );
+    assert_eq!(position(&got[1].2), (-1, 2, 3, 0, 0));
+    assert_eq!(
+        (got[2].0, position(&got[2].2)),
+        (Version::V1, (10, -20, -1, 1, 35_999))
+    );
+    assert_eq!((got[3].1, position(&got[3].2)), (4, (5, 6, 7, 8, 9)));
+    assert_eq!(reader.counters.frames, 4);
+    assert_eq!(reader.counters.skipped_bytes, 10);
+    assert_eq!(reader.counters.bad_checksum, 0);
+}
+
+/// A corrupt frame is dropped and counted; a frame that began inside it is still found; an
+/// unknown message is counted and searched through; an unsupported incompatibility flag drops
+/// the frame.
+#[test]
+fn corrupt_unknown_and_flagged_frames_are_counted_and_dropped() {
+    let good = v2(
+        9,
+        1,
+        GLOBAL_POSITION_INT,
+        &position_payload(1, 2, 3, 4, 5),
+        false,
+    );
+    let mut corrupt = v2(
+        8,
+        1,
+        GLOBAL_POSITION_INT,
+        &position_payload(7, 7, 7, 7, 7),
+        false,
+    );
+    corrupt[14] ^= 0x40;
+    // The good frame starts inside the corrupt one: cut the corrupt one short after 16 bytes.
+    let mut stream = corrupt[..16].to_vec();
+    stream.extend(&good);
+    // An ATTITUDE (30) frame: not ours, counted and searched through.
+    stream.extend(v2(10, 1, (30, 39), &[1; 28], false));
+    let mut flagged = v2(
+        11,
+        1,
+        GLOBAL_POSITION_INT,
+        &position_payload(1, 1, 1, 1, 1),
+        false,
+    );
+    flagged[2] = 0x02;
+    stream.extend(&flagged);
+    stream.extend(v2(12, 1, HEARTBEAT, &[0, 0, 0, 0, 18, 8, 0, 4, 3], false));
+    let mut reader = FrameReader::new();
+    let got = read_all(&mut reader, &stream);
+    let sequences: Vec<u8> = got.iter().map(|g| g.1).collect();
+    assert_eq!(sequences, vec![9, 12], "{got:?} {:?}", reader.counters);
+    assert_eq!(position(&got[0].2), (1, 2, 3, 4, 5));
+    assert!(matches!(got[1].2, Ok(Message::Heartbeat(_))));
+    assert_eq!(reader.counters.unknown, 1);
+    assert_eq!(reader.counters.bad_flags, 1);
+    assert!(reader.counters.bad_checksum >= 1, "{:?}", reader.counters);
+}
+
+/// Random bytes with good frames among them: no panic, and every good frame found (noise would
+/// have to form a frame with a good checksum, 1 in 65,536 per start byte, to hide one).
+#[test]
+fn random_noise_never_panics_and_good_frames_survive() {
+    let mut rng = Rng::new(29);
+    let mut reader = FrameReader::new();
+    let (mut sent, mut found) = (0, 0);
+    for k in 0..2_000_u32 {
+        let noise: Vec<u8> = (0..(rng.next_u64() % 40))
+            .map(|_| rng.next_u64() as u8)
+            .collect();
+        let frame = v2(
+            k as u8,
+            1,
+            GLOBAL_POSITION_INT,
+            &position_payload(k as i32, 0, 0, 0, 1),
+            false,
+        );
+        sent += 1;
+        found += read_all(&mut reader, &noise).len();
+        found += read_all(&mut reader, &frame).len();
+    }
+    // Noise that starts a frame (0xFD or 0xFE) claims a length that runs into the good frame
+    // behind it; the search resumes after that start byte and finds the good one.
+    println!("{found} of {sent} found, {:?}", reader.counters);
+    assert_eq!(found, sent, "{:?}", reader.counters);
+    assert_eq!(reader.counters.frames as usize, found);
+}
+
+/// A message we read but whose field is out of range (PARAM_SET with a parameter type the
+/// dialect does not define) decodes to an error, not a value.
+#[test]
+fn an_undefined_enum_value_is_malformed() {
+    let mut payload = vec![0_u8; 23];
+    payload[..4].copy_from_slice(&1.5_f32.to_le_bytes());
+    payload[4] = 1;
+    payload[5] = 191;
+    payload[6..13].copy_from_slice(b"TC_V_PM");
+    payload[22] = 200; // param_type
+    let mut reader = FrameReader::new();
+    let got = read_all(&mut reader, &v2(1, 255, (23, 168), &payload, false));
+    assert_eq!(got.len(), 1);
+    assert_eq!(got[0].2, Err(MessageError::Malformed(23)));
+    payload[22] = 9; // MAV_PARAM_TYPE_REAL32
+    let got = read_all(&mut reader, &v2(2, 255, (23, 168), &payload, false));
+    match &got[0].2 {
+        Ok(Message::ParamSet(p)) => assert_eq!((p.param_value, p.target_component), (1.5, 191)),
+        other => panic!("{other:?}"),
+    }
+}

@@ -1,0 +1,230 @@
+//! MAVLink 1 and 2 frames found in a byte stream, one byte at a time (the UART interrupt's queue
+//! drained by the loop).
+//!
+//! A frame starts at 0xFE (MAVLink 1) or 0xFD (MAVLink 2); its length byte gives where it ends;
+//! its checksum (X.25 over the header and payload, then the message's CRC_EXTRA: the `mavlink`
+//! crate's `calculate_crc`) is checked for the messages we decode. A frame that fails is dropped
+//! and the search for a start byte resumes at the byte after its start, so a good frame that
+//! began inside a corrupt one is still found. A frame of a message we do not decode cannot be
+//! checked (its CRC_EXTRA is not known here), so it is counted and searched like a corrupt one:
+//! a start byte in line noise that claims a long unknown frame must not swallow the good frames
+//! behind it. MAVLink 2 frames with an incompatibility flag other than "signed" are dropped, as
+//! the protocol requires; a signature is skipped, not verified.
+//! Nothing here panics or allocates: every index is checked.
+
+/// MAVLink 1 start byte.
+pub const STX_V1: u8 = 0xFE;
+/// MAVLink 2 start byte.
+pub const STX_V2: u8 = 0xFD;
+/// MAVLink 2's "signed" incompatibility flag: 13 signature bytes follow the checksum.
+const IFLAG_SIGNED: u8 = 0x01;
+/// The longest frame: a MAVLink 2 header (10), 255 payload bytes, the checksum (2) and a
+/// signature (13).
+pub const MAX_FRAME: usize = 280;
+
+/// The protocol version of a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Version {
+    /// MAVLink 1 (0xFE).
+    V1,
+    /// MAVLink 2 (0xFD).
+    V2,
+}
+
+/// A checked frame: its header and its payload (MAVLink 2 may have dropped trailing zero bytes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Frame<'a> {
+    /// The protocol version.
+    pub version: Version,
+    /// The sender's sequence number.
+    pub sequence: u8,
+    /// The sender's system id.
+    pub system: u8,
+    /// The sender's component id.
+    pub component: u8,
+    /// The message id.
+    pub message_id: u32,
+    /// The payload bytes as sent.
+    pub payload: &'a [u8],
+}
+
+/// What the reader has seen, since it started (wrapping counts).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameCounters {
+    /// Frames checked and handed out.
+    pub frames: u32,
+    /// Frames whose checksum failed.
+    pub bad_checksum: u32,
+    /// MAVLink 2 frames with an incompatibility flag we do not support.
+    pub bad_flags: u32,
+    /// Frames of messages we do not decode (or noise that looks like one), searched through.
+    pub unknown: u32,
+    /// Bytes outside any frame (line noise, or the rest of a dropped frame).
+    pub skipped_bytes: u32,
+}
+
+/// The frame search's state: the bytes since a start byte.
+#[derive(Clone, Debug)]
+pub struct FrameReader {
+    buffer: [u8; MAX_FRAME],
+    length: usize,
+    /// The length of the frame at the buffer's front that the last `push` handed out: dropped
+    /// by the next.
+    handed_out: Option<usize>,
+    /// What was seen so far.
+    pub counters: FrameCounters,
+}
+
+/// What the bytes buffered so far are.
+enum Buffered {
+    /// The start of a frame: more bytes needed.
+    Partial,
+    /// A whole frame with a good checksum, `length` bytes.
+    Checked(usize),
+    /// A whole frame of a message we do not decode.
+    Unknown,
+    /// Not a frame (bad checksum or flags): drop the start byte.
+    Bad,
+}
+
+impl Default for FrameReader {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FrameReader {
+    /// A reader looking for a start byte.
+    pub const fn new() -> Self {
+        FrameReader {
+            buffer: [0; MAX_FRAME],
+            length: 0,
+            handed_out: None,
+            counters: FrameCounters {
+                frames: 0,
+                bad_checksum: 0,
+                bad_flags: 0,
+                unknown: 0,
+                skipped_bytes: 0,
+            },
+        }
+    }
+
+    /// Takes the next byte of the stream; returns the frame it completes, if any.
+    /// `extra_crc` gives the CRC_EXTRA of each message id we decode (`None`: not ours).
+    pub fn push(&mut self, byte: u8, extra_crc: impl Fn(u32) -> Option<u8>) -> Option<Frame<'_>> {
+        if let Some(length) = self.handed_out.take() {
+            self.drop_front(length);
+        }
+        if self.length == 0 && byte != STX_V1 && byte != STX_V2 {
+            self.counters.skipped_bytes = self.counters.skipped_bytes.wrapping_add(1);
+            return None;
+        }
+        let slot = self.buffer.get_mut(self.length)?;
+        *slot = byte;
+        self.length += 1;
+        loop {
+            match self.examine(&extra_crc) {
+                Buffered::Partial => return None,
+                Buffered::Checked(length) => {
+                    self.counters.frames = self.counters.frames.wrapping_add(1);
+                    self.handed_out = Some(length);
+                    return self.frame();
+                }
+                Buffered::Bad | Buffered::Unknown => {
+                    self.counters.skipped_bytes = self.counters.skipped_bytes.wrapping_add(1);
+                    self.drop_front(1);
+                }
+            }
+            if self.length == 0 {
+                return None;
+            }
+        }
+    }
+
+    /// Drops the first `n` buffered bytes, then (counted as skipped) any before the next start
+    /// byte.
+    fn drop_front(&mut self, n: usize) {
+        let rest = self.buffer.get(n..self.length).unwrap_or(&[]);
+        let start = rest.iter().position(|&b| b == STX_V1 || b == STX_V2);
+        let skipped = start.unwrap_or(rest.len());
+        self.counters.skipped_bytes = self.counters.skipped_bytes.wrapping_add(skipped as u32);
+        let from = n + skipped;
+        self.buffer
+            .copy_within(from.min(self.length)..self.length, 0);
+        self.length -= from.min(self.length);
+    }
+
+    /// Classifies the buffered bytes.
+    fn examine(&mut self, extra_crc: &impl Fn(u32) -> Option<u8>) -> Buffered {
+        let b = self.buffer.get(..self.length).unwrap_or(&[]);
+        let (Some(&stx), Some(&payload)) = (b.first(), b.get(1)) else {
+            return Buffered::Partial;
+        };
+        let payload = usize::from(payload);
+        let (header, signature, message_id) = if stx == STX_V2 {
+            let Some(&flags) = b.get(2) else {
+                return Buffered::Partial;
+            };
+            if flags & !IFLAG_SIGNED != 0 {
+                self.counters.bad_flags = self.counters.bad_flags.wrapping_add(1);
+                return Buffered::Bad;
+            }
+            let signature = if flags & IFLAG_SIGNED != 0 { 13 } else { 0 };
+            let Some(id) = b.get(7..10) else {
+                return Buffered::Partial;
+            };
+            (10, signature, u32::from_le_bytes([id[0], id[1], id[2], 0]))
+        } else {
+            let Some(&id) = b.get(5) else {
+                return Buffered::Partial;
+            };
+            (6, 0, u32::from(id))
+        };
+        let total = header + payload + 2 + signature;
+        if b.len() < total {
+            return Buffered::Partial;
+        }
+        let Some(extra) = extra_crc(message_id) else {
+            self.counters.unknown = self.counters.unknown.wrapping_add(1);
+            return Buffered::Unknown;
+        };
+        let (Some(checked), Some(sent)) = (
+            b.get(1..header + payload),
+            b.get(header + payload..header + payload + 2),
+        ) else {
+            return Buffered::Bad;
+        };
+        if ::mavlink::calculate_crc(checked, extra) != u16::from_le_bytes([sent[0], sent[1]]) {
+            self.counters.bad_checksum = self.counters.bad_checksum.wrapping_add(1);
+            return Buffered::Bad;
+        }
+        Buffered::Checked(total)
+    }
+
+    /// The buffered frame (after `examine` returned `Checked`).
+    fn frame(&self) -> Option<Frame<'_>> {
+        let b = self.buffer.get(..self.length)?;
+        let payload = usize::from(*b.get(1)?);
+        if *b.first()? == STX_V2 {
+            let id = b.get(7..10)?;
+            Some(Frame {
+                version: Version::V2,
+                sequence: *b.get(4)?,
+                system: *b.get(5)?,
+                component: *b.get(6)?,
+                message_id: u32::from_le_bytes([id[0], id[1], id[2], 0]),
+                payload: b.get(10..10 + payload)?,
+            })
+        } else {
+            Some(Frame {
+                version: Version::V1,
+                sequence: *b.get(2)?,
+                system: *b.get(3)?,
+                component: *b.get(4)?,
+                message_id: u32::from(*b.get(5)?),
+                payload: b.get(6..6 + payload)?,
+            })
+        }
+    }
+}
