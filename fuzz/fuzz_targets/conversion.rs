@@ -56,7 +56,10 @@ fuzz_target!(|data: &[u8]| {
         let got = fixed_wire::offset(a, b, &Reciprocal::of(c));
         let exact = (f64::from(b) - f64::from(a)) / f64::from(c) * 16384.0;
         if exact.abs() < 2f64.powi(31) - 2.0 {
-            assert!((f64::from(got.raw()) - exact.round()).abs() <= 1.0, "{a:e} {b:e} / {c:e}");
+            assert!(
+                (f64::from(got.raw()) - exact.round()).abs() <= 1.0,
+                "{a:e} {b:e} / {c:e}"
+            );
         }
     }
 });

@@ -5,6 +5,7 @@ pub mod adversary;
 pub mod hj;
 pub mod hj_policy;
 pub mod link;
+pub mod mavlink_spec;
 pub mod reference;
 pub mod rng;
 pub mod scenarios;

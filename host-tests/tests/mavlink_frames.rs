@@ -1,79 +1,13 @@
-//! The MAVLink endpoint's input path (`twocars::mavlink`): frames written here from the
-//! protocol's specification (header layout, X.25 checksum with CRC_EXTRA, MAVLink 2's trailing
-//! zero truncation and signature), independently of the `mavlink` crate the firmware uses, found
-//! in a byte stream one byte at a time, through noise and corruption, and decoded.
+//! The MAVLink endpoint's input path (`twocars::mavlink`): frames written from the protocol's
+//! specification (`host_tests::mavlink_spec`, independent of the `mavlink` crate the firmware
+//! uses), found in a byte stream one byte at a time, through noise and corruption, and decoded.
 
+use host_tests::mavlink_spec::{
+    param_set_payload, position_payload, v1, v2, FOLLOW_TARGET, GLOBAL_POSITION_INT, HEARTBEAT,
+    PARAM_REQUEST_LIST, PARAM_REQUEST_READ, PARAM_SET,
+};
 use host_tests::rng::Rng;
 use twocars::mavlink::{decode, extra_crc, FrameReader, Message, MessageError, Version};
-
-/// CRC_EXTRA of the messages we read, from the common dialect's definitions.
-const GLOBAL_POSITION_INT: (u32, u8) = (33, 104);
-const PARAM_REQUEST_LIST: (u32, u8) = (21, 159);
-const HEARTBEAT: (u32, u8) = (0, 50);
-
-/// X.25 (CRC-16/MCRF4XX) as the MAVLink specification gives it.
-fn x25(bytes: &[u8]) -> u16 {
-    let mut crc: u16 = 0xFFFF;
-    for &b in bytes {
-        let mut tmp = b ^ (crc & 0xFF) as u8;
-        tmp ^= tmp << 4;
-        crc = (crc >> 8) ^ (u16::from(tmp) << 8) ^ (u16::from(tmp) << 3) ^ (u16::from(tmp) >> 4);
-    }
-    crc
-}
-
-/// A MAVLink 2 frame (trailing zero payload bytes dropped; 13 signature bytes if `signed`).
-fn v2(sequence: u8, system: u8, (id, extra): (u32, u8), payload: &[u8], signed: bool) -> Vec<u8> {
-    let mut p = payload.to_vec();
-    while p.len() > 1 && p.last() == Some(&0) {
-        p.pop();
-    }
-    let id = id.to_le_bytes();
-    let mut f = vec![
-        0xFD,
-        p.len() as u8,
-        u8::from(signed),
-        0,
-        sequence,
-        system,
-        1,
-        id[0],
-        id[1],
-        id[2],
-    ];
-    f.extend_from_slice(&p);
-    let mut checked = f[1..].to_vec();
-    checked.push(extra);
-    f.extend_from_slice(&x25(&checked).to_le_bytes());
-    if signed {
-        f.extend_from_slice(&[7; 13]);
-    }
-    f
-}
-
-/// A MAVLink 1 frame.
-fn v1(sequence: u8, system: u8, (id, extra): (u32, u8), payload: &[u8]) -> Vec<u8> {
-    let mut f = vec![0xFE, payload.len() as u8, sequence, system, 1, id as u8];
-    f.extend_from_slice(payload);
-    let mut checked = f[1..].to_vec();
-    checked.push(extra);
-    f.extend_from_slice(&x25(&checked).to_le_bytes());
-    f
-}
-
-/// GLOBAL_POSITION_INT's payload in wire order (fields by size, then as declared).
-fn position_payload(lat: i32, lon: i32, vx: i16, vy: i16, hdg: u16) -> Vec<u8> {
-    let mut p = Vec::new();
-    p.extend_from_slice(&123_456_u32.to_le_bytes());
-    for v in [lat, lon, 500_000, 10_000] {
-        p.extend_from_slice(&v.to_le_bytes());
-    }
-    for v in [vx, vy, 5] {
-        p.extend_from_slice(&v.to_le_bytes());
-    }
-    p.extend_from_slice(&hdg.to_le_bytes());
-    p
-}
 
 /// Every message decoded from `bytes`, pushed one at a time.
 fn read_all(
@@ -101,11 +35,11 @@ fn position(m: &Result<Message, MessageError>) -> (i32, i32, i16, i16, u16) {
 fn crc_extras_are_the_specifications() {
     for (id, extra) in [
         GLOBAL_POSITION_INT,
+        FOLLOW_TARGET,
+        PARAM_SET,
+        PARAM_REQUEST_READ,
         PARAM_REQUEST_LIST,
         HEARTBEAT,
-        (24_u32 + 120, 127),
-        (23, 168),
-        (20, 214),
     ] {
         assert_eq!(extra_crc(id), Some(extra), "message {id}");
     }
@@ -243,18 +177,15 @@ fn random_noise_never_panics_and_good_frames_survive() {
 /// dialect does not define) decodes to an error, not a value.
 #[test]
 fn an_undefined_enum_value_is_malformed() {
-    let mut payload = vec![0_u8; 23];
-    payload[..4].copy_from_slice(&1.5_f32.to_le_bytes());
-    payload[4] = 1;
-    payload[5] = 191;
-    payload[6..13].copy_from_slice(b"TC_V_PM");
-    payload[22] = 200; // param_type
+    // param_type 200: not a MAV_PARAM_TYPE.
+    let payload = param_set_payload((1, 191), "TC_V_PM", 1.5, 200);
     let mut reader = FrameReader::new();
-    let got = read_all(&mut reader, &v2(1, 255, (23, 168), &payload, false));
+    let got = read_all(&mut reader, &v2(1, 255, PARAM_SET, &payload, false));
     assert_eq!(got.len(), 1);
     assert_eq!(got[0].2, Err(MessageError::Malformed(23)));
-    payload[22] = 9; // MAV_PARAM_TYPE_REAL32
-    let got = read_all(&mut reader, &v2(2, 255, (23, 168), &payload, false));
+    // 9: MAV_PARAM_TYPE_REAL32.
+    let payload = param_set_payload((1, 191), "TC_V_PM", 1.5, 9);
+    let got = read_all(&mut reader, &v2(2, 255, PARAM_SET, &payload, false));
     match &got[0].2 {
         Ok(Message::ParamSet(p)) => assert_eq!((p.param_value, p.target_component), (1.5, 191)),
         other => panic!("{other:?}"),

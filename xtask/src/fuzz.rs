@@ -1,5 +1,5 @@
 //! `cargo xtask fuzz`: the libFuzzer targets in `fuzz/` (frame decoder, unit step, law, the
-//! fixed-point backend's f32 conversions), each
+//! fixed-point backend's f32 conversions, the MAVLink endpoint's input path), each
 //! started from its committed seed corpus (`fuzz/seeds/<target>`), with a time or run budget;
 //! prints executions, corpus size and failures per target. `cargo xtask test` runs a short
 //! smoke run of each; the long run is recorded in `docs/reliability.md`.
@@ -11,7 +11,13 @@ use crate::progress::Progress;
 use crate::qemu::root;
 
 /// The fuzz targets.
-pub const TARGETS: [&str; 4] = ["frame_decoder", "unit_step", "law", "conversion"];
+pub const TARGETS: [&str; 5] = [
+    "frame_decoder",
+    "unit_step",
+    "law",
+    "conversion",
+    "mavlink_input",
+];
 
 /// Budget of one run.
 #[derive(Clone, Copy, Debug)]
@@ -75,6 +81,21 @@ fn seeds(target: &str) -> Vec<Vec<u8>> {
             }
             session.extend(link::reset(9));
             session.extend(link::read_counters(10));
+            out.push(session);
+        }
+        "mavlink_input" => {
+            use host_tests::mavlink_spec::{
+                param_set_payload, position_payload, v1, v2, GLOBAL_POSITION_INT, HEARTBEAT,
+                PARAM_REQUEST_LIST, PARAM_SET,
+            };
+            let position = position_payload(473_977_420, 85_455_940, 150, -220, 9_000);
+            out.push(v2(1, 1, GLOBAL_POSITION_INT, &position, false));
+            out.push(v1(2, 2, GLOBAL_POSITION_INT, &position));
+            out.push(v2(3, 2, GLOBAL_POSITION_INT, &position, true));
+            let param = param_set_payload((1, 191), "TC_V_PM", 3.0, 9);
+            let mut session = v2(4, 255, HEARTBEAT, &[0, 0, 0, 0, 6, 8, 0, 4, 3], false);
+            session.extend(v2(5, 255, PARAM_SET, &param, false));
+            session.extend(v2(6, 255, PARAM_REQUEST_LIST, &[1, 191], false));
             out.push(session);
         }
         _ => {

@@ -151,29 +151,20 @@ pub fn run() -> i32 {
         );
     for target in THUMB_TARGETS {
         // The MAVLink endpoint's core too: it must build without `std` on every target.
-        let clippy = [
-            "clippy",
-            "-p",
-            "twocars",
-            "--release",
-            "--features",
-            "mavlink",
-            "--target",
-            target,
-            "--",
-            "-D",
-            "warnings",
-        ];
-        let build = [
-            "build",
-            "-p",
-            "twocars",
-            "--release",
-            "--features",
-            "mavlink",
-            "--target",
-            target,
-        ];
+        let core = |verb| {
+            [
+                verb,
+                "-p",
+                "twocars",
+                "--release",
+                "--features",
+                "mavlink",
+                "--target",
+                target,
+            ]
+        };
+        let clippy = [&core("clippy")[..], &["--", "-D", "warnings"]].concat();
+        let build = core("build");
         ok =
             ok && step(
                 &format!("clippy of the no_std core for {target}"),
