@@ -96,15 +96,15 @@ impl<S: Scalar> NearFieldTerms<S> {
 
 /// What the near field remembers: the law's last upper value (seconds), whether the pursuer
 /// has left the law for pursuit, the evader's last heading (radians), the time of pure
-/// pursuit since navigation or the terminal arc last steered (seconds), and the side of a
-/// break-away turn (anticlockwise: true) while it lasts.
+/// pursuit since navigation or the terminal arc last steered (seconds), and the curvature of a
+/// break-away turn (1/m) while it lasts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct NearFieldMemory<S> {
     last_upper: Option<S>,
     pursuing: bool,
     last_evader_heading: Option<S>,
     homing_time: Option<S>,
-    breaking: Option<bool>,
+    breaking: Option<S>,
 }
 
 impl<S: Scalar> NearFieldMemory<S> {
@@ -149,14 +149,12 @@ impl<S: Scalar> NearFieldMemory<S> {
         // Within four periods' travel: the collision triangle's arc; in the tail-chase zone
         // aimed at most one period ahead.
         if close {
-            self.homing_time = None;
-            self.breaking = None;
+            self.end_pure_pursuit();
             return sight.terminal(limits, terms, tail);
         }
         if !tail {
             if let Some(w) = sight.navigation(limits, terms) {
-                self.homing_time = None;
-                self.breaking = None;
+                self.end_pure_pursuit();
                 return w;
             }
         }
@@ -173,16 +171,28 @@ impl<S: Scalar> NearFieldMemory<S> {
         }
         let inside = inside_turn(pursuer, evader, limits, to_go);
         if inside && homed >= terms.turn_time && self.breaking.is_none() {
-            self.breaking = Some(to_go < S::zero());
+            // Away from the evader: anticlockwise when it is on the right.
+            let away = if to_go < S::zero() {
+                S::one()
+            } else {
+                S::zero() - S::one()
+            };
+            self.breaking = Some(full_turn(away, limits));
             self.homing_time = None;
         }
-        if let Some(left) = self.breaking {
-            full_turn(if left { S::one() } else { S::zero() - S::one() }, limits)
+        if let Some(w) = self.breaking {
+            w
         } else if on_course || inside {
             S::zero()
         } else {
             steer(to_go, limits, Some(per_radian))
         }
+    }
+
+    /// Navigation or the terminal arc steers: pure pursuit's timer and break-away end.
+    fn end_pure_pursuit(&mut self) {
+        self.homing_time = None;
+        self.breaking = None;
     }
 
     /// The evader's turn rate (rad/s, anticlockwise positive) observed over the last period:

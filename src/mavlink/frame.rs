@@ -75,15 +75,27 @@ pub struct FrameReader {
     pub counters: FrameCounters,
 }
 
+/// The layout of a frame read from its header.
+#[derive(Clone, Copy)]
+struct Layout {
+    version: Version,
+    /// Header bytes before the payload: 10 (MAVLink 2) or 6.
+    header: usize,
+    /// Payload bytes.
+    payload: usize,
+    /// The whole frame, checksum and signature included.
+    total: usize,
+    message_id: u32,
+}
+
 /// What the bytes buffered so far are.
 enum Buffered {
     /// The start of a frame: more bytes needed.
     Partial,
-    /// A whole frame with a good checksum, `length` bytes.
-    Checked(usize),
-    /// A whole frame of a message we do not decode.
-    Unknown,
-    /// Not a frame (bad checksum or flags): drop the start byte.
+    /// A whole frame with a good checksum.
+    Checked(Layout),
+    /// Not a frame we can take (bad checksum or flags, or a message we do not decode): drop
+    /// the start byte.
     Bad,
 }
 
@@ -126,12 +138,12 @@ impl FrameReader {
         loop {
             match self.examine(&extra_crc) {
                 Buffered::Partial => return None,
-                Buffered::Checked(length) => {
+                Buffered::Checked(layout) => {
                     self.counters.frames = self.counters.frames.wrapping_add(1);
-                    self.handed_out = Some(length);
-                    return self.frame();
+                    self.handed_out = Some(layout.total);
+                    return self.frame(layout);
                 }
-                Buffered::Bad | Buffered::Unknown => {
+                Buffered::Bad => {
                     self.counters.skipped_bytes = self.counters.skipped_bytes.wrapping_add(1);
                     self.drop_front(1);
                 }
@@ -162,7 +174,7 @@ impl FrameReader {
             return Buffered::Partial;
         };
         let payload = usize::from(payload);
-        let (header, signature, message_id) = if stx == STX_V2 {
+        let (version, header, signature, message_id) = if stx == STX_V2 {
             let Some(&flags) = b.get(2) else {
                 return Buffered::Partial;
             };
@@ -174,12 +186,13 @@ impl FrameReader {
             let Some(id) = b.get(7..10) else {
                 return Buffered::Partial;
             };
-            (10, signature, u32::from_le_bytes([id[0], id[1], id[2], 0]))
+            let id = u32::from_le_bytes([id[0], id[1], id[2], 0]);
+            (Version::V2, 10, signature, id)
         } else {
             let Some(&id) = b.get(5) else {
                 return Buffered::Partial;
             };
-            (6, 0, u32::from(id))
+            (Version::V1, 6, 0, u32::from(id))
         };
         let total = header + payload + 2 + signature;
         if b.len() < total {
@@ -187,7 +200,7 @@ impl FrameReader {
         }
         let Some(extra) = extra_crc(message_id) else {
             self.counters.unknown = self.counters.unknown.wrapping_add(1);
-            return Buffered::Unknown;
+            return Buffered::Bad;
         };
         let (Some(checked), Some(sent)) = (
             b.get(1..header + payload),
@@ -199,32 +212,30 @@ impl FrameReader {
             self.counters.bad_checksum = self.counters.bad_checksum.wrapping_add(1);
             return Buffered::Bad;
         }
-        Buffered::Checked(total)
+        Buffered::Checked(Layout {
+            version,
+            header,
+            payload,
+            total,
+            message_id,
+        })
     }
 
-    /// The buffered frame (after `examine` returned `Checked`).
-    fn frame(&self) -> Option<Frame<'_>> {
+    /// The buffered frame of `layout` (after `examine` returned `Checked`).
+    fn frame(&self, layout: Layout) -> Option<Frame<'_>> {
         let b = self.buffer.get(..self.length)?;
-        let payload = usize::from(*b.get(1)?);
-        if *b.first()? == STX_V2 {
-            let id = b.get(7..10)?;
-            Some(Frame {
-                version: Version::V2,
-                sequence: *b.get(4)?,
-                system: *b.get(5)?,
-                component: *b.get(6)?,
-                message_id: u32::from_le_bytes([id[0], id[1], id[2], 0]),
-                payload: b.get(10..10 + payload)?,
-            })
-        } else {
-            Some(Frame {
-                version: Version::V1,
-                sequence: *b.get(2)?,
-                system: *b.get(3)?,
-                component: *b.get(4)?,
-                message_id: u32::from(*b.get(5)?),
-                payload: b.get(6..6 + payload)?,
-            })
-        }
+        // Sequence, system and component: bytes 4 to 6 (MAVLink 2) or 2 to 4.
+        let at = match layout.version {
+            Version::V2 => 4,
+            Version::V1 => 2,
+        };
+        Some(Frame {
+            version: layout.version,
+            sequence: *b.get(at)?,
+            system: *b.get(at + 1)?,
+            component: *b.get(at + 2)?,
+            message_id: layout.message_id,
+            payload: b.get(layout.header..layout.header + layout.payload)?,
+        })
     }
 }
