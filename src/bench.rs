@@ -6,10 +6,13 @@
 //! paper's (v_pm = 2, w_pm = 2, v_em = 1, w_em = 1), control period 10 ms. Every state lies
 //! inside every backend's envelope (fixed point: within 200 r_p = 100 m on each axis).
 //!
-//! With the `firmware` feature, [`main_loop`] is the serial loop's session over the same states.
+//! With the `firmware` feature, [`main_loop`] is the serial loop's session over the same states;
+//! with `mavlink` too, [`mavlink`] is the MAVLink endpoint's.
 
 #[cfg(feature = "firmware")]
 pub mod main_loop;
+#[cfg(all(feature = "firmware", feature = "mavlink"))]
+pub mod mavlink;
 
 /// The paper's limits: v_pm, w_pm, v_em, w_em.
 pub const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];

@@ -80,6 +80,17 @@ impl LocalFrame {
     }
 }
 
+impl LocalFrame {
+    /// The fix (degE7, rounded) `north`, `east` metres from the reference: the inverse of
+    /// [`LocalFrame::to_local`] (a simulated autopilot's report); `None` off the globe.
+    pub fn to_fix(&self, north: f32, east: f32) -> Option<(i32, i32)> {
+        let lat = i64::from(self.origin.0) + libm::roundf(north / self.north_per_unit) as i64;
+        let lon = i64::from(self.origin.1) + libm::roundf(east / self.east_per_unit) as i64;
+        let (lat, lon) = (i32::try_from(lat).ok()?, i32::try_from(lon).ok()?);
+        valid_fix(lat, lon).then_some((lat, lon))
+    }
+}
+
 /// Whether a fix's latitude is within +-90 degrees and its longitude within +-180.
 fn valid_fix(lat: i32, lon: i32) -> bool {
     i64::from(lat).abs() <= HALF_TURN_DEGE7 / 2 && i64::from(lon).abs() <= HALF_TURN_DEGE7

@@ -100,6 +100,18 @@ impl<S: Scalar> Guidance<S> {
         Guidance { policy, ..self }
     }
 
+    /// The same guidance with control period `dt` seconds, its memory kept (the previous
+    /// choice and the near field's): for a caller whose period is measured as it runs.
+    ///
+    /// # Errors
+    /// As [`Guidance::new`].
+    pub fn with_period(&self, dt: f32) -> Result<Self, InvalidPeriod> {
+        let mut next = Guidance::new(self.law, dt)?.with_policy(self.policy);
+        next.sampling.previous = self.sampling.previous;
+        next.near_field = self.near_field;
+        Ok(next)
+    }
+
     /// The law this guidance evaluates.
     pub fn law(&self) -> &Law<S> {
         &self.law

@@ -268,6 +268,17 @@ impl LoopEnd<'_> {
     pub fn faults(&self) -> LineCounts {
         self.faults.snapshot()
     }
+
+    /// The next received byte, if any.
+    pub fn take(&mut self) -> Option<u8> {
+        self.received.dequeue()
+    }
+
+    /// Queues a whole frame for the transmitter, or drops it whole (counted) if the queue has
+    /// no room for it. The caller starts the transmitter ([`Board::start_transmit`]).
+    pub fn queue(&mut self, bytes: &[u8]) {
+        queue(&mut self.to_send, self.faults, bytes);
+    }
 }
 
 /// Bytes taken from the receive queue at a time.

@@ -2,6 +2,7 @@
 //! paper's scenarios. The tests in `tests/` run the same core source the firmware runs.
 
 pub mod adversary;
+pub mod autopilot;
 pub mod hj;
 pub mod hj_policy;
 pub mod link;

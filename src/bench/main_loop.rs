@@ -133,7 +133,7 @@ pub struct ScriptedUart<'a> {
     /// A script byte is in the receive data register.
     received: Option<u8>,
     /// The transmit data register is empty.
-    tx_empty: bool,
+    pub(crate) tx_empty: bool,
     /// Reply frames written.
     pub replies: u32,
     /// Hash of every byte written: `digest.rotate_left(5) ^ byte`, from 0.
@@ -153,7 +153,7 @@ impl<'a> ScriptedUart<'a> {
     }
 
     /// The next script byte lands in the data register; false once the script is over.
-    fn arrive(&mut self) -> Option<u8> {
+    pub(crate) fn arrive(&mut self) -> Option<u8> {
         let (&byte, rest) = self.script.split_first()?;
         self.script = rest;
         self.received = Some(byte);

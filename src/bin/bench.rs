@@ -12,7 +12,8 @@
 //! With `bench-loop` it runs the firmware's serial path instead (the UART interrupt's handler and
 //! `twocars::serial::service` over the queues, fed the script of `twocars::bench::main_loop` by a
 //! scripted UART, with and without the bench states) and prints one `loop` line per session: its
-//! ticks, the loop's stack and a digest of its replies.
+//! ticks, the loop's stack and a digest of its replies. With `bench-mavlink` it runs the MAVLink
+//! endpoint's serial path over the sessions of `twocars::bench::mavlink` instead.
 #![no_std]
 #![no_main]
 
@@ -141,8 +142,10 @@ fn main() -> ! {
     cp.SYST.enable_counter();
     #[cfg(not(feature = "bench-loop"))]
     bench_law();
-    #[cfg(feature = "bench-loop")]
+    #[cfg(all(feature = "bench-loop", not(feature = "bench-mavlink")))]
     bench_loop();
+    #[cfg(feature = "bench-mavlink")]
+    bench_mavlink();
     exit(EXIT_SUCCESS);
     loop {
         cortex_m::asm::nop();
@@ -182,7 +185,7 @@ fn bench_law() {
 
 /// One `loop` line per session (with the bench states, then without):
 /// `loop <with states> <ticks> <stack bytes> <replies> <digest> <accepted> <refused>`.
-#[cfg(feature = "bench-loop")]
+#[cfg(all(feature = "bench-loop", not(feature = "bench-mavlink")))]
 fn bench_loop() {
     use twocars::bench::main_loop::{script, SCRIPT_CAPACITY};
     let mut bytes = [0u8; SCRIPT_CAPACITY];
@@ -217,6 +220,40 @@ fn bench_loop() {
             session.digest,
             session.accepted,
             session.refused
+        );
+    }
+}
+
+/// One `mavlink` line per session (empty, ignored positions, guided):
+/// `mavlink <session> <ticks> <stack bytes> <frames sent> <digest>`.
+#[cfg(feature = "bench-mavlink")]
+fn bench_mavlink() {
+    use twocars::bench::mavlink::{script, serve_script, Session, SCRIPT_CAPACITY};
+    let mut bytes = [0u8; SCRIPT_CAPACITY];
+    let Some(line) = cortex_m::singleton!(: twocars::serial::Line = twocars::serial::Line::new())
+    else {
+        return;
+    };
+    for (i, session) in [Session::Empty, Session::Ignored, Session::Guided]
+        .into_iter()
+        .enumerate()
+    {
+        let Some(script) = script(session, &mut bytes).and_then(|n| bytes.get(..n)) else {
+            hprintln!("script does not fit");
+            continue;
+        };
+        let bottom = paint();
+        let start = cortex_m::peripheral::SYST::get_current();
+        let outcome = serve_script(line, black_box(script));
+        let ticks = ticks_since(start);
+        let stack = used(bottom);
+        hprintln!(
+            "mavlink {} {} {} {} {:08x}",
+            i,
+            ticks,
+            stack,
+            outcome.frames,
+            outcome.digest
         );
     }
 }

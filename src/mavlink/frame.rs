@@ -68,6 +68,9 @@ pub struct FrameCounters {
 pub struct FrameReader {
     buffer: [u8; MAX_FRAME],
     length: usize,
+    /// The whole length of the frame being buffered once its header is read (0 before): the
+    /// bytes before it need no look.
+    expected: usize,
     /// The length of the frame at the buffer's front that the last `push` handed out: dropped
     /// by the next.
     handed_out: Option<usize>,
@@ -111,6 +114,7 @@ impl FrameReader {
         FrameReader {
             buffer: [0; MAX_FRAME],
             length: 0,
+            expected: 0,
             handed_out: None,
             counters: FrameCounters {
                 frames: 0,
@@ -135,6 +139,9 @@ impl FrameReader {
         let slot = self.buffer.get_mut(self.length)?;
         *slot = byte;
         self.length += 1;
+        if self.length < self.expected {
+            return None;
+        }
         loop {
             match self.examine(&extra_crc) {
                 Buffered::Partial => return None,
@@ -160,11 +167,13 @@ impl FrameReader {
         let rest = self.buffer.get(n..self.length).unwrap_or(&[]);
         let start = rest.iter().position(|&b| b == STX_V1 || b == STX_V2);
         let skipped = start.unwrap_or(rest.len());
+        self.expected = 0;
         self.counters.skipped_bytes = self.counters.skipped_bytes.wrapping_add(skipped as u32);
-        let from = n + skipped;
-        self.buffer
-            .copy_within(from.min(self.length)..self.length, 0);
-        self.length -= from.min(self.length);
+        // Bounded by the buffer's length so that the copy has no panic path.
+        let end = self.length.min(MAX_FRAME);
+        let from = (n + skipped).min(end);
+        self.buffer.copy_within(from..end, 0);
+        self.length = end - from;
     }
 
     /// Classifies the buffered bytes.
@@ -196,6 +205,7 @@ impl FrameReader {
         };
         let total = header + payload + 2 + signature;
         if b.len() < total {
+            self.expected = total;
             return Buffered::Partial;
         }
         let Some(extra) = extra_crc(message_id) else {

@@ -24,7 +24,7 @@ pub struct Cpu {
     machine: &'static [&'static str],
     board_features: &'static str,
     /// SysTick ticks per instruction under `-icount shift=6` (64 ns per instruction).
-    ticks_per_instruction: f64,
+    pub(crate) ticks_per_instruction: f64,
 }
 
 impl Cpu {
@@ -112,7 +112,7 @@ pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
 
 /// Builds the bench image with `features` for `cpu` and runs it in QEMU with `-icount`: what it
 /// printed, and its flash.
-fn build_and_print(cpu: Cpu, features: &str) -> Result<(String, u64), String> {
+pub(crate) fn build_and_print(cpu: Cpu, features: &str) -> Result<(String, u64), String> {
     let elf = build(cpu, features)?;
     let flash = crate::size::of(&elf)?.flash();
     let mut child = cpu
@@ -498,6 +498,15 @@ pub fn run() -> i32 {
                  State frame** (the session without its State frames: {:.0}); **stack {} B**.\n",
                 l.replies, l.per_state, l.rest, l.stack
             );
+        }
+        Err(e) => {
+            eprintln!("xtask bench: {e}");
+            ok = false;
+        }
+    }
+    match crate::bench_mavlink::measure() {
+        Ok(m) => {
+            let _ = writeln!(md, "{}", crate::bench_mavlink::paragraph(&m));
         }
         Err(e) => {
             eprintln!("xtask bench: {e}");

@@ -1,5 +1,6 @@
 //! `cargo xtask fuzz`: the libFuzzer targets in `fuzz/` (frame decoder, unit step, law, the
-//! fixed-point backend's f32 conversions, the MAVLink endpoint's input path), each
+//! fixed-point backend's f32 conversions, the MAVLink endpoint's input path and the whole
+//! endpoint), each
 //! started from its committed seed corpus (`fuzz/seeds/<target>`), with a time or run budget;
 //! prints executions, corpus size and failures per target. `cargo xtask test` runs a short
 //! smoke run of each; the long run is recorded in `docs/reliability.md`.
@@ -11,12 +12,13 @@ use crate::progress::Progress;
 use crate::qemu::root;
 
 /// The fuzz targets.
-pub const TARGETS: [&str; 5] = [
+pub const TARGETS: [&str; 6] = [
     "frame_decoder",
     "unit_step",
     "law",
     "conversion",
     "mavlink_input",
+    "mavlink_endpoint",
 ];
 
 /// Budget of one run.
@@ -98,6 +100,7 @@ fn seeds(target: &str) -> Vec<Vec<u8>> {
             session.extend(v2(6, 255, PARAM_REQUEST_LIST, &[1, 191], false));
             out.push(session);
         }
+        "mavlink_endpoint" => out.extend(mavlink_sessions()),
         _ => {
             for case in 0..4 {
                 let s = paper_state(case, 0);
@@ -115,6 +118,59 @@ fn seeds(target: &str) -> Vec<Vec<u8>> {
         }
     }
     out
+}
+
+/// The MAVLink endpoint's seeds: limits set at ten times the paper's scale, then target and
+/// own states of the paper's case 1 (at 20 ms spacing), a FOLLOW_TARGET and a parameter list.
+fn mavlink_sessions() -> Vec<Vec<u8>> {
+    use host_tests::autopilot::{hdg_cdeg, Plane, HOME};
+    use host_tests::mavlink_spec::{
+        follow_target_payload, param_request_list_payload, param_set_payload, position_payload_at,
+        v2_from, FOLLOW_TARGET, GLOBAL_POSITION_INT, PARAM_REQUEST_LIST, PARAM_SET,
+    };
+    let plane = Plane::new(HOME);
+    let mut session = Vec::new();
+    for (i, (name, value)) in [("TC_V_PM", 20.0), ("TC_V_EM", 10.0), ("TC_W_EM", 0.1)]
+        .into_iter()
+        .enumerate()
+    {
+        let payload = param_set_payload((1, 191), name, value, 9);
+        session.extend(v2_from(i as u8, (255, 190), PARAM_SET, &payload, false));
+    }
+    let mut fixes = Vec::new();
+    for k in 0..4_u32 {
+        let t = k * 20;
+        let east = f64::from(k) * 0.4;
+        let (lat, lon) = plane.fix(-30.0, -60.0 + east * 0.5);
+        let target =
+            position_payload_at(t, lat, lon, 0, 1_000, hdg_cdeg(std::f64::consts::FRAC_PI_2));
+        fixes.extend(v2_from(
+            10 + k as u8,
+            (2, 1),
+            GLOBAL_POSITION_INT,
+            &target,
+            false,
+        ));
+        let (lat, lon) = plane.fix(0.0, east);
+        let own = position_payload_at(t, lat, lon, 0, 2_000, hdg_cdeg(std::f64::consts::FRAC_PI_2));
+        fixes.extend(v2_from(
+            20 + k as u8,
+            (1, 1),
+            GLOBAL_POSITION_INT,
+            &own,
+            false,
+        ));
+    }
+    let (lat, lon) = plane.fix(10.0, 10.0);
+    let follow = follow_target_payload(lat, lon, [1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], 1 | 2 | 8);
+    let mut others = v2_from(30, (7, 1), FOLLOW_TARGET, &follow, false);
+    let list = param_request_list_payload((1, 191));
+    others.extend(v2_from(31, (255, 190), PARAM_REQUEST_LIST, &list, false));
+    vec![
+        [&session[..], &fixes[..]].concat(),
+        [&session[..], &fixes[..], &others[..]].concat(),
+        fixes,
+    ]
 }
 
 /// Writes the seed corpora (`cargo xtask fuzz --write-seeds`).

@@ -2,11 +2,13 @@
 //! <command> --help` gives each one's options and units.
 
 mod bench;
+mod bench_mavlink;
 mod csv;
 mod eval;
 mod firmware_loop;
 mod fuzz;
 mod hj;
+mod mavlink_run;
 mod options;
 mod plot;
 mod profile;

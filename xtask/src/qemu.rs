@@ -18,8 +18,12 @@ use host_tests::link::{Reply, ReplyDecoder};
 pub enum Board {
     /// QEMU mps2-an386 (Cortex-M4F).
     Qemu,
+    /// QEMU mps2-an386 speaking MAVLink 2 (the guidance endpoint, docs/mavlink.md).
+    QemuMavlink,
     /// STM32F405 flight controller (Cortex-M4F): build and size only.
     Stm32f405,
+    /// STM32F405 speaking MAVLink 2: build and size only.
+    Stm32f405Mavlink,
     /// BBC micro:bit (nRF51822, Cortex-M0, the fixed-point law), in QEMU's `microbit` machine.
     Microbit,
     /// Raspberry Pi Pico (RP2040, Cortex-M0+, the fixed-point law): build, size and link check
@@ -29,9 +33,11 @@ pub enum Board {
 
 impl Board {
     /// Every board.
-    pub const ALL: [Board; 4] = [
+    pub const ALL: [Board; 6] = [
         Board::Qemu,
+        Board::QemuMavlink,
         Board::Stm32f405,
+        Board::Stm32f405Mavlink,
         Board::Microbit,
         Board::Rp2040,
     ];
@@ -39,14 +45,18 @@ impl Board {
     /// The Rust target of the board's core.
     pub fn target(self) -> &'static str {
         match self {
-            Board::Qemu | Board::Stm32f405 => "thumbv7em-none-eabihf",
+            Board::Qemu | Board::QemuMavlink | Board::Stm32f405 | Board::Stm32f405Mavlink => {
+                "thumbv7em-none-eabihf"
+            }
             Board::Microbit | Board::Rp2040 => "thumbv6m-none-eabi",
         }
     }
     fn bin(self) -> &'static str {
         match self {
             Board::Qemu => "twocars-qemu",
+            Board::QemuMavlink => "twocars-qemu-mavlink",
             Board::Stm32f405 => "twocars-stm32f405",
+            Board::Stm32f405Mavlink => "twocars-stm32f405-mavlink",
             Board::Microbit => "twocars-microbit",
             Board::Rp2040 => "twocars-rp2040",
         }
@@ -56,7 +66,9 @@ impl Board {
         match self {
             // The QEMU image logs with defmt over semihosting.
             Board::Qemu => "qemu-log",
+            Board::QemuMavlink => "board-qemu,mavlink",
             Board::Stm32f405 => "board-stm32f405",
+            Board::Stm32f405Mavlink => "board-stm32f405,mavlink",
             Board::Microbit => "firmware-microbit",
             Board::Rp2040 => "firmware-rp2040",
         }
@@ -64,16 +76,18 @@ impl Board {
     /// QEMU's machine options for the board (`None`: no emulator).
     fn machine(self) -> Option<&'static [&'static str]> {
         match self {
-            Board::Qemu => Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"]),
+            Board::Qemu | Board::QemuMavlink => Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"]),
             Board::Microbit => Some(&["-M", "microbit"]),
-            Board::Stm32f405 | Board::Rp2040 => None,
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Rp2040 => None,
         }
     }
     /// Features of the flight image: no logger, so panic freedom can be proven at link time.
     pub fn flight_features(self) -> &'static str {
         match self {
             Board::Qemu => "board-qemu,panic-never",
+            Board::QemuMavlink => "board-qemu,mavlink,panic-never",
             Board::Stm32f405 => "board-stm32f405,panic-never",
+            Board::Stm32f405Mavlink => "board-stm32f405,mavlink,panic-never",
             Board::Microbit => "firmware-microbit,panic-never",
             Board::Rp2040 => "firmware-rp2040,panic-never",
         }
@@ -81,8 +95,8 @@ impl Board {
     /// Flash origin of the board's memory map: where the vector table must be.
     pub fn flash_origin(self) -> u64 {
         match self {
-            Board::Qemu | Board::Microbit => 0x0000_0000,
-            Board::Stm32f405 => 0x0800_0000,
+            Board::Qemu | Board::QemuMavlink | Board::Microbit => 0x0000_0000,
+            Board::Stm32f405 | Board::Stm32f405Mavlink => 0x0800_0000,
             // After the 256-byte second-stage bootloader at the start of flash.
             Board::Rp2040 => 0x1000_0100,
         }
@@ -90,7 +104,9 @@ impl Board {
     fn name(self) -> &'static str {
         match self {
             Board::Qemu => "qemu (mps2-an386)",
+            Board::QemuMavlink => "qemu (mps2-an386), MAVLink",
             Board::Stm32f405 => "stm32f405",
+            Board::Stm32f405Mavlink => "stm32f405, MAVLink",
             Board::Microbit => "microbit (nRF51822)",
             Board::Rp2040 => "rp2040 (Raspberry Pi Pico)",
         }
@@ -183,10 +199,70 @@ fn free_port() -> Result<u16, String> {
         .map_err(|e| e.to_string())
 }
 
-/// A running QEMU with the firmware, connected over TCP.
-pub struct Qemu {
+/// QEMU running an image, its UART a TCP server on 127.0.0.1:`port` that holds the guest until
+/// one client connects; killed on drop.
+pub struct Launched {
     qemu: Child,
     decoder: Option<Child>,
+    /// The UART's port.
+    pub port: u16,
+}
+
+impl Drop for Launched {
+    fn drop(&mut self) {
+        let _ = self.qemu.kill();
+        let _ = self.qemu.wait();
+        if let Some(mut d) = self.decoder.take() {
+            let _ = d.kill();
+            let _ = d.wait();
+        }
+    }
+}
+
+/// Starts QEMU with `board`'s image `elf`; logs decoded to stderr when `show_logs` (the
+/// mps2-an386 COBS image logs with defmt).
+pub fn launch(elf: &Path, board: Board, show_logs: bool) -> Result<Launched, String> {
+    let machine = board
+        .machine()
+        .ok_or_else(|| format!("{}: QEMU has no model of this board", board.name()))?;
+    let port = free_port()?;
+    let mut command = Command::new(qemu_binary()?);
+    command
+        .args(machine)
+        .args(["-display", "none", "-monitor", "none"])
+        .args(["-semihosting-config", "enable=on,target=native"])
+        .arg("-serial")
+        // nodelay: QEMU writes a reply byte by byte; with Nagle's algorithm against the
+        // client's delayed ACK every round trip cost 44 ms (measured), with it about 2 ms.
+        .arg(format!("tcp:127.0.0.1:{port},server=on,wait=on,nodelay=on"))
+        .arg("-kernel")
+        .arg(elf)
+        .stdin(Stdio::null())
+        .stderr(Stdio::null())
+        .stdout(Stdio::piped());
+    let mut qemu = command
+        .spawn()
+        .map_err(|e| format!("qemu-system-arm: {e}"))?;
+    let decoder = match (show_logs, qemu.stdout.take(), defmt_print()) {
+        (true, Some(out), Some(tool)) => Command::new(tool)
+            .arg("-e")
+            .arg(elf)
+            .stdin(out)
+            .stdout(Stdio::inherit())
+            .spawn()
+            .ok(),
+        _ => None,
+    };
+    Ok(Launched {
+        qemu,
+        decoder,
+        port,
+    })
+}
+
+/// A running QEMU with the firmware, connected over TCP.
+pub struct Qemu {
+    launched: Launched,
     stream: TcpStream,
     replies: ReplyDecoder,
     pending: std::collections::VecDeque<Reply>,
@@ -197,46 +273,15 @@ pub struct Qemu {
 }
 
 impl Qemu {
-    /// Starts QEMU with `board`'s image `elf`; logs decoded to stderr when `show_logs` (the
-    /// mps2-an386 image logs with defmt).
+    /// Starts QEMU with `board`'s image `elf` ([`launch`]) and connects to its UART.
     pub fn start(elf: &Path, board: Board, show_logs: bool) -> Result<Qemu, String> {
-        let machine = board
-            .machine()
-            .ok_or_else(|| format!("{}: QEMU has no model of this board", board.name()))?;
-        let port = free_port()?;
-        let mut command = Command::new(qemu_binary()?);
-        command
-            .args(machine)
-            .args(["-display", "none", "-monitor", "none"])
-            .args(["-semihosting-config", "enable=on,target=native"])
-            .arg("-serial")
-            // nodelay: QEMU writes a reply byte by byte; with Nagle's algorithm against the
-            // client's delayed ACK every round trip cost 44 ms (measured), with it about 2 ms.
-            .arg(format!("tcp:127.0.0.1:{port},server=on,wait=on,nodelay=on"))
-            .arg("-kernel")
-            .arg(elf)
-            .stdin(Stdio::null())
-            .stderr(Stdio::null())
-            .stdout(Stdio::piped());
-        let mut qemu = command
-            .spawn()
-            .map_err(|e| format!("qemu-system-arm: {e}"))?;
-        let decoder = match (show_logs, qemu.stdout.take(), defmt_print()) {
-            (true, Some(out), Some(tool)) => Command::new(tool)
-                .arg("-e")
-                .arg(elf)
-                .stdin(out)
-                .stdout(Stdio::inherit())
-                .spawn()
-                .ok(),
-            _ => None,
-        };
+        let launched = launch(elf, board, show_logs)?;
+        let port = launched.port;
         let deadline = Instant::now() + Duration::from_secs(20);
         let stream = loop {
             match TcpStream::connect(("127.0.0.1", port)) {
                 Ok(s) => break s,
                 Err(e) if Instant::now() > deadline => {
-                    let _ = qemu.kill();
                     return Err(format!("could not connect to QEMU on port {port}: {e}"));
                 }
                 Err(_) => std::thread::sleep(Duration::from_millis(50)),
@@ -247,8 +292,7 @@ impl Qemu {
             .map_err(|e| e.to_string())?;
         stream.set_nodelay(true).map_err(|e| e.to_string())?;
         Ok(Qemu {
-            qemu,
-            decoder,
+            launched,
             stream,
             replies: ReplyDecoder::default(),
             pending: Default::default(),
@@ -291,9 +335,10 @@ impl Qemu {
     /// Waits (10 s at most) for QEMU to exit after Shutdown; returns its exit status.
     pub fn wait_exit(mut self) -> Result<ExitStatus, String> {
         let deadline = Instant::now() + Duration::from_secs(10);
+        let launched = &mut self.launched;
         loop {
-            if let Some(status) = self.qemu.try_wait().map_err(|e| e.to_string())? {
-                if let Some(mut d) = self.decoder.take() {
+            if let Some(status) = launched.qemu.try_wait().map_err(|e| e.to_string())? {
+                if let Some(mut d) = launched.decoder.take() {
                     let _ = d.wait();
                 }
                 return Ok(status);
@@ -302,17 +347,6 @@ impl Qemu {
                 return Err("QEMU did not exit after Shutdown".to_string());
             }
             std::thread::sleep(Duration::from_millis(20));
-        }
-    }
-}
-
-impl Drop for Qemu {
-    fn drop(&mut self) {
-        let _ = self.qemu.kill();
-        let _ = self.qemu.wait();
-        if let Some(mut d) = self.decoder.take() {
-            let _ = d.kill();
-            let _ = d.wait();
         }
     }
 }
@@ -344,9 +378,9 @@ pub fn build_checked(board: Board) -> Result<(PathBuf, crate::size::ImageSize), 
 /// The boards `cargo xtask build` builds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum BoardArg {
-    /// QEMU mps2-an386 (Cortex-M4F).
+    /// QEMU mps2-an386 (Cortex-M4F): the COBS and the MAVLink images.
     Qemu,
-    /// STM32F405 flight controller (built and sized only).
+    /// STM32F405 flight controller, both images (built and sized only).
     Stm32f405,
     /// BBC micro:bit (nRF51822, Cortex-M0, fixed point).
     Microbit,
@@ -368,8 +402,8 @@ pub struct BuildArgs {
 /// and prints its size.
 pub fn build_command(args: &BuildArgs) -> i32 {
     let boards: Vec<Board> = match args.board {
-        BoardArg::Qemu => vec![Board::Qemu],
-        BoardArg::Stm32f405 => vec![Board::Stm32f405],
+        BoardArg::Qemu => vec![Board::Qemu, Board::QemuMavlink],
+        BoardArg::Stm32f405 => vec![Board::Stm32f405, Board::Stm32f405Mavlink],
         BoardArg::Microbit => vec![Board::Microbit],
         BoardArg::Rp2040 => vec![Board::Rp2040],
         BoardArg::All => Board::ALL.to_vec(),

@@ -377,5 +377,20 @@ pub fn run() -> (u64, u64) {
         "qemu::fixed_point_law_on_cortex_m0_equals_the_host_and_the_paper",
         fixed_point_on_cortex_m0(),
     );
+    println!("== xtask test: the MAVLink image in QEMU, pymavlink the autopilot and the target");
+    record(
+        "qemu::mavlink_scripted_session_passes_every_check",
+        crate::mavlink_run::scripted_session().map(|()| "every check passed".to_string()),
+    );
+    record(
+        "qemu::mavlink_closed_loop_captures_the_paper_cases_on_time",
+        crate::mavlink_run::run_cases().and_then(|on_time| {
+            if on_time {
+                Ok("four captures within 5 control periods".to_string())
+            } else {
+                Err("a capture missed its reference by more than 5 periods".to_string())
+            }
+        }),
+    );
     (passed, failed)
 }

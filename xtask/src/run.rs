@@ -73,6 +73,19 @@ pub struct RunArgs {
     /// process to compare bit for bit).
     #[arg(long, value_enum, default_value = "qemu")]
     board: RunBoard,
+    /// The firmware's link: our COBS protocol, or MAVLink 2 with pymavlink playing the
+    /// autopilot and the target (the paper's cases at ten times their scale; docs/mavlink.md).
+    #[arg(long, value_enum, default_value = "cobs")]
+    link: RunLink,
+}
+
+/// The links `run` can fly the firmware over.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunLink {
+    /// The COBS protocol (docs/protocol.md).
+    Cobs,
+    /// MAVLink 2 (the `twocars-qemu-mavlink` image).
+    Mavlink,
 }
 
 /// The boards `run` can put in QEMU.
@@ -245,6 +258,9 @@ fn twin_agrees(
 
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
+    if args.link == RunLink::Mavlink {
+        return crate::mavlink_run::run();
+    }
     let mut options = args.law.options(Policy::Flight);
     let board = match args.board {
         RunBoard::Qemu => Board::Qemu,

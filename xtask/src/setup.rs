@@ -133,16 +133,7 @@ fn qemu() -> Result<(), String> {
         return Ok(());
     }
     if is_root() && qemu::on_path("apt-get").is_some() {
-        eprintln!("xtask: installing qemu-system-arm (apt-get install qemu-system-arm)");
-        let apt = |args: &[&str]| {
-            Command::new("apt-get")
-                .args(args)
-                .env("DEBIAN_FRONTEND", "noninteractive")
-                .stdout(std::process::Stdio::null())
-                .status()
-                .is_ok_and(|s| s.success())
-        };
-        if apt(&["update", "-qq"]) && apt(&["install", "-y", "-qq", "qemu-system-arm"]) {
+        if apt_install(&["qemu-system-arm"]) {
             return qemu::qemu_binary().map(|_| ());
         }
         return Err("apt-get could not install qemu-system-arm".to_string());
@@ -162,4 +153,42 @@ fn qemu() -> Result<(), String> {
     Err(format!(
         "qemu-system-arm is not installed and this user cannot install it: run `{command}`, then the command again"
     ))
+}
+
+/// Installs Debian `packages` with apt-get (as root), saying so in one line; whether it worked.
+fn apt_install(packages: &[&str]) -> bool {
+    eprintln!("xtask: installing {} (apt-get install)", packages.join(" "));
+    let apt = |args: &[&str]| {
+        Command::new("apt-get")
+            .args(args)
+            .env("DEBIAN_FRONTEND", "noninteractive")
+            .stdout(std::process::Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    apt(&["update", "-qq"]) && apt(&[&["install", "-y", "-qq"], packages].concat())
+}
+
+/// Python 3 with `venv` and `ensurepip` (pymavlink's virtual environment, docs/mavlink.md):
+/// installed with apt-get where this runs as root; otherwise the command, as an error.
+pub fn python_venv() -> Result<(), String> {
+    let works = || {
+        Command::new("python3")
+            .args(["-c", "import venv, ensurepip"])
+            .stderr(std::process::Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if works() {
+        return Ok(());
+    }
+    let root_with_apt = is_root() && qemu::on_path("apt-get").is_some();
+    if root_with_apt && apt_install(&["python3", "python3-venv"]) && works() {
+        return Ok(());
+    }
+    Err(
+        "python3 with venv is needed for pymavlink: run `sudo apt-get install python3-venv` \
+         (or your system's Python 3 with venv), then the command again"
+            .to_string(),
+    )
 }

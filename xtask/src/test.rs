@@ -182,6 +182,8 @@ pub fn run() -> i32 {
     for (feature, name, target) in [
         ("qemu-log", "QEMU", M4F),
         ("board-stm32f405", "STM32F405", M4F),
+        ("board-qemu,mavlink", "QEMU MAVLink", M4F),
+        ("board-stm32f405,mavlink", "STM32F405 MAVLink", M4F),
         ("firmware-microbit", "micro:bit", "thumbv6m-none-eabi"),
         ("firmware-rp2040", "RP2040", "thumbv6m-none-eabi"),
         ("bench-firmware", "bench", M4F),

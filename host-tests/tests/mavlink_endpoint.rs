@@ -1,0 +1,468 @@
+//! The MAVLink endpoint (`twocars::mavlink::Endpoint`) against `../shared/CONTRACTS.md`: frames
+//! in written from the specification (`host_tests::mavlink_spec`), frames out read back by the
+//! specification's checksum and field layout, never by the `mavlink` crate the firmware uses.
+
+use host_tests::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
+use host_tests::mavlink_spec::{
+    follow_target_payload, param_request_list_payload, param_request_read_payload,
+    param_set_payload, position_payload_at, read_v2, v2_from, Sent, FOLLOW_TARGET,
+    GLOBAL_POSITION_INT, HEARTBEAT, NAMED_VALUE_FLOAT, PARAM_REQUEST_LIST, PARAM_REQUEST_READ,
+    PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT, SET_ATTITUDE_TARGET, STATUSTEXT,
+};
+use std::f64::consts::{FRAC_PI_2, PI};
+use twocars::mavlink::Endpoint;
+use twocars::{Guidance, Law, Limits, Policy, Variant};
+
+/// MAV_SEVERITY_WARNING and MAV_SEVERITY_INFO.
+const WARNING: u8 = 4;
+const INFO: u8 = 6;
+/// The paper's limits at ten times its lengths: v_pm, w_pm, v_em, w_em.
+const SCALED: [f32; 4] = [20.0, 0.2, 10.0, 0.1];
+
+/// An endpoint on a simulated link: our clock, and what it sent, read back frame by frame.
+struct Link {
+    endpoint: Endpoint,
+    now_ms: u32,
+    sequence: u8,
+    plane: Plane,
+}
+
+impl Link {
+    fn new() -> Self {
+        Link {
+            endpoint: Endpoint::new(),
+            now_ms: 0,
+            sequence: 0,
+            plane: Plane::new(HOME),
+        }
+    }
+
+    /// Feeds `bytes`; the frames the endpoint sent meanwhile.
+    fn feed(&mut self, bytes: &[u8]) -> Vec<Sent> {
+        let mut out = Vec::new();
+        for &b in bytes {
+            self.endpoint
+                .receive(b, self.now_ms, &mut |f| out.extend_from_slice(f));
+        }
+        read_v2(&out, &SENT_BY_ENDPOINT).expect("the endpoint's frames are well formed")
+    }
+
+    fn poll(&mut self) -> Vec<Sent> {
+        let mut out = Vec::new();
+        self.endpoint
+            .poll(self.now_ms, &mut |f| out.extend_from_slice(f));
+        read_v2(&out, &SENT_BY_ENDPOINT).expect("the endpoint's frames are well formed")
+    }
+
+    /// A message from (`system`, `component`).
+    fn send(&mut self, from: (u8, u8), message: (u32, u8), payload: &[u8]) -> Vec<Sent> {
+        self.sequence = self.sequence.wrapping_add(1);
+        let frame = v2_from(self.sequence, from, message, payload, false);
+        self.feed(&frame)
+    }
+
+    /// A GLOBAL_POSITION_INT from `from` at (north, east) metres and heading `theta`, stamped
+    /// `time_ms` on the sender's clock, moving at `speed` m/s.
+    fn position(&mut self, from: (u8, u8), time_ms: u32, state: [f64; 3], speed: f64) -> Vec<Sent> {
+        let (lat, lon) = self.plane.fix(state[0], state[1]);
+        let (vx, vy) = velocity_cm_s(speed, state[2]);
+        let payload = position_payload_at(time_ms, lat, lon, vx, vy, hdg_cdeg(state[2]));
+        self.send(from, GLOBAL_POSITION_INT, &payload)
+    }
+
+    fn set(&mut self, name: &str, value: f32) -> Vec<Sent> {
+        self.send(
+            (255, 190),
+            PARAM_SET,
+            &param_set_payload((1, 191), name, value, 9),
+        )
+    }
+
+    /// Sets the paper's limits at ten times its lengths (in an order each step keeps valid).
+    fn scale_tenfold(&mut self) {
+        for (name, value) in [
+            ("TC_V_PM", SCALED[0]),
+            ("TC_V_EM", SCALED[2]),
+            ("TC_W_EM", SCALED[3]),
+            ("TC_W_PM", SCALED[1]),
+        ] {
+            let replies = self.set(name, value);
+            assert_eq!(param(&replies[0]), (name.to_string(), value), "{name}");
+        }
+    }
+}
+
+fn of(sent: &[Sent], id: (u32, u8)) -> Vec<&Sent> {
+    sent.iter().filter(|s| s.id == id.0).collect()
+}
+
+/// PARAM_VALUE's name and value.
+fn param(s: &Sent) -> (String, f32) {
+    assert_eq!(s.id, PARAM_VALUE.0);
+    (s.text(8, 16), s.f32(0))
+}
+
+/// STATUSTEXT's severity and text.
+fn status(s: &Sent) -> (u8, String) {
+    assert_eq!(s.id, STATUSTEXT.0);
+    (s.u8(0), s.text(1, 50))
+}
+
+/// SET_ATTITUDE_TARGET's (target system, target component, type_mask, body yaw rate, thrust,
+/// quaternion).
+fn attitude(s: &Sent) -> (u8, u8, u8, f32, f32, [f32; 4]) {
+    assert_eq!(s.id, SET_ATTITUDE_TARGET.0);
+    let q = [s.f32(4), s.f32(8), s.f32(12), s.f32(16)];
+    (s.u8(36), s.u8(37), s.u8(38), s.f32(28), s.f32(32), q)
+}
+
+/// NAMED_VALUE_FLOAT's name and value.
+fn named(s: &Sent) -> (String, f32) {
+    assert_eq!(s.id, NAMED_VALUE_FLOAT.0);
+    (s.text(8, 10), s.f32(4))
+}
+
+const OWN: (u8, u8) = (1, 1);
+const TARGET: (u8, u8) = (2, 1);
+/// The paper's case 1 at ten times its lengths: pursuer at home heading east (pi / 2 clockwise
+/// from north), the evader 30 m south and 60 m west of it, heading east.
+const CASE1: ([f64; 3], [f64; 3]) = ([0.0, 0.0, FRAC_PI_2], [-30.0, -60.0, FRAC_PI_2]);
+
+#[test]
+fn the_heartbeat_names_an_onboard_controller_once_a_second() {
+    let mut link = Link::new();
+    let first = link.poll();
+    assert_eq!(first.len(), 2);
+    assert_eq!(named(&first[1]), ("TC_BADFRM".to_string(), 0.0));
+    let h = &first[0];
+    assert_eq!((h.id, h.system, h.component), (HEARTBEAT.0, 1, 191));
+    // HEARTBEAT: custom_mode u32, type, autopilot, base_mode, system_status, mavlink_version.
+    assert_eq!((h.u8(4), h.u8(5), h.u8(8)), (18, 8, 3));
+    link.now_ms = 999;
+    assert!(link.poll().is_empty());
+    link.now_ms = 1000;
+    assert_eq!(of(&link.poll(), HEARTBEAT).len(), 1);
+}
+
+#[test]
+fn parameters_are_listed_read_and_set_as_the_contract_says() {
+    let mut link = Link::new();
+    let list = link.send(
+        (255, 190),
+        PARAM_REQUEST_LIST,
+        &param_request_list_payload((1, 191)),
+    );
+    let got: Vec<(String, f32)> = list.iter().map(param).collect();
+    let want = [
+        ("TC_V_PM", 2.0),
+        ("TC_W_PM", 2.0),
+        ("TC_V_EM", 1.0),
+        ("TC_W_EM", 1.0),
+        ("TC_TGT_SYSID", 2.0),
+        ("TC_VEHICLE", 0.0),
+        ("TC_POLICY", 1.0),
+        ("TC_TIMEOUT", 1.0),
+        ("TC_SYSID", 1.0),
+    ];
+    assert_eq!(got, want.map(|(n, v)| (n.to_string(), v)));
+    for (i, s) in list.iter().enumerate() {
+        // param_count, param_index, param_type REAL32.
+        assert_eq!((s.u16(4), s.u16(6), s.u8(24)), (9, i as u16, 9));
+    }
+    let by_name = link.send(
+        (255, 190),
+        PARAM_REQUEST_READ,
+        &param_request_read_payload((1, 191), "TC_TIMEOUT", -1),
+    );
+    assert_eq!(param(&by_name[0]), ("TC_TIMEOUT".into(), 1.0));
+    let by_index = link.send(
+        (255, 190),
+        PARAM_REQUEST_READ,
+        &param_request_read_payload((1, 191), "", 4),
+    );
+    assert_eq!(param(&by_index[0]), ("TC_TGT_SYSID".into(), 2.0));
+    // Addressed to another system: no answer.
+    assert!(link
+        .send(
+            (255, 190),
+            PARAM_REQUEST_LIST,
+            &param_request_list_payload((7, 191))
+        )
+        .is_empty());
+
+    let ok = link.set("TC_TIMEOUT", 0.5);
+    assert_eq!(ok.len(), 1);
+    assert_eq!(param(&ok[0]), ("TC_TIMEOUT".into(), 0.5));
+    for (name, value, kept) in [
+        ("TC_V_EM", 3.0, 1.0),    // v_em above v_pm
+        ("TC_W_PM", 0.5, 2.0),    // w_pm below w_em
+        ("TC_VEHICLE", 2.0, 0.0), // no such vehicle kind
+        ("TC_SYSID", 1.5, 1.0),   // not a whole number
+        ("TC_TIMEOUT", f32::NAN, 0.5),
+        ("TC_V_PM", 1.0e9, 2.0), // beyond the envelope
+    ] {
+        let r = link.set(name, value);
+        assert_eq!(r.len(), 2, "{name} = {value}: {r:?}");
+        assert_eq!(param(&r[0]), (name.to_string(), kept), "{name} = {value}");
+        assert_eq!(status(&r[1]).0, WARNING, "{name} = {value}");
+    }
+    let unknown = link.set("TC_NOPE", 1.0);
+    assert_eq!(unknown.len(), 1);
+    assert_eq!(status(&unknown[0]).0, WARNING);
+    assert_eq!(link.endpoint.counters().param_refusals, 7);
+}
+
+/// The paper's case 1 at ten times its lengths: the setpoint is the sampled law's, its sign
+/// clockwise-positive, to the autopilot, with the upper value as TC_T.
+#[test]
+fn a_ground_vehicle_gets_the_laws_yaw_rate_and_the_capture_time() {
+    let mut link = Link::new();
+    link.scale_tenfold();
+    let (pursuer, evader) = CASE1;
+    assert!(link.position(TARGET, 0, evader, 10.0).is_empty());
+    let sent = link.position(OWN, 0, pursuer, 20.0);
+    let texts = of(&sent, STATUSTEXT);
+    assert_eq!(
+        status(texts[0]),
+        (INFO, "TC: input valid, setpoints on".into())
+    );
+    let (system, component, mask, rate, thrust, _) = attitude(of(&sent, SET_ATTITUDE_TARGET)[0]);
+    assert_eq!((system, component, mask, thrust), (1, 1, 1 | 2 | 128, 1.0));
+    let (name, upper) = named(of(&sent, NAMED_VALUE_FLOAT)[0]);
+    assert_eq!(name, "TC_T");
+    assert!((upper - 5.6575).abs() < 2e-3, "TC_T = {upper}");
+
+    // The same states through the law directly, at the default period (100 ms).
+    let limits = Limits::<f32>::new(SCALED[0], SCALED[1], SCALED[2], SCALED[3]).unwrap();
+    let f = |s: [f64; 3]| {
+        let (n, e) = link.plane.local(link.plane.fix(s[0], s[1]));
+        [n as f32, e as f32, s[2] as f32]
+    };
+    let (p, e) = limits.states(f(pursuer), f(evader)).unwrap();
+    let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.1)
+        .unwrap()
+        .with_policy(Policy::Flight);
+    let want = SCALED[0] * guidance.decide(&p, &e).command.pursuer;
+    assert!(want != 0.0);
+    assert!((rate - want).abs() <= 1e-3 * want.abs(), "{rate} vs {want}");
+}
+
+#[test]
+fn a_fixed_wing_gets_the_bank_angle_of_a_coordinated_turn_and_its_heading() {
+    let mut link = Link::new();
+    link.scale_tenfold();
+    link.set("TC_VEHICLE", 1.0);
+    let (pursuer, evader) = CASE1;
+    link.position(TARGET, 0, evader, 10.0);
+    let sent = link.position(OWN, 0, pursuer, 20.0);
+    let (_, _, mask, yaw_rate, thrust, q) = attitude(of(&sent, SET_ATTITUDE_TARGET)[0]);
+    assert_eq!((mask, yaw_rate, thrust), (1 | 2 | 4, 0.0, 1.0));
+    let [w, x, y, z] = q.map(f64::from);
+    let roll = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y));
+    let pitch = (2.0 * (w * y - z * x)).asin();
+    let yaw = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z));
+    assert!(
+        pitch.abs() < 1e-6 && (yaw - FRAC_PI_2).abs() < 1e-3,
+        "{pitch} {yaw}"
+    );
+    // The ground vehicle's rate on the same states gives the bank angle.
+    let mut ground = Link::new();
+    ground.scale_tenfold();
+    ground.position(TARGET, 0, evader, 10.0);
+    let rate =
+        f64::from(attitude(of(&ground.position(OWN, 0, pursuer, 20.0), SET_ATTITUDE_TARGET)[0]).3);
+    let want = (20.0 * rate / 9.80665).atan();
+    assert!(
+        want.abs() > 0.1 && (roll - want).abs() < 1e-4,
+        "{roll} vs {want}"
+    );
+}
+
+/// No setpoint from a stale target: one WARNING when that begins (at the check that finds it),
+/// one INFO when a fresh target ends it.
+#[test]
+fn a_stale_target_silences_the_setpoints_with_one_warning() {
+    let mut link = Link::new();
+    let (pursuer, evader) = ([0.0, 0.0, 0.0], [50.0, 50.0, 1.0]);
+    link.position(TARGET, 0, evader, 1.0);
+    assert_eq!(
+        of(&link.position(OWN, 0, pursuer, 2.0), SET_ATTITUDE_TARGET).len(),
+        1
+    );
+    link.now_ms = 1000;
+    assert_eq!(
+        of(&link.position(OWN, 1000, pursuer, 2.0), SET_ATTITUDE_TARGET).len(),
+        1
+    );
+    link.now_ms = 1001;
+    let stale = link.position(OWN, 1001, pursuer, 2.0);
+    assert!(of(&stale, SET_ATTITUDE_TARGET).is_empty() && of(&stale, NAMED_VALUE_FLOAT).is_empty());
+    assert_eq!(
+        status(of(&stale, STATUSTEXT)[0]),
+        (WARNING, "TC: target stale, no setpoint".into())
+    );
+    for t in 1002..1010 {
+        link.now_ms = t;
+        let sent = link.position(OWN, t, pursuer, 2.0);
+        assert!(sent.is_empty(), "{sent:?}");
+    }
+    link.position(TARGET, 0, evader, 1.0);
+    let back = link.position(OWN, 1010, pursuer, 2.0);
+    assert_eq!(status(of(&back, STATUSTEXT)[0]).0, INFO);
+    assert_eq!(of(&back, SET_ATTITUDE_TARGET).len(), 1);
+    // The loop's check finds a target gone stale between own states.
+    link.now_ms = 2011;
+    let polled = link.poll();
+    assert_eq!(status(of(&polled, STATUSTEXT)[0]).0, WARNING);
+}
+
+#[test]
+fn invalid_fixes_and_headings_give_no_setpoint() {
+    let mut link = Link::new();
+    // Before the first fix (0, 0): nothing placed, no setpoint.
+    let zero = position_payload_at(0, 0, 0, 0, 0, 9_000);
+    link.send(TARGET, GLOBAL_POSITION_INT, &zero);
+    let own_zero = link.send(OWN, GLOBAL_POSITION_INT, &zero);
+    assert_eq!(
+        status(&own_zero[0]),
+        (WARNING, "TC: own fix invalid, no setpoint".into())
+    );
+    assert_eq!(link.endpoint.counters().target_refused, 1);
+    // Heading unknown and standing still: no heading.
+    let (lat, lon) = HOME;
+    let still = position_payload_at(10, lat, lon, 0, 0, u16::MAX);
+    assert!(of(
+        &link.send(OWN, GLOBAL_POSITION_INT, &still),
+        SET_ATTITUDE_TARGET
+    )
+    .is_empty());
+    // A target from FOLLOW_TARGET with a NaN attitude and no velocity flag: refused.
+    let nan = follow_target_payload(lat + 500, lon, [1.0, 0.0, 0.0], [f32::NAN; 4], 1 | 8);
+    link.send((9, 1), FOLLOW_TARGET, &nan);
+    assert_eq!(link.endpoint.counters().target_refused, 2);
+    // Heading unknown but moving north-east: the course (45 degrees) is the heading; the
+    // target from FOLLOW_TARGET's velocity.
+    let good = follow_target_payload(lat + 500, lon, [0.0, 1.0, 0.0], [0.0; 4], 1 | 2);
+    link.send((9, 1), FOLLOW_TARGET, &good);
+    let moving = position_payload_at(20, lat, lon, 100, 100, u16::MAX);
+    let sent = link.send(OWN, GLOBAL_POSITION_INT, &moving);
+    assert_eq!(of(&sent, SET_ATTITUDE_TARGET).len(), 1, "{sent:?}");
+    // No NaN in any setpoint.
+    assert!(sent
+        .iter()
+        .all(|s| s.id != SET_ATTITUDE_TARGET.0 || attitude(s).3.is_finite()));
+}
+
+/// A target that jumps kilometres moves no setpoint until a second fix confirms it.
+#[test]
+fn a_target_jump_is_held_until_a_second_fix_agrees() {
+    let mut link = Link::new();
+    let pursuer = [0.0, 0.0, 0.0];
+    link.position(TARGET, 0, [40.0, 30.0, 0.0], 1.0);
+    assert_eq!(
+        of(&link.position(OWN, 0, pursuer, 2.0), SET_ATTITUDE_TARGET).len(),
+        1
+    );
+    link.now_ms = 100;
+    link.position(TARGET, 100, [4_000.0, 3_000.0, 0.0], 1.0);
+    let held = link.position(OWN, 100, pursuer, 2.0);
+    assert!(of(&held, SET_ATTITUDE_TARGET).is_empty());
+    assert_eq!(
+        status(of(&held, STATUSTEXT)[0]),
+        (WARNING, "TC: target jumped, no setpoint".into())
+    );
+    assert_eq!(link.endpoint.counters().target_jumps, 1);
+    link.now_ms = 200;
+    link.position(TARGET, 200, [4_000.1, 3_000.0, 0.0], 1.0);
+    assert_eq!(
+        of(&link.position(OWN, 200, pursuer, 2.0), SET_ATTITUDE_TARGET).len(),
+        1
+    );
+}
+
+/// The control period is the own states' spacing on the autopilot's clock; a target from
+/// another system is not the target.
+#[test]
+fn the_period_follows_the_own_states_and_only_the_target_system_is_chased() {
+    let mut link = Link::new();
+    assert_eq!(link.endpoint.period_ms(), 100);
+    let evader = [60.0, 0.0, PI];
+    assert!(link.position((3, 1), 0, evader, 1.0).is_empty());
+    assert_eq!(link.endpoint.counters().ignored, 1);
+    let first = link.position(OWN, 1_000, [0.0, 0.0, 0.0], 2.0);
+    assert_eq!(
+        status(&first[0]),
+        (WARNING, "TC: no target, no setpoint".into())
+    );
+    link.set("TC_TGT_SYSID", 3.0);
+    link.position((3, 1), 0, evader, 1.0);
+    for k in 1..4 {
+        let sent = link.position(OWN, 1_000 + 20 * k, [0.0, 0.0, 0.0], 2.0);
+        assert_eq!(of(&sent, SET_ATTITUDE_TARGET).len(), 1);
+    }
+    assert_eq!(link.endpoint.period_ms(), 20);
+}
+
+/// Corrupt frames are counted and dropped; random bytes never make a NaN setpoint or a
+/// malformed frame.
+#[test]
+fn line_noise_is_counted_and_never_answered() {
+    let mut link = Link::new();
+    let mut frame = v2_from(
+        1,
+        TARGET,
+        GLOBAL_POSITION_INT,
+        &position_payload_at(0, HOME.0, HOME.1, 0, 0, 0),
+        false,
+    );
+    let last = frame.len() - 1;
+    frame[last] ^= 0x40;
+    assert!(link.feed(&frame).is_empty());
+    assert_eq!(link.endpoint.frame_counters().bad_checksum, 1);
+    // The heartbeat's companion reports it.
+    assert_eq!(named(of(&link.poll(), NAMED_VALUE_FLOAT)[0]).1, 1.0);
+    let mut rng = host_tests::rng::Rng::new(29);
+    let mut noise = Vec::new();
+    for _ in 0..200_000 {
+        noise.push((rng.next_u64() >> 32) as u8);
+    }
+    for chunk in noise.chunks(997) {
+        link.now_ms += 10;
+        link.position(TARGET, link.now_ms, [30.0, 10.0, 1.0], 1.0);
+        let sent = link.feed(chunk);
+        let mut own = link.position(OWN, link.now_ms, [0.0, 0.0, 0.0], 2.0);
+        own.extend(sent);
+        for s in of(&own, SET_ATTITUDE_TARGET) {
+            assert!(attitude(s).3.is_finite());
+        }
+    }
+    assert!(link.endpoint.counters().setpoints > 150);
+}
+
+/// Every STATUSTEXT fits MAVLink's 50 characters whole.
+#[test]
+fn status_texts_fit_fifty_characters() {
+    use twocars::mavlink::{Halt, Refusal};
+    let halts = [
+        Halt::OwnFix,
+        Halt::OwnHeading,
+        Halt::NoTarget,
+        Halt::TargetFix,
+        Halt::TargetJump,
+        Halt::TargetStale,
+        Halt::OwnStale,
+        Halt::Law(twocars::Status::OutOfRange),
+    ];
+    let refusals = [
+        Refusal::UnknownName,
+        Refusal::OutOfRange,
+        Refusal::InvalidLimits,
+    ];
+    for text in halts
+        .iter()
+        .map(|h| h.text())
+        .chain(refusals.iter().map(|r| r.text()))
+    {
+        assert!(text.len() <= 50, "{text:?} is {} characters", text.len());
+    }
+}

@@ -1,0 +1,607 @@
+//! The MAVLink guidance endpoint (`../shared/CONTRACTS.md`, "MAVLink endpoint"): bytes from the
+//! autopilot's link in, frames for it out. Pure: the board feeds it received bytes and its
+//! millisecond clock, and queues what it hands to `send`.
+//!
+//! - Own state: GLOBAL_POSITION_INT from (TC_SYSID, component 1). Each one is a control period:
+//!   while the target is fresh the law runs for the pursuer and a SET_ATTITUDE_TARGET goes to
+//!   the autopilot, with NAMED_VALUE_FLOAT "TC_T" (the upper value, s).
+//! - Target: GLOBAL_POSITION_INT from system TC_TGT_SYSID, or FOLLOW_TARGET from anyone.
+//! - The control period is the own states' spacing on the autopilot's clock (`time_boot_ms`),
+//!   100 ms until two have arrived; the staleness limit TC_TIMEOUT runs on our clock.
+//! - HEARTBEAT at 1 Hz, with NAMED_VALUE_FLOAT "TC_BADFRM": the frames dropped so far.
+//! - No setpoint from stale or invalid input: one STATUSTEXT (WARNING) saying why when that
+//!   begins, one (INFO) when setpoints resume.
+//! - A target fix that jumps farther than the evader could have gone since the last one (plus
+//!   [`JUMP_SLACK_M`]) is held until a second fix agrees with it: one GPS glitch moves no
+//!   setpoint. A fix after the track went stale starts a new track.
+//! - A fix at latitude and longitude 0 is an autopilot's "no fix yet".
+//!
+//! The law runs in f32 (an FPU core); positions are metres in the local north-east plane of
+//! [`crate::geodetic`] about the first own fix.
+
+use ::mavlink::dialects::common::{
+    AttitudeTargetTypemask, MavSeverity, FOLLOW_TARGET_DATA, GLOBAL_POSITION_INT_DATA,
+    SET_ATTITUDE_TARGET_DATA,
+};
+
+use super::frame::{Frame, FrameReader};
+use super::messages::{decode, extra_crc, Message};
+use super::outgoing::{Outbox, COMPONENT};
+use super::params::{index, Params, Refusal, SPECS};
+use crate::capture::Variant;
+use crate::geodetic::{
+    bank_angle, course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
+};
+use crate::law::{Decision, Law};
+use crate::sampled::{Guidance, Policy};
+use crate::status::Status;
+
+/// The autopilot's component id (MAV_COMP_ID_AUTOPILOT1): own state comes from it, setpoints go
+/// to it.
+pub const AUTOPILOT_COMPONENT: u8 = 1;
+/// The control period until the own states' spacing is known, ms.
+pub const DEFAULT_PERIOD_MS: u32 = 100;
+/// The heartbeat's period, ms.
+pub const HEARTBEAT_MS: u32 = 1000;
+/// The NAMED_VALUE_FLOAT sent with each heartbeat: frames dropped so far (bad checksum,
+/// unsupported flags, fields that do not decode).
+pub const BAD_FRAMES: &str = "TC_BADFRM";
+/// A target fix farther than this (m) plus twice the evader's run since the last one is a jump.
+pub const JUMP_SLACK_M: f32 = 100.0;
+/// Below this ground speed (cm/s, MAVLink's velocity unit) a course is noise.
+const MIN_COURSE_SPEED_CM_S: f32 = 20.0;
+/// FOLLOW_TARGET's capability bits: position, velocity, attitude and rates.
+const FOLLOW_POSITION: u8 = 1 << 0;
+const FOLLOW_VELOCITY: u8 = 1 << 1;
+const FOLLOW_ATTITUDE: u8 = 1 << 3;
+/// SET_ATTITUDE_TARGET's type_mask: yaw rate and thrust used (ground vehicles), or attitude and
+/// thrust used (fixed wing).
+const YAW_RATE_ONLY: u8 = 1 | 2 | 128;
+const ATTITUDE_ONLY: u8 = 1 | 2 | 4;
+
+/// Why no setpoint went out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Halt {
+    /// The own fix is missing, zero or outside +-90 / +-180 degrees.
+    OwnFix,
+    /// The own heading is unknown (hdg unknown and too slow for a course).
+    OwnHeading,
+    /// No target state yet.
+    NoTarget,
+    /// The target's fix is invalid or its heading unknown.
+    TargetFix,
+    /// The target jumped; waiting for a second fix to agree.
+    TargetJump,
+    /// The target's state is older than TC_TIMEOUT.
+    TargetStale,
+    /// The own state is older than TC_TIMEOUT.
+    OwnStale,
+    /// The law refused the states (non-finite or outside its envelope).
+    Law(Status),
+}
+
+impl Halt {
+    /// The STATUSTEXT's words.
+    pub fn text(self) -> &'static str {
+        match self {
+            Halt::OwnFix => "TC: own fix invalid, no setpoint",
+            Halt::OwnHeading => "TC: own heading unknown, no setpoint",
+            Halt::NoTarget => "TC: no target, no setpoint",
+            Halt::TargetFix => "TC: target fix invalid, no setpoint",
+            Halt::TargetJump => "TC: target jumped, no setpoint",
+            Halt::TargetStale => "TC: target stale, no setpoint",
+            Halt::OwnStale => "TC: own state stale, no setpoint",
+            Halt::Law(_) => "TC: states outside the envelope, no setpoint",
+        }
+    }
+}
+
+/// What the endpoint counted (wrapping).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EndpointCounters {
+    /// Setpoints sent.
+    pub setpoints: u32,
+    /// Own states without a setpoint (stale or invalid input).
+    pub halted: u32,
+    /// Target fixes taken.
+    pub target_fixes: u32,
+    /// Target fixes refused (invalid position or heading).
+    pub target_refused: u32,
+    /// Target jumps.
+    pub target_jumps: u32,
+    /// Checked frames whose fields did not decode.
+    pub malformed: u32,
+    /// Messages not for us (other systems' requests, positions of other vehicles).
+    pub ignored: u32,
+    /// PARAM_SETs refused.
+    pub param_refusals: u32,
+}
+
+/// A vehicle's last fix: degE7, heading (rad, clockwise from north), the sender's clock and
+/// ours (ms).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Fix {
+    lat: i32,
+    lon: i32,
+    heading: f32,
+    sent_ms: u32,
+    arrived_ms: u32,
+}
+
+/// The target's last fix and whether a jump still waits for confirmation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Target {
+    fix: Fix,
+    confirmed: bool,
+}
+
+/// Whether setpoints are flowing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Health {
+    /// Nothing evaluated yet.
+    Starting,
+    /// The last own state got a setpoint.
+    Active,
+    /// No setpoint, for this reason (announced once).
+    Halted(Halt),
+}
+
+/// The endpoint: the frame reader and the session.
+#[derive(Clone, Debug)]
+pub struct Endpoint {
+    reader: FrameReader,
+    session: Session,
+}
+
+/// Everything but the frame reader (a frame borrows the reader's buffer while it is handled).
+#[derive(Clone, Debug)]
+struct Session {
+    params: Params,
+    guidance: Option<Guidance<f32>>,
+    period_ms: u32,
+    origin: Option<LocalFrame>,
+    own: Option<Fix>,
+    target: Option<Target>,
+    health: Health,
+    last_status: Status,
+    outbox: Outbox,
+    last_heartbeat_ms: Option<u32>,
+    counters: EndpointCounters,
+}
+
+impl Default for Endpoint {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Endpoint {
+    /// An endpoint with the default parameters, before any fix.
+    pub fn new() -> Self {
+        let params = Params::new();
+        let mut session = Session {
+            params,
+            guidance: None,
+            period_ms: DEFAULT_PERIOD_MS,
+            origin: None,
+            own: None,
+            target: None,
+            health: Health::Starting,
+            last_status: Status::Ok,
+            outbox: Outbox::default(),
+            last_heartbeat_ms: None,
+            counters: EndpointCounters::default(),
+        };
+        session.rebuild_guidance();
+        Endpoint {
+            reader: FrameReader::new(),
+            session,
+        }
+    }
+
+    /// The parameters now.
+    pub fn params(&self) -> &Params {
+        &self.session.params
+    }
+
+    /// What the endpoint counted.
+    pub fn counters(&self) -> EndpointCounters {
+        self.session.counters
+    }
+
+    /// What the frame reader counted.
+    pub fn frame_counters(&self) -> super::FrameCounters {
+        self.reader.counters
+    }
+
+    /// Frames sent so far.
+    pub fn frames_sent(&self) -> u32 {
+        self.session.outbox.frames
+    }
+
+    /// The control period in use, ms.
+    pub fn period_ms(&self) -> u32 {
+        self.session.period_ms
+    }
+
+    /// One received byte at our time `now_ms`; frames to send go to `send`.
+    pub fn receive(&mut self, byte: u8, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
+        let Endpoint { reader, session } = self;
+        if let Some(frame) = reader.push(byte, extra_crc) {
+            session.handle(&frame, now_ms, send);
+        }
+    }
+
+    /// The heartbeat (1 Hz) and the staleness check, at our time `now_ms`: call it every pass
+    /// of the loop.
+    pub fn poll(&mut self, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
+        let s = &mut self.session;
+        let due = s
+            .last_heartbeat_ms
+            .is_none_or(|last| now_ms.wrapping_sub(last) >= HEARTBEAT_MS);
+        if due {
+            s.last_heartbeat_ms = Some(now_ms);
+            s.outbox.heartbeat(s.sysid(), send);
+            let f = self.reader.counters;
+            let bad = f
+                .bad_checksum
+                .wrapping_add(f.bad_flags)
+                .wrapping_add(s.counters.malformed);
+            s.outbox
+                .named_value(s.sysid(), now_ms, BAD_FRAMES, bad as f32, send);
+        }
+        if s.health == Health::Active {
+            if let Some(halt) = s.stale(now_ms) {
+                s.halt(halt, send);
+            }
+        }
+    }
+}
+
+impl Session {
+    fn sysid(&self) -> u8 {
+        self.params.byte(index::SYSID)
+    }
+
+    /// The guidance for the parameters' limits and policy, with the current period.
+    fn rebuild_guidance(&mut self) {
+        let policy = match self.params.byte(index::POLICY) {
+            0 => Policy::Paper,
+            _ => Policy::Flight,
+        };
+        let period = self.period_ms as f32 / 1000.0;
+        self.guidance = self.params.limits().and_then(|limits| {
+            Guidance::new(Law::new(limits, Variant::Paper), period)
+                .ok()
+                .map(|g| g.with_policy(policy))
+        });
+    }
+
+    fn handle(&mut self, frame: &Frame<'_>, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
+        let message = match decode(frame) {
+            Ok(m) => m,
+            Err(_) => {
+                self.counters.malformed = self.counters.malformed.wrapping_add(1);
+                return;
+            }
+        };
+        let for_us = |system: u8, component: u8| {
+            (system == 0 || system == self.sysid()) && (component == 0 || component == COMPONENT)
+        };
+        match message {
+            Message::GlobalPosition(m) => {
+                if frame.system == self.sysid() && frame.component == AUTOPILOT_COMPONENT {
+                    self.own_state(&m, now_ms, send);
+                } else if frame.system == self.params.byte(index::TGT_SYSID) {
+                    let fix = position_fix(&m, now_ms);
+                    self.target_fix(fix, now_ms);
+                } else {
+                    self.counters.ignored = self.counters.ignored.wrapping_add(1);
+                }
+            }
+            Message::FollowTarget(m) => {
+                let fix = follow_fix(&m, now_ms);
+                self.target_fix(fix, now_ms);
+            }
+            Message::ParamSet(m) if for_us(m.target_system, m.target_component) => {
+                self.param_set(&m.param_id[..], m.param_value, send);
+            }
+            Message::ParamRequestRead(m) if for_us(m.target_system, m.target_component) => {
+                let found = usize::try_from(m.param_index)
+                    .ok()
+                    .filter(|&i| i < SPECS.len())
+                    .or_else(|| Params::find(&m.param_id[..]));
+                match found {
+                    Some(i) => self.outbox.param_value(self.sysid(), &self.params, i, send),
+                    None => self.counters.ignored = self.counters.ignored.wrapping_add(1),
+                }
+            }
+            Message::ParamRequestList(m) if for_us(m.target_system, m.target_component) => {
+                for i in 0..SPECS.len() {
+                    self.outbox.param_value(self.sysid(), &self.params, i, send);
+                }
+            }
+            Message::Heartbeat(_) => {}
+            _ => self.counters.ignored = self.counters.ignored.wrapping_add(1),
+        }
+    }
+
+    fn param_set(&mut self, name: &[u8], value: f32, send: &mut dyn FnMut(&[u8])) {
+        let Some(i) = Params::find(name) else {
+            self.refuse(Refusal::UnknownName, send);
+            return;
+        };
+        match self.params.set(i, value) {
+            Ok(()) => {
+                if i <= index::W_EM || i == index::POLICY {
+                    self.rebuild_guidance();
+                }
+                self.outbox.param_value(self.sysid(), &self.params, i, send);
+            }
+            Err(refusal) => {
+                self.outbox.param_value(self.sysid(), &self.params, i, send);
+                self.refuse(refusal, send);
+            }
+        }
+    }
+
+    fn refuse(&mut self, refusal: Refusal, send: &mut dyn FnMut(&[u8])) {
+        self.counters.param_refusals = self.counters.param_refusals.wrapping_add(1);
+        let severity = MavSeverity::MAV_SEVERITY_WARNING;
+        self.outbox
+            .status_text(self.sysid(), severity, refusal.text(), send);
+    }
+
+    /// A target fix (`None`: invalid): taken, or held as a jump until confirmed.
+    fn target_fix(&mut self, fix: Option<Fix>, now_ms: u32) {
+        let Some(fix) = fix else {
+            self.counters.target_refused = self.counters.target_refused.wrapping_add(1);
+            return;
+        };
+        self.counters.target_fixes = self.counters.target_fixes.wrapping_add(1);
+        let timeout = self.params.timeout_ms();
+        // A fix after a stale one starts a new track: only a live track can jump.
+        let live = self
+            .target
+            .filter(|last| now_ms.wrapping_sub(last.fix.arrived_ms) <= timeout);
+        let jumped = match (live, self.origin, self.params.limits()) {
+            (Some(last), Some(origin), Some(limits)) => {
+                let run_s = now_ms.wrapping_sub(last.fix.arrived_ms) as f32 / 1000.0;
+                let reach = JUMP_SLACK_M + 2.0 * limits.evader.v_max() * run_s;
+                match (
+                    origin.to_local(last.fix.lat, last.fix.lon),
+                    origin.to_local(fix.lat, fix.lon),
+                ) {
+                    (Some((n0, e0)), Some((n1, e1))) => {
+                        // Finite: fixes are whole degE7 within the plane's range.
+                        let (dn, de) = (n1 - n0, e1 - e0);
+                        dn * dn + de * de > reach * reach
+                    }
+                    _ => true,
+                }
+            }
+            _ => false,
+        };
+        if jumped {
+            self.counters.target_jumps = self.counters.target_jumps.wrapping_add(1);
+        }
+        self.target = Some(Target {
+            fix,
+            confirmed: !jumped,
+        });
+    }
+
+    fn own_state(
+        &mut self,
+        m: &GLOBAL_POSITION_INT_DATA,
+        now_ms: u32,
+        send: &mut dyn FnMut(&[u8]),
+    ) {
+        let Some(fix) = position_fix(m, now_ms) else {
+            let halt = if valid_position(m.lat, m.lon) {
+                Halt::OwnHeading
+            } else {
+                Halt::OwnFix
+            };
+            self.own = None;
+            self.halt(halt, send);
+            return;
+        };
+        if let Some(last) = self.own {
+            self.measure_period(fix.sent_ms.wrapping_sub(last.sent_ms));
+        }
+        self.own = Some(fix);
+        if self.origin.is_none() {
+            self.origin = LocalFrame::new(fix.lat, fix.lon);
+        }
+        match self.evaluate(now_ms) {
+            Ok(decision) => self.setpoint(&decision, fix.heading, now_ms, send),
+            Err(halt) => self.halt(halt, send),
+        }
+    }
+
+    /// Takes the own states' spacing `interval_ms` as the period when it differs from the one in
+    /// use by more than a quarter (between 1 ms and 1 s); the guidance keeps its memory.
+    fn measure_period(&mut self, interval_ms: u32) {
+        let current = self.period_ms;
+        if !(1..=1000).contains(&interval_ms) || interval_ms.abs_diff(current) * 4 <= current {
+            return;
+        }
+        if let Some(next) = self
+            .guidance
+            .and_then(|g| g.with_period(interval_ms as f32 / 1000.0).ok())
+        {
+            self.guidance = Some(next);
+            self.period_ms = interval_ms;
+        }
+    }
+
+    /// Whether the own or the target state is older than TC_TIMEOUT at `now_ms`.
+    fn stale(&self, now_ms: u32) -> Option<Halt> {
+        let timeout = self.params.timeout_ms();
+        let old = |fix: &Fix| now_ms.wrapping_sub(fix.arrived_ms) > timeout;
+        match (&self.own, &self.target) {
+            (None, _) => Some(Halt::OwnFix),
+            (Some(own), _) if old(own) => Some(Halt::OwnStale),
+            (_, None) => Some(Halt::NoTarget),
+            (_, Some(target)) if old(&target.fix) => Some(Halt::TargetStale),
+            _ => None,
+        }
+    }
+
+    /// The law for the pursuer on the current fixes.
+    fn evaluate(&mut self, now_ms: u32) -> Result<Decision<f32>, Halt> {
+        if let Some(halt) = self.stale(now_ms) {
+            return Err(halt);
+        }
+        let (Some(own), Some(target), Some(origin)) = (self.own, self.target, self.origin) else {
+            return Err(Halt::NoTarget);
+        };
+        if !target.confirmed {
+            return Err(Halt::TargetJump);
+        }
+        let (xp, yp) = origin.to_local(own.lat, own.lon).ok_or(Halt::OwnFix)?;
+        let (xe, ye) = origin
+            .to_local(target.fix.lat, target.fix.lon)
+            .ok_or(Halt::TargetFix)?;
+        let (Some(limits), Some(guidance)) = (self.params.limits(), self.guidance.as_mut()) else {
+            return Err(Halt::Law(Status::InvalidLimits));
+        };
+        let (pursuer, evader) = limits
+            .states([xp, yp, own.heading], [xe, ye, target.fix.heading])
+            .map_err(Halt::Law)?;
+        let decision = guidance.decide(&pursuer, &evader);
+        match decision.status {
+            Status::Ok | Status::NoValidTangent | Status::Captured => Ok(decision),
+            status => Err(Halt::Law(status)),
+        }
+    }
+
+    /// The setpoint for `decision` (the pursuer at `heading`) and the predicted capture time.
+    fn setpoint(
+        &mut self,
+        decision: &Decision<f32>,
+        heading: f32,
+        now_ms: u32,
+        send: &mut dyn FnMut(&[u8]),
+    ) {
+        let sysid = self.sysid();
+        if self.health != Health::Active {
+            self.health = Health::Active;
+            let severity = MavSeverity::MAV_SEVERITY_INFO;
+            let text = "TC: input valid, setpoints on";
+            self.outbox.status_text(sysid, severity, text, send);
+        }
+        if decision.status != self.last_status && decision.status == Status::Captured {
+            let severity = MavSeverity::MAV_SEVERITY_INFO;
+            self.outbox
+                .status_text(sysid, severity, "TC: captured", send);
+        }
+        self.last_status = decision.status;
+        let speed = self.params.get(index::V_PM).unwrap_or(0.0);
+        // f32 runs in SI units: the turn rate is v_pm w, rad/s, clockwise from above.
+        let rate = speed * decision.command.pursuer;
+        let mut message = SET_ATTITUDE_TARGET_DATA {
+            time_boot_ms: now_ms,
+            q: [1.0, 0.0, 0.0, 0.0],
+            body_roll_rate: 0.0,
+            body_pitch_rate: 0.0,
+            body_yaw_rate: 0.0,
+            thrust: 1.0,
+            target_system: sysid,
+            target_component: AUTOPILOT_COMPONENT,
+            type_mask: AttitudeTargetTypemask::from_bits_retain(YAW_RATE_ONLY),
+        };
+        if self.params.byte(index::VEHICLE) == 1 {
+            message.q = roll_yaw_quaternion(bank_angle(speed, rate), heading);
+            message.type_mask = AttitudeTargetTypemask::from_bits_retain(ATTITUDE_ONLY);
+        } else {
+            message.body_yaw_rate = rate;
+        }
+        self.outbox.send(sysid, &message, send);
+        let upper = decision
+            .solution
+            .and_then(|s| s.upper)
+            .unwrap_or(f32::INFINITY);
+        let upper = if decision.status == Status::Captured {
+            0.0
+        } else {
+            upper
+        };
+        self.outbox.named_value(sysid, now_ms, "TC_T", upper, send);
+        self.counters.setpoints = self.counters.setpoints.wrapping_add(1);
+    }
+
+    /// No setpoint, for `halt`: announced when the halt begins (not again while it lasts).
+    fn halt(&mut self, halt: Halt, send: &mut dyn FnMut(&[u8])) {
+        self.counters.halted = self.counters.halted.wrapping_add(1);
+        if matches!(self.health, Health::Halted(_)) {
+            return;
+        }
+        self.health = Health::Halted(halt);
+        if let Some(guidance) = self.guidance.as_mut() {
+            guidance.reset();
+        }
+        let severity = MavSeverity::MAV_SEVERITY_WARNING;
+        self.outbox
+            .status_text(self.sysid(), severity, halt.text(), send);
+    }
+}
+
+/// Whether (`lat`, `lon`) is a fix: within +-90 and +-180 degrees and not (0, 0), an
+/// autopilot's "no fix yet".
+fn valid_position(lat: i32, lon: i32) -> bool {
+    (lat, lon) != (0, 0) && LocalFrame::new(lat, lon).is_some()
+}
+
+/// The fix of a GLOBAL_POSITION_INT: heading from `hdg`, or the course from `vx`, `vy` when it
+/// is unknown; `None` without a valid position or heading.
+fn position_fix(m: &GLOBAL_POSITION_INT_DATA, now_ms: u32) -> Option<Fix> {
+    if !valid_position(m.lat, m.lon) {
+        return None;
+    }
+    let heading = if m.hdg == HEADING_UNKNOWN {
+        course(f32::from(m.vx), f32::from(m.vy), MIN_COURSE_SPEED_CM_S)
+    } else {
+        heading_from_cdeg(m.hdg)
+    }?;
+    Some(Fix {
+        lat: m.lat,
+        lon: m.lon,
+        heading,
+        sent_ms: m.time_boot_ms,
+        arrived_ms: now_ms,
+    })
+}
+
+/// The fix of a FOLLOW_TARGET: its position if flagged valid; heading from its attitude, or
+/// the course from its velocity.
+fn follow_fix(m: &FOLLOW_TARGET_DATA, now_ms: u32) -> Option<Fix> {
+    let caps = m.est_capabilities;
+    if caps & FOLLOW_POSITION == 0 || !valid_position(m.lat, m.lon) {
+        return None;
+    }
+    let attitude = (caps & FOLLOW_ATTITUDE != 0)
+        .then(|| yaw_from_quaternion(m.attitude_q))
+        .flatten();
+    let [north, east, _] = m.vel;
+    let velocity = (caps & FOLLOW_VELOCITY != 0)
+        .then(|| course(north, east, MIN_COURSE_SPEED_CM_S / 100.0))
+        .flatten();
+    Some(Fix {
+        lat: m.lat,
+        lon: m.lon,
+        heading: attitude.or(velocity)?,
+        sent_ms: m.timestamp as u32,
+        arrived_ms: now_ms,
+    })
+}
+
+/// The attitude quaternion (w, x, y, z; body to north-east-down) of roll `roll`, pitch 0 and
+/// yaw `yaw` (rad).
+fn roll_yaw_quaternion(roll: f32, yaw: f32) -> [f32; 4] {
+    use crate::num::Scalar;
+    let (sr, cr) = Scalar::sin_cos(roll * 0.5);
+    let (sy, cy) = Scalar::sin_cos(yaw * 0.5);
+    [cr * cy, sr * cy, sr * sy, cr * sy]
+}

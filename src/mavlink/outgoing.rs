@@ -1,0 +1,140 @@
+//! MAVLink 2 frames the endpoint sends: the payload serialised by the `mavlink` crate's message
+//! type (`MessageData::ser`, trailing zero bytes dropped as MAVLink 2 allows), the header and
+//! the checksum written here (the crate's whole-frame writer keeps a panic path; docs/mavlink.md).
+
+use ::mavlink::dialects::common::{
+    MavAutopilot, MavModeFlag, MavParamType, MavSeverity, MavState, MavType, HEARTBEAT_DATA,
+    NAMED_VALUE_FLOAT_DATA, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+};
+use ::mavlink::{MavlinkVersion, MessageData};
+
+use super::frame::STX_V2;
+use super::params::{Params, SPECS};
+
+/// Our component id: MAV_COMP_ID_ONBOARD_COMPUTER.
+pub const COMPONENT: u8 = 191;
+/// The MAVLink 2 header: start byte, length, two flag bytes, sequence, system, component and a
+/// three-byte message id.
+const HEADER: usize = 10;
+/// The longest payload.
+const MAX_PAYLOAD: usize = 255;
+/// The longest unsigned MAVLink 2 frame.
+pub const MAX_OUT: usize = HEADER + MAX_PAYLOAD + 2;
+
+/// Our sequence number and system id; frames go to a `send` closure (the UART's transmit queue).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Outbox {
+    sequence: u8,
+    /// Frames written.
+    pub frames: u32,
+}
+
+impl Outbox {
+    /// A frame of `message` from (`system`, [`COMPONENT`]) handed to `send`.
+    pub fn send<M: MessageData>(&mut self, system: u8, message: &M, send: &mut dyn FnMut(&[u8])) {
+        self.send_as((system, COMPONENT), message, send);
+    }
+
+    /// A frame of `message` from (`system`, `component`) handed to `send` (a peer's frame, for
+    /// the bench's script).
+    pub fn send_as<M: MessageData>(
+        &mut self,
+        (system, component): (u8, u8),
+        message: &M,
+        send: &mut dyn FnMut(&[u8]),
+    ) {
+        let mut frame = [0u8; MAX_OUT];
+        let (header, rest) = frame.split_at_mut(HEADER);
+        let Some(payload) = rest.get_mut(..MAX_PAYLOAD) else {
+            return;
+        };
+        let length = message.ser(MavlinkVersion::V2, payload).min(MAX_PAYLOAD);
+        let id = M::ID.to_le_bytes();
+        header.copy_from_slice(&[
+            STX_V2,
+            length as u8,
+            0,
+            0,
+            self.sequence,
+            system,
+            component,
+            id[0],
+            id[1],
+            id[2],
+        ]);
+        let end = HEADER + length;
+        let crc = ::mavlink::calculate_crc(frame.get(1..end).unwrap_or(&[]), M::EXTRA_CRC);
+        if let Some(slot) = frame.get_mut(end..end + 2) {
+            slot.copy_from_slice(&crc.to_le_bytes());
+        }
+        send(frame.get(..end + 2).unwrap_or(&[]));
+        self.sequence = self.sequence.wrapping_add(1);
+        self.frames = self.frames.wrapping_add(1);
+    }
+
+    /// Our HEARTBEAT: an onboard controller, no autopilot.
+    pub fn heartbeat(&mut self, system: u8, send: &mut dyn FnMut(&[u8])) {
+        let heartbeat = HEARTBEAT_DATA {
+            custom_mode: 0,
+            mavtype: MavType::MAV_TYPE_ONBOARD_CONTROLLER,
+            autopilot: MavAutopilot::MAV_AUTOPILOT_INVALID,
+            base_mode: MavModeFlag::empty(),
+            system_status: MavState::MAV_STATE_ACTIVE,
+            mavlink_version: 3,
+        };
+        self.send(system, &heartbeat, send);
+    }
+
+    /// A STATUSTEXT of `severity` (at most 50 characters; longer text is cut).
+    pub fn status_text(
+        &mut self,
+        system: u8,
+        severity: MavSeverity,
+        text: &str,
+        send: &mut dyn FnMut(&[u8]),
+    ) {
+        let message = STATUSTEXT_DATA {
+            severity,
+            text: text.into(),
+        };
+        self.send(system, &message, send);
+    }
+
+    /// PARAM_VALUE of the parameter at `index`.
+    pub fn param_value(
+        &mut self,
+        system: u8,
+        params: &Params,
+        index: usize,
+        send: &mut dyn FnMut(&[u8]),
+    ) {
+        let (Some(spec), Some(value)) = (SPECS.get(index), params.get(index)) else {
+            return;
+        };
+        let message = PARAM_VALUE_DATA {
+            param_value: value,
+            param_count: SPECS.len() as u16,
+            param_index: index as u16,
+            param_id: spec.name.into(),
+            param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
+        };
+        self.send(system, &message, send);
+    }
+
+    /// NAMED_VALUE_FLOAT `name` = `value`, stamped `time_boot_ms` (our clock).
+    pub fn named_value(
+        &mut self,
+        system: u8,
+        time_boot_ms: u32,
+        name: &str,
+        value: f32,
+        send: &mut dyn FnMut(&[u8]),
+    ) {
+        let message = NAMED_VALUE_FLOAT_DATA {
+            time_boot_ms,
+            value,
+            name: name.into(),
+        };
+        self.send(system, &message, send);
+    }
+}

@@ -1,0 +1,174 @@
+//! The endpoint's parameters (`../shared/CONTRACTS.md`, "MAVLink endpoint"): nine REAL32 values
+//! read and set by name or index, each checked against its range, the limits also as a whole.
+
+use crate::geometry::Limits;
+
+/// One parameter's name, default and admissible range (inclusive); `integer` ones take whole
+/// numbers only (ids and enumerations, carried as REAL32 like every parameter here).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spec {
+    /// The MAVLink parameter id (at most 16 characters).
+    pub name: &'static str,
+    /// The value at start.
+    pub default: f32,
+    /// The smallest admissible value.
+    pub min: f32,
+    /// The largest admissible value.
+    pub max: f32,
+    /// Whole numbers only.
+    pub integer: bool,
+}
+
+const fn real(name: &'static str, default: f32, min: f32, max: f32) -> Spec {
+    Spec {
+        name,
+        default,
+        min,
+        max,
+        integer: false,
+    }
+}
+
+const fn whole(name: &'static str, default: f32, min: f32, max: f32) -> Spec {
+    Spec {
+        name,
+        default,
+        min,
+        max,
+        integer: true,
+    }
+}
+
+/// Index of each parameter in [`SPECS`] (the PARAM_VALUE index).
+pub mod index {
+    /// The pursuer's speed, m/s.
+    pub const V_PM: usize = 0;
+    /// The pursuer's largest curvature, 1/m.
+    pub const W_PM: usize = 1;
+    /// The evader's speed, m/s.
+    pub const V_EM: usize = 2;
+    /// The evader's largest curvature, 1/m.
+    pub const W_EM: usize = 3;
+    /// The target's system id.
+    pub const TGT_SYSID: usize = 4;
+    /// 0 ground vehicle (yaw rate), 1 fixed wing (bank angle).
+    pub const VEHICLE: usize = 5;
+    /// The Configure policy byte: 0 paper, 1 flight.
+    pub const POLICY: usize = 6;
+    /// Staleness limit of both states, s.
+    pub const TIMEOUT: usize = 7;
+    /// Our system id (the autopilot's).
+    pub const SYSID: usize = 8;
+}
+
+/// Every parameter, in index order. Speeds and curvatures span the law's envelope
+/// ([`crate::geometry::MAX_SPEED`] and its kin); the limits are also checked together.
+pub const SPECS: [Spec; 9] = [
+    real("TC_V_PM", 2.0, 1.0e-3, 1.0e4),
+    real("TC_W_PM", 2.0, 1.0e-4, 1.0e4),
+    real("TC_V_EM", 1.0, 1.0e-3, 1.0e4),
+    real("TC_W_EM", 1.0, 1.0e-4, 1.0e4),
+    whole("TC_TGT_SYSID", 2.0, 1.0, 255.0),
+    whole("TC_VEHICLE", 0.0, 0.0, 1.0),
+    whole("TC_POLICY", 1.0, 0.0, 1.0),
+    real("TC_TIMEOUT", 1.0, 0.01, 60.0),
+    whole("TC_SYSID", 1.0, 1.0, 255.0),
+];
+
+/// Why a PARAM_SET was refused (the STATUSTEXT says which).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refusal {
+    /// No parameter of that name.
+    UnknownName,
+    /// Not finite, outside the parameter's range, or not whole where it must be.
+    OutOfRange,
+    /// The four limits would break v_pm > v_em > 0, w_pm > w_em > 0 or the law's envelope.
+    InvalidLimits,
+}
+
+impl Refusal {
+    /// The STATUSTEXT's words.
+    pub fn text(self) -> &'static str {
+        match self {
+            Refusal::UnknownName => "TC: no such parameter",
+            Refusal::OutOfRange => "TC: parameter out of range, kept",
+            Refusal::InvalidLimits => "TC: limits invalid (need v_pm>v_em, w_pm>w_em)",
+        }
+    }
+}
+
+/// The parameters' values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    values: [f32; 9],
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Params {
+    /// Every parameter at its default.
+    pub const fn new() -> Self {
+        let mut values = [0.0; 9];
+        let mut i = 0;
+        while i < SPECS.len() {
+            values[i] = SPECS[i].default;
+            i += 1;
+        }
+        Params { values }
+    }
+
+    /// The index of the parameter named `name` (the bytes of a MAVLink param_id, up to the
+    /// first NUL).
+    pub fn find(name: &[u8]) -> Option<usize> {
+        let end = name.iter().position(|&b| b == 0).unwrap_or(name.len());
+        let name = name.get(..end)?;
+        SPECS.iter().position(|s| s.name.as_bytes() == name)
+    }
+
+    /// The value at `index`.
+    pub fn get(&self, index: usize) -> Option<f32> {
+        self.values.get(index).copied()
+    }
+
+    /// Sets the value at `index` if it is admissible; otherwise keeps the old one.
+    ///
+    /// # Errors
+    /// The [`Refusal`].
+    pub fn set(&mut self, index: usize, value: f32) -> Result<(), Refusal> {
+        let spec = SPECS.get(index).ok_or(Refusal::UnknownName)?;
+        let whole = value == libm::truncf(value);
+        if !(value >= spec.min && value <= spec.max) || (spec.integer && !whole) {
+            return Err(Refusal::OutOfRange);
+        }
+        let mut next = *self;
+        if let Some(slot) = next.values.get_mut(index) {
+            *slot = value;
+        }
+        next.limits().ok_or(Refusal::InvalidLimits)?;
+        *self = next;
+        Ok(())
+    }
+
+    /// The limits v_pm, w_pm, v_em, w_em; `None` if they are not valid together (never after
+    /// [`Params::set`], which keeps them valid).
+    pub fn limits(&self) -> Option<Limits<f32>> {
+        let [v_pm, w_pm, v_em, w_em, ..] = self.values;
+        Limits::new(v_pm, w_pm, v_em, w_em).ok()
+    }
+
+    /// A whole-number parameter as a byte (ids, vehicle kind, policy).
+    pub fn byte(&self, index: usize) -> u8 {
+        // In range by `set`: 0 to 255.
+        self.get(index).map_or(0, |v| v as u8)
+    }
+
+    /// The staleness limit in milliseconds.
+    pub fn timeout_ms(&self) -> u32 {
+        self.get(index::TIMEOUT)
+            .map_or(1000, |s| (s * 1000.0) as u32)
+    }
+}
