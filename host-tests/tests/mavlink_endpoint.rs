@@ -466,3 +466,25 @@ fn status_texts_fit_fifty_characters() {
         assert!(text.len() <= 50, "{text:?} is {} characters", text.len());
     }
 }
+
+/// Far from the first fix the plane follows the pursuer: the same relative geometry 9 km away
+/// gives the capture time it gives at home (without the move, the projection's error there
+/// shifted it by 7.3e-4, relative).
+#[test]
+fn the_local_plane_follows_the_pursuer_far_from_the_first_fix() {
+    let tc_t = |offset: [f64; 2]| {
+        let mut link = Link::new();
+        link.position(OWN, 0, [0.0, 0.0, 0.0], 2.0);
+        // The engagement's geometry laid out about its own place.
+        link.plane = Plane::new(link.plane.fix(offset[0], offset[1]));
+        link.position(TARGET, 100, [30.0, 40.0, 1.0], 1.0);
+        let sent = link.position(OWN, 100, [0.0, 0.0, 0.3], 2.0);
+        f64::from(named(of(&sent, NAMED_VALUE_FLOAT)[0]).1)
+    };
+    let home = tc_t([0.0, 0.0]);
+    let far = tc_t([6_400.0, 6_400.0]);
+    assert!(
+        home.is_finite() && ((far - home) / home).abs() < 1e-4,
+        "{home} vs {far}"
+    );
+}

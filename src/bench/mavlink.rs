@@ -99,7 +99,7 @@ impl Board for StillBoard {
     fn start_transmit(&self) {}
 }
 
-/// The firmware's serial path over `script` with a fresh endpoint: [`BURST`] bytes raised as
+/// The firmware's serial path over `script` with a fresh endpoint: 32 bytes (`BURST`) raised as
 /// receive interrupts, then a pass of the loop, then transmit interrupts until the queue is
 /// empty. Out of line, so that the bench's stack paint sees the endpoint.
 #[inline(never)]

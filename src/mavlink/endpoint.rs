@@ -17,7 +17,8 @@
 //! - A fix at latitude and longitude 0 is an autopilot's "no fix yet".
 //!
 //! The law runs in f32 (an FPU core); positions are metres in the local north-east plane of
-//! [`crate::geodetic`] about the first own fix.
+//! [`crate::geodetic`] about the first own fix, moved to the own fix whenever that is
+//! [`REANCHOR_M`] away.
 
 use ::mavlink::dialects::common::{
     AttitudeTargetTypemask, MavSeverity, FOLLOW_TARGET_DATA, GLOBAL_POSITION_INT_DATA,
@@ -46,6 +47,9 @@ pub const HEARTBEAT_MS: u32 = 1000;
 /// The NAMED_VALUE_FLOAT sent with each heartbeat: frames dropped so far (bad checksum,
 /// unsupported flags, fields that do not decode).
 pub const BAD_FRAMES: &str = "TC_BADFRM";
+/// The local plane follows the own fix once it is this far (m) from the plane's reference:
+/// within it a 100 m baseline is off by at most 1.6e-4 (relative) at 45 degrees (docs/mavlink.md).
+pub const REANCHOR_M: f32 = 1_000.0;
 /// A target fix farther than this (m) plus twice the evader's run since the last one is a jump.
 pub const JUMP_SLACK_M: f32 = 100.0;
 /// Below this ground speed (cm/s, MAVLink's velocity unit) a course is noise.
@@ -411,7 +415,15 @@ impl Session {
             self.measure_period(fix.sent_ms.wrapping_sub(last.sent_ms));
         }
         self.own = Some(fix);
-        if self.origin.is_none() {
+        // The plane about the first own fix, moved to the own fix once that is REANCHOR_M
+        // away: the projection's error grows with the square of the distance, the law only
+        // reads the pursuer-target geometry.
+        let far = |origin: &LocalFrame| {
+            origin
+                .to_local(fix.lat, fix.lon)
+                .is_none_or(|(n, e)| n * n + e * e > REANCHOR_M * REANCHOR_M)
+        };
+        if self.origin.as_ref().is_none_or(far) {
             self.origin = LocalFrame::new(fix.lat, fix.lon);
         }
         match self.evaluate(now_ms) {

@@ -252,7 +252,14 @@ pub fn run() -> i32 {
         && step(
             "docs",
             &cargo,
-            &["doc", "--no-deps", "-p", "twocars"],
+            &[
+                "doc",
+                "--no-deps",
+                "-p",
+                "twocars",
+                "--features",
+                "mavlink,firmware,bench",
+            ],
             &[("RUSTDOCFLAGS", "-D warnings")],
         );
     let (mut passed, mut failed) = counts.unwrap_or((0, 0));
