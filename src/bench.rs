@@ -36,3 +36,18 @@ pub const STATES: [([f32; 3], [f32; 3]); 12] = [
     ([5.0, 5.0, 1.0], [4.0, 7.0, -2.0]),
     ([-7.0, 3.0, 2.2], [9.0, 14.0, -0.4]),
 ];
+
+/// Points of the reduced game (x, y in r_p, the relative heading in radians) where the bench
+/// reads the value table `src/bench/table.tcv` (`bench-table`): inside its box (+-6 r_p),
+/// outside its capture disc, where it has a value, ahead and behind, both turn directions and
+/// one tail chase (no preferred turn).
+pub const TABLE_POINTS: [[f32; 3]; 8] = [
+    [2.0, 0.0, 0.0],
+    [1.2, -2.4, -2.0],
+    [4.1, 3.3, -0.7],
+    [0.4, 1.1, 1.6],
+    [3.0, -4.0, 0.3],
+    [-1.0, 2.0, 0.5],
+    [-0.5, -1.5, -1.0],
+    [3.5, 0.5, 3.0],
+];

@@ -70,6 +70,7 @@ pub mod sampled;
 pub mod serial;
 pub mod status;
 pub mod unit;
+pub mod value_table;
 pub mod wire;
 
 pub use capture::{CaptureTime, Variant};

@@ -110,6 +110,49 @@ impl Solution {
     }
 }
 
+impl Solution {
+    /// The longest time the table keeps, r_p / v_pm: twice that of a pursuer that turns fully
+    /// around and then closes the box's diagonal at v_pm - v_em. Larger values are the edge of
+    /// the never-captured set smeared by the interpolation (on the 41 x 41 x 24 grid of the
+    /// paper's game the median finite value is 8.5, the 99th percentile 4,136).
+    pub fn longest_kept(&self) -> f64 {
+        let diagonal = 2.0 * std::f64::consts::SQRT_2 * self.grid.half;
+        2.0 * (std::f64::consts::TAU + diagonal) / (1.0 - self.game.speed_ratio)
+    }
+
+    /// The table as the firmware reads it (`twocars::value_table`): the header, then each
+    /// node's V quantised to u16, [`Solution::longest_kept`] at code 65534 (time per code
+    /// `scale`), [`twocars::value_table::NEVER`] where capture was not found or takes longer.
+    pub fn table_bytes(&self) -> Vec<u8> {
+        use twocars::value_table::{MAGIC, NEVER as NEVER_CODE};
+        let cap = self.longest_kept().min(REACHED);
+        let scale = cap / f64::from(NEVER_CODE - 1);
+        let mut bytes = MAGIC.to_vec();
+        for v in [
+            self.game.speed_ratio,
+            self.game.evader_turn,
+            self.game.eps,
+            self.grid.half,
+            scale,
+        ] {
+            bytes.extend((v as f32).to_le_bytes());
+        }
+        bytes.extend((self.grid.n as u16).to_le_bytes());
+        bytes.extend((self.grid.headings as u16).to_le_bytes());
+        for &v in &self.values {
+            let code = if v <= cap {
+                (v / f64::from(scale as f32))
+                    .round()
+                    .min(f64::from(NEVER_CODE - 1)) as u16
+            } else {
+                NEVER_CODE
+            };
+            bytes.extend(code.to_le_bytes());
+        }
+        bytes
+    }
+}
+
 fn interpolate(grid: &Grid, values: &[f64], x: f64, y: f64, phi: f64) -> f64 {
     let h = grid.spacing();
     let fx = (x + grid.half) / h;

@@ -13,7 +13,8 @@
 //! `twocars::serial::service` over the queues, fed the script of `twocars::bench::main_loop` by a
 //! scripted UART, with and without the bench states) and prints one `loop` line per session: its
 //! ticks, the loop's stack and a digest of its replies. With `bench-mavlink` it runs the MAVLink
-//! endpoint's serial path over the sessions of `twocars::bench::mavlink` instead.
+//! endpoint's serial path over the sessions of `twocars::bench::mavlink` instead; with
+//! `bench-table` it reads the value table `src/bench/table.tcv` at `twocars::bench::TABLE_POINTS`.
 #![no_std]
 #![no_main]
 
@@ -22,33 +23,37 @@ use core::hint::black_box;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_semihosting::debug::{exit, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
-#[cfg(not(feature = "bench-loop"))]
+#[cfg(not(any(feature = "bench-loop", feature = "bench-table")))]
 use twocars::bench::STATES;
 
 const PAINT: u32 = 0xA5A5_5A5A;
 /// Bytes of stack painted below the caller's frame.
 const PAINT_BYTES: usize = 4096;
 
-#[cfg(all(feature = "bench-fixed", not(feature = "bench-loop")))]
+#[cfg(all(
+    feature = "bench-fixed",
+    not(any(feature = "bench-loop", feature = "bench-table"))
+))]
 type Number = twocars::num::fixed::Fixed;
 #[cfg(all(feature = "bench-micromath", not(feature = "bench-fixed")))]
 type Number = twocars::num::micro::Micro;
 #[cfg(not(any(
     feature = "bench-fixed",
     feature = "bench-micromath",
-    feature = "bench-loop"
+    feature = "bench-loop",
+    feature = "bench-table"
 )))]
 type Number = f32;
 
 /// The law and one bench state, prepared outside the timed region.
-#[cfg(not(feature = "bench-loop"))]
+#[cfg(not(any(feature = "bench-loop", feature = "bench-table")))]
 type Prepared = (
     twocars::Guidance<Number>,
     twocars::VehicleState<Number>,
     twocars::VehicleState<Number>,
 );
 
-#[cfg(not(feature = "bench-loop"))]
+#[cfg(not(any(feature = "bench-loop", feature = "bench-table")))]
 fn prepare(i: usize) -> Option<Prepared> {
     let &(p, e) = STATES.get(i)?;
     let [v_pm, w_pm, v_em, w_em] = twocars::bench::LIMITS;
@@ -60,15 +65,22 @@ fn prepare(i: usize) -> Option<Prepared> {
 }
 
 /// What the timed region returns: the decision, or with `bench-report` the whole evaluation.
-#[cfg(not(any(feature = "bench-loop", feature = "bench-report")))]
+#[cfg(not(any(
+    feature = "bench-loop",
+    feature = "bench-report",
+    feature = "bench-table"
+)))]
 type Output = twocars::Decision<Number>;
-#[cfg(all(not(feature = "bench-loop"), feature = "bench-report"))]
+#[cfg(all(
+    not(any(feature = "bench-loop", feature = "bench-table")),
+    feature = "bench-report"
+))]
 type Output = twocars::Evaluation<Number>;
 
 /// The timed region: one `Guidance::decide` (or `Guidance::step`), returned in the caller's
 /// slot. With `bench-empty` only a safe evaluation is returned there (the call and return
 /// overhead).
-#[cfg(not(feature = "bench-loop"))]
+#[cfg(not(any(feature = "bench-loop", feature = "bench-table")))]
 #[inline(never)]
 fn evaluate(prepared: &mut Prepared) -> Output {
     #[cfg(feature = "bench-empty")]
@@ -90,7 +102,7 @@ fn evaluate(prepared: &mut Prepared) -> Output {
 }
 
 /// Upper value (s) and both commands (1/m) as f32 bit patterns (infinity without a game).
-#[cfg(not(feature = "bench-loop"))]
+#[cfg(not(any(feature = "bench-loop", feature = "bench-table")))]
 fn outputs(ev: impl Into<twocars::Decision<Number>>) -> [u32; 3] {
     let ev: twocars::Decision<Number> = ev.into();
     let units = ev.units;
@@ -140,12 +152,14 @@ fn main() -> ! {
     cp.SYST.set_reload(0x00FF_FFFF);
     cp.SYST.clear_current();
     cp.SYST.enable_counter();
-    #[cfg(not(feature = "bench-loop"))]
+    #[cfg(not(any(feature = "bench-loop", feature = "bench-table")))]
     bench_law();
     #[cfg(all(feature = "bench-loop", not(feature = "bench-mavlink")))]
     bench_loop();
     #[cfg(feature = "bench-mavlink")]
     bench_mavlink();
+    #[cfg(feature = "bench-table")]
+    bench_table();
     exit(EXIT_SUCCESS);
     loop {
         cortex_m::asm::nop();
@@ -158,7 +172,7 @@ fn ticks_since(start: u32) -> u32 {
 }
 
 /// One `state` line per bench state.
-#[cfg(not(feature = "bench-loop"))]
+#[cfg(not(any(feature = "bench-loop", feature = "bench-table")))]
 fn bench_law() {
     for i in 0..STATES.len() {
         let Some(mut prepared) = prepare(black_box(i)) else {
@@ -256,6 +270,58 @@ fn bench_mavlink() {
             outcome.digest
         );
     }
+}
+
+/// One `table` line per point of `twocars::bench::TABLE_POINTS`:
+/// `table <i> <ticks> <empty ticks> <stack bytes> <value bits> <turn>`, the value table of
+/// `src/bench/table.tcv` read (V and the pursuer's optimal turn) against the same call that
+/// reads nothing.
+#[cfg(feature = "bench-table")]
+fn bench_table() {
+    use twocars::value_table::ValueTable;
+    static TABLE: &[u8] = include_bytes!("../bench/table.tcv");
+    let Ok(table) = ValueTable::parse(black_box(TABLE)) else {
+        hprintln!("the bench table does not parse");
+        return;
+    };
+    for (i, &point) in twocars::bench::TABLE_POINTS.iter().enumerate() {
+        let start = cortex_m::peripheral::SYST::get_current();
+        let empty = read_nothing(black_box(&table), black_box(point));
+        let empty_ticks = ticks_since(start);
+        black_box(empty);
+        let bottom = paint();
+        let start = cortex_m::peripheral::SYST::get_current();
+        let (value, turn) = read_table(black_box(&table), black_box(point));
+        let ticks = ticks_since(start);
+        let stack = used(bottom);
+        hprintln!(
+            "table {} {} {} {} {:08x} {}",
+            i,
+            ticks,
+            empty_ticks,
+            stack,
+            value.to_bits(),
+            turn
+        );
+    }
+}
+
+/// The timed region: V and the pursuer's optimal turn at `point` (r_p, r_p, rad).
+#[cfg(feature = "bench-table")]
+#[inline(never)]
+fn read_table(table: &twocars::value_table::ValueTable<'_>, [x, y, phi]: [f32; 3]) -> (f32, f32) {
+    (
+        table.value(x, y, phi).unwrap_or(f32::INFINITY),
+        table.pursuer_turn(x, y, phi).unwrap_or(f32::NAN),
+    )
+}
+
+/// The same call reading nothing: its ticks are the call overhead.
+#[cfg(feature = "bench-table")]
+#[inline(never)]
+fn read_nothing(table: &twocars::value_table::ValueTable<'_>, point: [f32; 3]) -> (f32, f32) {
+    black_box((table, point));
+    (0.0, 0.0)
 }
 
 #[panic_handler]

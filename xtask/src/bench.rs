@@ -513,6 +513,15 @@ pub fn run() -> i32 {
             ok = false;
         }
     }
+    match crate::bench_table::measure() {
+        Ok(m) => {
+            let _ = writeln!(md, "{}", crate::bench_table::paragraph(&m));
+        }
+        Err(e) => {
+            eprintln!("xtask bench: {e}");
+            ok = false;
+        }
+    }
     let firmware = firmware_sizes();
     let _ = writeln!(md, "{firmware}");
     let (law_rate, decode_rate) = host_throughput();

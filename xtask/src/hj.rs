@@ -1,8 +1,8 @@
 //! `cargo xtask hj`: the game's value function V by value iteration on the Hamilton-Jacobi-
 //! Isaacs grid (`host_tests::hj`), and its validation against what is known exactly: the tail
 //! chase, V = (d - eps) / (v_pm - v_em), on three grid sizes with the observed order of
-//! convergence. (Issue 30's first slice: the table in the firmware and the threshold comparison
-//! with the paper's values are not built yet.)
+//! convergence. With `--table FILE` it solves one grid and writes it as the firmware's value
+//! table (`twocars::value_table`).
 
 use std::time::Instant;
 
@@ -30,6 +30,10 @@ pub struct HjArgs {
     /// Sweeps stop once no value changes by more than this (r_p / v_pm) and none is new.
     #[arg(long, default_value_t = 1e-6)]
     tolerance: f64,
+    /// Solve the finest grid only and write it as the firmware's value table (u16 per node,
+    /// `twocars::value_table`) to this file.
+    #[arg(long)]
+    table: Option<std::path::PathBuf>,
 }
 
 /// The tail-chase distances checked, r_p: the evader dead ahead with the pursuer's heading.
@@ -88,6 +92,9 @@ pub fn command(args: &HjArgs) -> i32 {
         args.half,
         rayon::current_num_threads()
     );
+    if let Some(path) = &args.table {
+        return write_table(game, args, path);
+    }
     println!("| grid | spacing (r_p) | sweeps | residual | solve time (s) | tail chase errors at d = 1, 2, 3, 4 r_p (r_p / v_pm) |");
     println!("|---|---|---|---|---|---|");
     let mut errors = Vec::new();
@@ -124,4 +131,37 @@ pub fn command(args: &HjArgs) -> i32 {
         );
     }
     i32::from(!ok)
+}
+
+/// Solves the finest grid and writes its table to `path`; read back through the firmware's
+/// reader, its tail chase is printed beside the exact value.
+fn write_table(game: Game, args: &HjArgs, path: &std::path::Path) -> i32 {
+    let (s, seconds) = run_grid(game, args.nodes, args);
+    let bytes = s.table_bytes();
+    if let Err(e) = std::fs::write(path, &bytes) {
+        eprintln!("xtask hj: {}: {e}", path.display());
+        return 1;
+    }
+    let Ok(table) = twocars::value_table::ValueTable::parse(&bytes) else {
+        eprintln!("xtask hj: the table written does not parse");
+        return 1;
+    };
+    println!(
+        "wrote {}: {} B ({} x {} x {} nodes, u16, {:.2e} r_p / v_pm per code, times above {:.1} kept as never); {} sweeps, residual {:.1e}, {seconds:.1} s",
+        path.display(),
+        bytes.len(),
+        s.grid.n,
+        s.grid.n,
+        s.grid.headings,
+        table.scale,
+        s.longest_kept(),
+        s.sweeps,
+        s.residual
+    );
+    for d in TAIL_CHASE {
+        let exact = (d - game.eps) / (1.0 - game.speed_ratio);
+        let read = table.value(d as f32, 0.0, 0.0).map_or(f64::NAN, f64::from);
+        println!("  tail chase at d = {d} r_p: table {read:.4}, exact {exact:.4}");
+    }
+    0
 }

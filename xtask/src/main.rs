@@ -3,6 +3,7 @@
 
 mod bench;
 mod bench_mavlink;
+mod bench_table;
 mod csv;
 mod eval;
 mod firmware_loop;

@@ -192,6 +192,8 @@ pub fn run() -> i32 {
         ("bench-micromath", "micromath bench", M4F),
         ("bench-report", "report bench", M4F),
         ("bench-loop", "serial loop bench", M4F),
+        ("bench-mavlink", "MAVLink bench", M4F),
+        ("bench-table", "value table bench", M4F),
     ] {
         let firmware_clippy = [
             "clippy",

@@ -1,0 +1,231 @@
+//! The value table as the firmware reads it (`twocars::value_table`, no_std, f32, u16 codes)
+//! against the solver's f64 table it was written from (`host_tests::hj`): values within half a
+//! code, the same optimal pursuer turn wherever the gradient says so clearly, the tail chase,
+//! and malformed tables refused without a panic.
+
+use std::sync::OnceLock;
+
+use host_tests::hj::{solve, Game, Grid, Solution, REACHED};
+use host_tests::rng::Rng;
+use twocars::value_table::{TableError, ValueTable, HEADER_LEN, NEVER};
+
+/// The paper's game (v_em / v_pm = 1/2, r_e = 2 r_p) on the 41 x 41 x 24 grid, capture radius
+/// 0.3 r_p: solved once for every test here.
+fn solution() -> &'static Solution {
+    static SOLUTION: OnceLock<Solution> = OnceLock::new();
+    SOLUTION.get_or_init(|| {
+        let game = Game {
+            eps: 0.3,
+            ..Game::of_limits([2.0, 2.0, 1.0, 1.0], 0.0)
+        };
+        let grid = Grid {
+            n: 41,
+            half: 6.0,
+            headings: 24,
+        };
+        solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {})
+    })
+}
+
+fn bytes() -> &'static [u8] {
+    static BYTES: OnceLock<Vec<u8>> = OnceLock::new();
+    BYTES.get_or_init(|| solution().table_bytes())
+}
+
+/// The solver's values at the eight nodes of the cell around `(x, y, phi)`.
+fn corners(s: &Solution, x: f64, y: f64, phi: f64) -> Vec<f64> {
+    let (h, turn) = (s.grid.spacing(), std::f64::consts::TAU);
+    let dphi = turn / s.grid.headings as f64;
+    let node = |v: f64, step: f64, from: f64| from + ((v - from) / step).floor() * step;
+    let (x0, y0) = (node(x, h, -s.grid.half), node(y, h, -s.grid.half));
+    let phi0 = node(phi, dphi, -std::f64::consts::PI);
+    let mut out = Vec::new();
+    for dp in [0.0, dphi] {
+        for dy in [0.0, h] {
+            for dx in [0.0, h] {
+                out.push(s.value(x0 + dx, y0 + dy, phi0 + dp));
+            }
+        }
+    }
+    out
+}
+
+fn point(rng: &mut Rng, half: f64) -> (f64, f64, f64) {
+    (
+        rng.uniform(-half, half),
+        rng.uniform(-half, half),
+        rng.uniform(-std::f64::consts::PI, std::f64::consts::PI),
+    )
+}
+
+#[test]
+fn the_firmware_reads_the_values_the_solver_wrote_within_half_a_code() {
+    let s = solution();
+    let table = ValueTable::parse(bytes()).expect("the solver's table parses");
+    assert_eq!(table.grid(), (41, 24));
+    assert!((f64::from(table.speed_ratio) - 0.5).abs() < 1e-7);
+    let scale = f64::from(table.scale);
+    let mut rng = Rng::new(30);
+    let (mut compared, mut never) = (0, 0);
+    for _ in 0..20_000 {
+        let (x, y, phi) = point(&mut rng, 5.9);
+        let want = s.value(x, y, phi);
+        match table.value(x as f32, y as f32, phi as f32) {
+            Some(got) => {
+                // Half a code of rounding, and f32's rounding of the weights and the sum.
+                let bound = 0.5 * scale + 1e-5 * want;
+                assert!(
+                    (f64::from(got) - want).abs() <= bound,
+                    "({x}, {y}, {phi}): table {got}, solver {want}"
+                );
+                compared += 1;
+            }
+            // The table refuses only next to a node beyond the longest time it keeps.
+            None => {
+                let corner = corners(s, x, y, phi).into_iter().fold(0.0_f64, f64::max);
+                assert!(
+                    corner > s.longest_kept(),
+                    "({x}, {y}, {phi}): refused, solver {want}"
+                );
+                never += 1;
+            }
+        }
+    }
+    assert!(compared > 10_000, "{compared} compared, {never} refused");
+    // Outside the box, and non-finite input: no value, no panic.
+    assert_eq!(table.value(6.1, 0.0, 0.0), None);
+    assert_eq!(table.value(f32::NAN, 0.0, 0.0), None);
+    assert_eq!(table.value(0.0, 0.0, f32::INFINITY), None);
+    assert!(table.value(1.0, 0.0, 1.0e30).is_some());
+}
+
+/// The tail chase, read through the table: V = (d - eps) / (1 - a) within the grid's error.
+#[test]
+fn the_table_keeps_the_tail_chase_value() {
+    let table = ValueTable::parse(bytes()).unwrap();
+    let h = f64::from(table.spacing());
+    for d in [1.0_f32, 2.0, 3.0, 4.0] {
+        let got = f64::from(table.value(d, 0.0, 0.0).unwrap());
+        let exact = (f64::from(d) - 0.3) / 0.5;
+        assert!(
+            got >= exact - 1e-3 && got - exact <= h / 0.5,
+            "d = {d}: {got} vs {exact}"
+        );
+    }
+}
+
+/// Where the solver's gradient says clearly which turn makes V fall fastest, the firmware's
+/// table says the same.
+#[test]
+fn the_optimal_turn_is_the_solvers() {
+    let s = solution();
+    let table = ValueTable::parse(bytes()).unwrap();
+    let (h, dphi) = (s.grid.spacing(), std::f64::consts::TAU / 24.0);
+    let mut rng = Rng::new(31);
+    let mut clear = 0;
+    for _ in 0..20_000 {
+        let (x, y, phi) = point(&mut rng, 5.5);
+        let v = |dx: f64, dy: f64, dp: f64| s.value(x + dx, y + dy, phi + dp);
+        let corners = [
+            v(h, 0.0, 0.0),
+            v(-h, 0.0, 0.0),
+            v(0.0, h, 0.0),
+            v(0.0, -h, 0.0),
+        ];
+        if corners.iter().any(|&c| c >= REACHED) || v(0.0, 0.0, dphi) >= REACHED {
+            continue;
+        }
+        let slope = (corners[0] - corners[1]) / (2.0 * h) * y
+            - (corners[2] - corners[3]) / (2.0 * h) * x
+            - (v(0.0, 0.0, dphi) - v(0.0, 0.0, -dphi)) / (2.0 * dphi);
+        if slope.abs() < 0.05 {
+            continue;
+        }
+        let Some(turn) = table.pursuer_turn(x as f32, y as f32, phi as f32) else {
+            continue;
+        };
+        assert_eq!(
+            f64::from(turn),
+            -slope.signum(),
+            "({x}, {y}, {phi}): slope {slope}"
+        );
+        clear += 1;
+    }
+    assert!(clear > 5_000, "{clear} clear states");
+}
+
+#[test]
+fn malformed_tables_are_refused_never_read() {
+    let good = bytes();
+    assert_eq!(ValueTable::parse(&good[..3]), Err(TableError::Short));
+    assert_eq!(
+        ValueTable::parse(&good[..HEADER_LEN]),
+        Err(TableError::Short)
+    );
+    assert_eq!(
+        ValueTable::parse(&good[..good.len() - 1]),
+        Err(TableError::Short)
+    );
+    let mut magic = good.to_vec();
+    magic[0] = b'X';
+    assert_eq!(ValueTable::parse(&magic), Err(TableError::Magic));
+    // Each header field made absurd in turn: NaN ratios, a speed ratio of 1.5, a radius as
+    // large as the box, a zero scale, a grid of 2 nodes or 1 heading.
+    for (at, bytes) in [
+        (4, f32::NAN.to_le_bytes().to_vec()),
+        (4, 1.5_f32.to_le_bytes().to_vec()),
+        (8, f32::INFINITY.to_le_bytes().to_vec()),
+        (12, 6.0_f32.to_le_bytes().to_vec()),
+        (20, 0.0_f32.to_le_bytes().to_vec()),
+        (24, 2_u16.to_le_bytes().to_vec()),
+        (26, 1_u16.to_le_bytes().to_vec()),
+    ] {
+        let mut bad = good.to_vec();
+        bad[at..at + bytes.len()].copy_from_slice(&bytes);
+        assert_eq!(
+            ValueTable::parse(&bad),
+            Err(TableError::Header),
+            "field at {at}"
+        );
+    }
+    // A table of all "never": every read is None, the turn too.
+    let mut never = good[..HEADER_LEN].to_vec();
+    never.extend(std::iter::repeat_n(NEVER.to_le_bytes(), 41 * 41 * 24).flatten());
+    let table = ValueTable::parse(&never).unwrap();
+    assert_eq!(table.value(1.0, 1.0, 0.0), None);
+    assert_eq!(table.pursuer_turn(1.0, 1.0, 0.0), None);
+    // Random bytes behind a valid magic: refused or read, never a panic.
+    let mut rng = Rng::new(32);
+    for _ in 0..2_000 {
+        let len = (rng.next_u64() % 200) as usize;
+        let mut b = b"TCV1".to_vec();
+        b.extend((0..len).map(|_| rng.next_u64() as u8));
+        if let Ok(t) = ValueTable::parse(&b) {
+            let _ = t.value(0.5, -0.5, 1.0);
+            let _ = t.pursuer_turn(0.5, -0.5, 1.0);
+        }
+    }
+}
+
+/// The bench's table (`src/bench/table.tcv`) is what `cargo xtask hj --nodes 21 --eps 0.6
+/// --table src/bench/table.tcv` writes (the solver is deterministic), and the bench's points
+/// all have a value in it.
+#[test]
+fn the_committed_bench_table_is_the_solvers() {
+    let game = Game {
+        eps: 0.6,
+        ..Game::of_limits([2.0, 2.0, 1.0, 1.0], 0.0)
+    };
+    let grid = Grid {
+        n: 21,
+        half: 6.0,
+        headings: 24,
+    };
+    let fresh = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 20_000, |_, _| {}).table_bytes();
+    let committed = include_bytes!("../../src/bench/table.tcv");
+    assert!(fresh[..] == committed[..], "regenerate src/bench/table.tcv");
+    let table = ValueTable::parse(committed).unwrap();
+    for [x, y, phi] in twocars::bench::TABLE_POINTS {
+        assert!(table.value(x, y, phi).is_some() && table.pursuer_turn(x, y, phi).is_some());
+    }
+}
