@@ -145,9 +145,12 @@ impl<'a> ValueTable<'a> {
             return None;
         }
         let (i0, j0) = ((fx as usize).min(self.n - 2), (fy as usize).min(self.n - 2));
-        let k0 = (fk as usize) % self.headings;
+        // fk is within [0, headings]; its top end is heading 0 again. No division: the
+        // image's panic check cannot see that `headings` is not zero.
+        let wrap = |k: usize| if k >= self.headings { 0 } else { k };
+        let k0 = wrap(fk as usize);
         let (tx, ty, tk) = (fx - i0 as f32, fy - j0 as f32, fk - libm::floorf(fk));
-        let k1 = (k0 + 1) % self.headings;
+        let k1 = wrap(k0 + 1);
         let mut v = 0.0;
         for (k, wk) in [(k0, 1.0 - tk), (k1, tk)] {
             for (j, wj) in [(j0, 1.0 - ty), (j0 + 1, ty)] {
