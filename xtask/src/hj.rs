@@ -2,7 +2,8 @@
 //! Isaacs grid (`host_tests::hj`), and its validation against what is known exactly: the tail
 //! chase, V = (d - eps) / (v_pm - v_em), on three grid sizes with the observed order of
 //! convergence. With `--table FILE` it solves one grid and writes it as the firmware's value
-//! table (`twocars::value_table`).
+//! table (`twocars::value_table`), read back: the tail chase, and where the box reaches the
+//! theorem's threshold, V against the paper's upper value beyond it.
 
 use std::time::Instant;
 
@@ -163,5 +164,64 @@ fn write_table(game: Game, args: &HjArgs, path: &std::path::Path) -> i32 {
         let read = table.value(d as f32, 0.0, 0.0).map_or(f64::NAN, f64::from);
         println!("  tail chase at d = {d} r_p: table {read:.4}, exact {exact:.4}");
     }
+    threshold_comparison(game, &table);
     0
+}
+
+/// Beyond the theorem's threshold, where the paper's law has a saddle, V is the paper's upper
+/// value (plus the capture radius's closing time eps / (1 - a), the law's capture being a
+/// point's): prints V - that over seeded states 0 to 2 r_p beyond the threshold, where the box
+/// reaches them.
+fn threshold_comparison(game: Game, table: &twocars::value_table::ValueTable<'_>) {
+    use twocars::{Law, Limits, Variant, VehicleState};
+    let a = game.speed_ratio;
+    // Reduced units: r_p = 1, v_pm = 1; r_e = a / (the evader's turn rate).
+    let r_e = a / game.evader_turn;
+    let threshold = 2.0 * r_e + std::f64::consts::TAU * r_e / a;
+    let far = (threshold + 2.0).min(0.95 * f64::from(table.half));
+    let Ok(limits) = Limits::<f64>::new(1.0, 1.0, a as f32, (1.0 / r_e) as f32) else {
+        return;
+    };
+    if far <= threshold {
+        println!(
+            "  the theorem's threshold, {threshold:.2} r_p, is beyond the box: no comparison with the paper's value"
+        );
+        return;
+    }
+    let law = Law::new(limits, Variant::Paper);
+    let mut rng = host_tests::rng::Rng::new(30);
+    let (mut gaps, mut refused) = (Vec::new(), 0);
+    for _ in 0..3_000 {
+        let pi = std::f64::consts::PI;
+        let (d, bearing) = (rng.uniform(threshold, far), rng.uniform(-pi, pi));
+        let phi = rng.uniform(-pi, pi);
+        let (x, y) = ((d * bearing.cos()) as f32, (d * bearing.sin()) as f32);
+        let (Ok(p), Ok(e)) = (
+            VehicleState::<f64>::new(0.0, 0.0, 0.0),
+            VehicleState::<f64>::new(x, y, phi as f32),
+        ) else {
+            continue;
+        };
+        let Some(s) = law.evaluate(&p, &e).report.map(|r| r.solution) else {
+            continue;
+        };
+        let (Some(upper), Some(lower)) = (s.upper, s.lower) else {
+            continue;
+        };
+        if (upper - lower).abs() > 1e-9 * upper {
+            continue;
+        }
+        match table.value(x, y, phi as f32) {
+            Some(v) => gaps.push(f64::from(v) + game.eps / (1.0 - a) - upper),
+            None => refused += 1,
+        }
+    }
+    gaps.sort_by(f64::total_cmp);
+    if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
+        println!(
+            "  beyond the threshold ({threshold:.2} to {far:.2} r_p), {} states with a saddle: V + eps / (1 - a) - upper value: min {first:+.3}, median {:+.3}, max {last:+.3} r_p / v_pm; {refused} without a value",
+            gaps.len(),
+            gaps[gaps.len() / 2],
+        );
+    }
 }
