@@ -186,12 +186,36 @@ fn interpolate(grid: &Grid, values: &[f64], x: f64, y: f64, phi: f64) -> f64 {
 
 /// Solves `game` on `grid` with time step `tau` until no value changes by more than `tolerance`
 /// and none becomes finite, or `max_sweeps`; `progress(sweep, residual)` after each sweep.
+/// Leaving the box counts as never captured.
 pub fn solve(
     game: Game,
     grid: Grid,
     tau: f64,
     tolerance: f64,
     max_sweeps: usize,
+    progress: impl FnMut(usize, f64),
+) -> Solution {
+    solve_with_boundary(
+        game,
+        grid,
+        tau,
+        tolerance,
+        max_sweeps,
+        |_, _, _| NEVER,
+        progress,
+    )
+}
+
+/// [`solve`] with `boundary(x, y, phi)` the value of a state outside the box (r_p / v_pm;
+/// [`NEVER`] for never captured): for example the paper's upper value beyond the theorem's
+/// threshold. It is called once per node and control pair whose step leaves the box.
+pub fn solve_with_boundary(
+    game: Game,
+    grid: Grid,
+    tau: f64,
+    tolerance: f64,
+    max_sweeps: usize,
+    boundary: impl Fn(f64, f64, f64) -> f64 + Sync,
     mut progress: impl FnMut(usize, f64),
 ) -> Solution {
     // A node on the disc's edge is inside it whatever the rounding of its coordinates (-6 + 33 x
@@ -215,6 +239,43 @@ pub fn solve(
     let a = game.speed_ratio;
     let pursuer = [-1.0, 0.0, 1.0];
     let evader = [-game.evader_turn, 0.0, game.evader_turn];
+    // A node's state and its heading's sine and cosine.
+    let node = |index: usize| {
+        let (i, j, k) = (
+            index % grid.n,
+            index / grid.n % grid.n,
+            index / (grid.n * grid.n),
+        );
+        let (x, y, phi) = (grid.position(i), grid.position(j), grid.heading(k));
+        let (s, c) = phi.sin_cos();
+        (x, y, phi, s, c)
+    };
+    // The step from a node under the controls (u, w): where it lands.
+    let step = |(x, y, phi, s, c): (f64, f64, f64, f64, f64), u: f64, w: f64| {
+        (
+            x + tau * (a * c - 1.0 + u * y),
+            y + tau * (a * s - u * x),
+            phi + tau * (w - u),
+        )
+    };
+    let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
+    // The boundary's values, fixed: the steps that leave the box do not depend on V.
+    let exits: std::collections::HashMap<(usize, usize, usize), f64> = (0..grid.len())
+        .into_par_iter()
+        .flat_map_iter(|index| {
+            let at = node(index);
+            let mut out = Vec::new();
+            for (p, &u) in pursuer.iter().enumerate() {
+                for (e, &w) in evader.iter().enumerate() {
+                    let (nx, ny, nphi) = step(at, u, w);
+                    if !inside(nx, ny) {
+                        out.push(((index, p, e), boundary(nx, ny, nphi).min(NEVER)));
+                    }
+                }
+            }
+            out
+        })
+        .collect();
     let mut solution = Solution {
         game,
         grid,
@@ -231,22 +292,25 @@ pub fn solve(
             .map(|index| {
                 let i = index % grid.n;
                 let j = index / grid.n % grid.n;
-                let k = index / (grid.n * grid.n);
                 if captured(i, j) {
                     return 0.0;
                 }
-                let (x, y, phi) = (grid.position(i), grid.position(j), grid.heading(k));
-                let (s, c) = phi.sin_cos();
+                let at = node(index);
                 pursuer
                     .iter()
-                    .map(|&u| {
+                    .enumerate()
+                    .map(|(p, &u)| {
                         evader
                             .iter()
-                            .map(|&w| {
-                                let nx = x + tau * (a * c - 1.0 + u * y);
-                                let ny = y + tau * (a * s - u * x);
-                                let nphi = phi + tau * (w - u);
-                                (tau + interpolate(&grid, old, nx, ny, nphi)).min(NEVER)
+                            .enumerate()
+                            .map(|(e, &w)| {
+                                let (nx, ny, nphi) = step(at, u, w);
+                                let next = if inside(nx, ny) {
+                                    interpolate(&grid, old, nx, ny, nphi)
+                                } else {
+                                    exits.get(&(index, p, e)).copied().unwrap_or(NEVER)
+                                };
+                                (tau + next).min(NEVER)
                             })
                             .fold(f64::NEG_INFINITY, f64::max)
                     })

@@ -1,7 +1,7 @@
 //! The Hamilton-Jacobi-Isaacs value iteration (src/hj.rs) on a coarse grid: the tail chase's
 //! exact value, the game's mirror symmetry, and capture from the whole interior.
 
-use host_tests::hj::{solve, Game, Grid, Solution, REACHED};
+use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, REACHED};
 
 /// The paper's limits (v_em / v_pm = 1/2, r_e = 2 r_p), capture radius 0.3 r_p, box +-6 r_p at
 /// 0.3 r_p spacing: about 3 s in release on two threads.
@@ -144,4 +144,30 @@ fn the_table_pursuer_captures_a_meshing_circler() {
         with_table.d_min
     );
     assert!(with_table.t_capture < 20.0, "{}", with_table.t_capture);
+}
+
+/// The boundary value is what a step out of the box lands on: with the box's edge a capture
+/// (value 0), an evader 0.5 r_p from the edge behind the pursuer is "caught" once the pursuer
+/// runs straight on for a unit of time; with the edge never captured, the pursuer must turn
+/// around for it.
+#[test]
+fn a_step_out_of_the_box_lands_on_the_boundary_value() {
+    let game = Game {
+        eps: 0.6,
+        ..Game::of_limits([2.0, 2.0, 1.0, 1.0], 0.0)
+    };
+    let grid = Grid {
+        n: 21,
+        half: 6.0,
+        headings: 24,
+    };
+    let tau = 0.5 * grid.spacing();
+    let edge_captures = solve_with_boundary(game, grid, tau, 1e-6, 5_000, |_, _, _| 0.0, |_, _| {});
+    let never = solve(game, grid, tau, 1e-6, 5_000, |_, _| {});
+    // Relative x falls at 1 - a = 0.5 per unit time while the pursuer runs straight.
+    let behind = (-5.4, 0.0, 0.0);
+    let with_edge = edge_captures.value(behind.0, behind.1, behind.2);
+    let without = never.value(behind.0, behind.1, behind.2);
+    assert!(with_edge <= 1.2 + tau, "{with_edge}");
+    assert!(without > 5.0, "{without}");
 }

@@ -7,7 +7,7 @@
 
 use std::time::Instant;
 
-use host_tests::hj::{solve, Game, Grid, Solution, REACHED};
+use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, NEVER, REACHED};
 
 use crate::progress::Progress;
 
@@ -28,6 +28,10 @@ pub struct HjArgs {
     /// its intervals.
     #[arg(long, default_value_t = 81)]
     nodes: usize,
+    /// Relative headings per turn on every grid (even); default about as many as position
+    /// nodes span 2 pi r_p, at least 24.
+    #[arg(long)]
+    headings: Option<usize>,
     /// Sweeps stop once no value changes by more than this (r_p / v_pm) and none is new.
     #[arg(long, default_value_t = 1e-6)]
     tolerance: f64,
@@ -35,6 +39,47 @@ pub struct HjArgs {
     /// `twocars::value_table`) to this file.
     #[arg(long)]
     table: Option<std::path::PathBuf>,
+    /// A step that leaves the box beyond the theorem's threshold lands on the paper's upper
+    /// value there (less eps / (1 - a)), where the law has a saddle; elsewhere leaving the box
+    /// counts as never captured.
+    #[arg(long)]
+    paper_boundary: bool,
+}
+
+/// The paper's upper value in the reduced units (r_p = 1, v_pm = 1) of a game.
+#[derive(Clone, Copy)]
+struct PaperValue {
+    law: twocars::Law<f64>,
+    threshold: f64,
+    eps_closing: f64,
+}
+
+impl PaperValue {
+    fn of(game: Game) -> Option<Self> {
+        let a = game.speed_ratio;
+        // r_e = a / (the evader's turn rate per unit time), in r_p.
+        let r_e = a / game.evader_turn;
+        let limits = twocars::Limits::<f64>::new(1.0, 1.0, a as f32, (1.0 / r_e) as f32).ok()?;
+        Some(PaperValue {
+            law: twocars::Law::new(limits, twocars::Variant::Paper),
+            threshold: 2.0 * r_e + std::f64::consts::TAU * r_e / a,
+            eps_closing: game.eps / (1.0 - a),
+        })
+    }
+
+    /// The upper value (r_p / v_pm) of the evader at `(x, y, phi)` in the pursuer's frame, less
+    /// the capture radius's closing time, where the players are beyond the threshold and the
+    /// law has a saddle.
+    fn beyond_threshold(&self, x: f64, y: f64, phi: f64) -> Option<f64> {
+        if x.hypot(y) < self.threshold {
+            return None;
+        }
+        let p = twocars::VehicleState::<f64>::new(0.0, 0.0, 0.0).ok()?;
+        let e = twocars::VehicleState::<f64>::new(x as f32, y as f32, phi as f32).ok()?;
+        let s = self.law.evaluate(&p, &e).report?.solution;
+        let (upper, lower) = (s.upper?, s.lower?);
+        ((upper - lower).abs() <= 1e-9 * upper).then_some(upper - self.eps_closing)
+    }
 }
 
 /// The tail-chase distances checked, r_p: the evader dead ahead with the pursuer's heading.
@@ -48,7 +93,9 @@ fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
     let grid = Grid {
         n,
         half: args.half,
-        headings: 2 * ((0.5 * per_turn).round().max(12.0) as usize),
+        headings: args
+            .headings
+            .unwrap_or(2 * ((0.5 * per_turn).round().max(12.0) as usize)),
     };
     // Half a cell per sweep at the pursuer's speed.
     let tau = 0.5 * grid.spacing();
@@ -57,18 +104,23 @@ fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
         &format!("sweeps on the {n} x {n} x {} grid", grid.headings),
     );
     let started = Instant::now();
-    let solution = solve(
-        game,
-        grid,
-        tau,
-        args.tolerance,
-        20_000,
-        |sweep, residual| {
-            if sweep % 25 == 0 {
-                progress.step(&format!("sweep {sweep}, residual {residual:.2e}"));
-            }
-        },
-    );
+    let report = |sweep: usize, residual: f64| {
+        if sweep.is_multiple_of(25) {
+            progress.step(&format!("sweep {sweep}, residual {residual:.2e}"));
+        }
+    };
+    let solution = match (args.paper_boundary, PaperValue::of(game)) {
+        (true, Some(paper)) => solve_with_boundary(
+            game,
+            grid,
+            tau,
+            args.tolerance,
+            20_000,
+            |x, y, phi| paper.beyond_threshold(x, y, phi).unwrap_or(NEVER),
+            report,
+        ),
+        _ => solve(game, grid, tau, args.tolerance, 20_000, report),
+    };
     progress.finish();
     (solution, started.elapsed().as_secs_f64())
 }
@@ -81,8 +133,9 @@ pub fn command(args: &HjArgs) -> i32 {
     };
     if !(game.speed_ratio > 0.0 && game.speed_ratio < 1.0 && args.nodes >= 21 && args.eps > 0.0)
         || args.nodes % 4 != 1
+        || args.headings.is_some_and(|h| h < 4 || h % 2 != 0)
     {
-        eprintln!("xtask hj: need v_pm > v_em > 0, --eps > 0 and --nodes >= 21 with nodes - 1 a multiple of 4");
+        eprintln!("xtask hj: need v_pm > v_em > 0, --eps > 0, --nodes >= 21 with nodes - 1 a multiple of 4, and --headings even and at least 4");
         return 2;
     }
     println!(
@@ -173,46 +226,29 @@ fn write_table(game: Game, args: &HjArgs, path: &std::path::Path) -> i32 {
 /// point's): prints V - that over seeded states 0 to 2 r_p beyond the threshold, where the box
 /// reaches them.
 fn threshold_comparison(game: Game, table: &twocars::value_table::ValueTable<'_>) {
-    use twocars::{Law, Limits, Variant, VehicleState};
-    let a = game.speed_ratio;
-    // Reduced units: r_p = 1, v_pm = 1; r_e = a / (the evader's turn rate).
-    let r_e = a / game.evader_turn;
-    let threshold = 2.0 * r_e + std::f64::consts::TAU * r_e / a;
-    let far = (threshold + 2.0).min(0.95 * f64::from(table.half));
-    let Ok(limits) = Limits::<f64>::new(1.0, 1.0, a as f32, (1.0 / r_e) as f32) else {
+    let Some(paper) = PaperValue::of(game) else {
         return;
     };
+    let threshold = paper.threshold;
+    let far = (threshold + 2.0).min(0.95 * f64::from(table.half));
     if far <= threshold {
         println!(
             "  the theorem's threshold, {threshold:.2} r_p, is beyond the box: no comparison with the paper's value"
         );
         return;
     }
-    let law = Law::new(limits, Variant::Paper);
     let mut rng = host_tests::rng::Rng::new(30);
     let (mut gaps, mut refused) = (Vec::new(), 0);
     for _ in 0..3_000 {
         let pi = std::f64::consts::PI;
         let (d, bearing) = (rng.uniform(threshold, far), rng.uniform(-pi, pi));
         let phi = rng.uniform(-pi, pi);
-        let (x, y) = ((d * bearing.cos()) as f32, (d * bearing.sin()) as f32);
-        let (Ok(p), Ok(e)) = (
-            VehicleState::<f64>::new(0.0, 0.0, 0.0),
-            VehicleState::<f64>::new(x, y, phi as f32),
-        ) else {
+        let (x, y) = (d * bearing.cos(), d * bearing.sin());
+        let Some(paper_v) = paper.beyond_threshold(x, y, phi) else {
             continue;
         };
-        let Some(s) = law.evaluate(&p, &e).report.map(|r| r.solution) else {
-            continue;
-        };
-        let (Some(upper), Some(lower)) = (s.upper, s.lower) else {
-            continue;
-        };
-        if (upper - lower).abs() > 1e-9 * upper {
-            continue;
-        }
-        match table.value(x, y, phi as f32) {
-            Some(v) => gaps.push(f64::from(v) + game.eps / (1.0 - a) - upper),
+        match table.value(x as f32, y as f32, phi as f32) {
+            Some(v) => gaps.push(f64::from(v) - paper_v),
             None => refused += 1,
         }
     }
