@@ -41,6 +41,15 @@ pub struct Game {
 }
 
 impl Game {
+    /// The game of the limits v_pm, w_pm, v_em, w_em (m/s, 1/m) with capture radius `eps` in
+    /// units of r_p.
+    pub fn with_radius(limits: [f64; 4], eps: f64) -> Self {
+        Game {
+            eps,
+            ..Self::of_limits(limits, 0.0)
+        }
+    }
+
     /// The game of the limits v_pm, w_pm, v_em, w_em (m/s, 1/m) with capture radius `eps` m.
     pub fn of_limits([v_pm, w_pm, v_em, w_em]: [f64; 4], eps: f64) -> Self {
         let speed_ratio = v_em / v_pm;

@@ -6,10 +6,7 @@ use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, REACHED};
 /// The paper's limits (v_em / v_pm = 1/2, r_e = 2 r_p), capture radius 0.3 r_p, box +-6 r_p at
 /// 0.3 r_p spacing: about 3 s in release on two threads.
 fn coarse() -> Solution {
-    let game = Game {
-        eps: 0.3,
-        ..Game::of_limits([2.0, 2.0, 1.0, 1.0], 0.0)
-    };
+    let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 0.3);
     let grid = Grid {
         n: 41,
         half: 6.0,
@@ -104,10 +101,7 @@ fn the_table_pursuer_captures_a_meshing_circler() {
         half: 6.0,
         headings: 24,
     };
-    let game = Game {
-        eps: 2.0 * grid.spacing(),
-        ..Game::of_limits(limits, 0.0)
-    };
+    let game = Game::with_radius(limits, 2.0 * grid.spacing());
     let table = solve(game, grid, 0.5 * grid.spacing(), 1e-5, 20_000, |_, _| {});
     let narrow = limits.map(|v| v as f32);
     let law_limits = Limits::<f32>::new(narrow[0], narrow[1], narrow[2], narrow[3]).unwrap();
@@ -152,10 +146,7 @@ fn the_table_pursuer_captures_a_meshing_circler() {
 /// around for it.
 #[test]
 fn a_step_out_of_the_box_lands_on_the_boundary_value() {
-    let game = Game {
-        eps: 0.6,
-        ..Game::of_limits([2.0, 2.0, 1.0, 1.0], 0.0)
-    };
+    let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 0.6);
     let grid = Grid {
         n: 21,
         half: 6.0,

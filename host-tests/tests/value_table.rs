@@ -14,10 +14,7 @@ use twocars::value_table::{TableError, ValueTable, HEADER_LEN, NEVER};
 fn solution() -> &'static Solution {
     static SOLUTION: OnceLock<Solution> = OnceLock::new();
     SOLUTION.get_or_init(|| {
-        let game = Game {
-            eps: 0.3,
-            ..Game::of_limits([2.0, 2.0, 1.0, 1.0], 0.0)
-        };
+        let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 0.3);
         let grid = Grid {
             n: 41,
             half: 6.0,
@@ -212,10 +209,7 @@ fn malformed_tables_are_refused_never_read() {
 /// all have a value in it.
 #[test]
 fn the_committed_bench_table_is_the_solvers() {
-    let game = Game {
-        eps: 0.6,
-        ..Game::of_limits([2.0, 2.0, 1.0, 1.0], 0.0)
-    };
+    let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 0.6);
     let grid = Grid {
         n: 21,
         half: 6.0,

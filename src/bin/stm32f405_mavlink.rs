@@ -4,30 +4,13 @@
 #![no_std]
 #![no_main]
 
-use stm32f4xx_hal::pac;
-use stm32f4xx_hal::prelude::*;
-use stm32f4xx_hal::rcc::Config;
-use stm32f4xx_hal::serial::Serial;
-use twocars::board::stm32f405::{take_uart, Stm32f405};
+use twocars::board::stm32f405::bring_up;
 use twocars::mavlink::service::serve_mavlink;
 use twocars::mavlink::Endpoint;
 
-/// Core clock, Hz.
-const SYSCLK_HZ: u32 = 168_000_000;
-
 #[cortex_m_rt::entry]
 fn main() -> ! {
-    let (Some(dp), Some(cp)) = (pac::Peripherals::take(), cortex_m::Peripherals::take()) else {
-        cortex_m::peripheral::SCB::sys_reset()
-    };
-    let mut rcc = dp.RCC.freeze(Config::hse(8.MHz()).sysclk(SYSCLK_HZ.Hz()));
-    let gpioa = dp.GPIOA.split(&mut rcc);
-    let Ok(serial) = Serial::new(dp.USART1, (gpioa.pa9, gpioa.pa10), 115_200.bps(), &mut rcc)
-    else {
-        cortex_m::peripheral::SCB::sys_reset()
-    };
-    let board = Stm32f405::start(cp.SYST, SYSCLK_HZ);
-    let Some((_serial, mut line)) = take_uart(serial) else {
+    let Some((board, _serial, mut line)) = bring_up() else {
         cortex_m::peripheral::SCB::sys_reset()
     };
     let mut endpoint = Endpoint::new();

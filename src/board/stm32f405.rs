@@ -73,6 +73,24 @@ pub fn take_uart(serial: Serial<USART1>) -> Option<(Serial<USART1>, LoopEnd<'sta
     Some((serial, line))
 }
 
+/// Core clock, Hz.
+pub const SYSCLK_HZ: u32 = 168_000_000;
+
+/// The board brought up: clocks at [`SYSCLK_HZ`] from the 8 MHz crystal, USART1 on PA9/PA10 at
+/// 115200 baud with its interrupt ([`take_uart`]), SysTick at 1 kHz. `None` if the
+/// peripherals were taken already or the HAL refused the baud rate.
+pub fn bring_up() -> Option<(Stm32f405, Serial<USART1>, LoopEnd<'static>)> {
+    use stm32f4xx_hal::prelude::*;
+    use stm32f4xx_hal::rcc::Config;
+    let (dp, cp) = (pac::Peripherals::take()?, cortex_m::Peripherals::take()?);
+    let mut rcc = dp.RCC.freeze(Config::hse(8.MHz()).sysclk(SYSCLK_HZ.Hz()));
+    let gpioa = dp.GPIOA.split(&mut rcc);
+    let serial = Serial::new(dp.USART1, (gpioa.pa9, gpioa.pa10), 115_200.bps(), &mut rcc).ok()?;
+    let board = Stm32f405::start(cp.SYST, SYSCLK_HZ);
+    let (serial, line) = take_uart(serial)?;
+    Some((board, serial, line))
+}
+
 static MILLIS: AtomicU32 = AtomicU32::new(0);
 
 /// SysTick at 1 kHz on the core clock, and USART1's transmit start.

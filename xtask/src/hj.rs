@@ -127,10 +127,7 @@ fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
 
 /// Runs the solver on three grids and prints the validation; returns the exit code.
 pub fn command(args: &HjArgs) -> i32 {
-    let game = Game {
-        eps: args.eps,
-        ..Game::of_limits(args.limits, 0.0)
-    };
+    let game = Game::with_radius(args.limits, args.eps);
     if !(game.speed_ratio > 0.0 && game.speed_ratio < 1.0 && args.nodes >= 21 && args.eps > 0.0)
         || args.nodes % 4 != 1
         || args.headings.is_some_and(|h| h < 4 || h % 2 != 0)
