@@ -2,6 +2,7 @@
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
+use std::time::Instant;
 
 /// Cortex-M targets the no_std core must build for.
 const THUMB_TARGETS: [&str; 3] = [
@@ -10,6 +11,17 @@ const THUMB_TARGETS: [&str; 3] = [
     "thumbv6m-none-eabi",
 ];
 
+/// Runs `f`, then says how long `title` took (where the suite's time goes).
+fn timed<T>(title: &str, f: impl FnOnce() -> T) -> T {
+    let started = Instant::now();
+    let out = f();
+    println!(
+        "== xtask test: {title} took {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    out
+}
+
 fn step(title: &str, program: &str, args: &[&str], env: &[(&str, &str)]) -> bool {
     println!("== xtask test: {title}");
     let mut command = Command::new(program);
@@ -17,7 +29,7 @@ fn step(title: &str, program: &str, args: &[&str], env: &[(&str, &str)]) -> bool
     for (k, v) in env {
         command.env(k, v);
     }
-    match command.status() {
+    match timed(title, || command.status()) {
         Ok(status) if status.success() => true,
         Ok(status) => {
             eprintln!("== xtask test: `{title}` failed ({status})");
@@ -134,6 +146,7 @@ fn on_target(cargo: &str) -> (u64, u64) {
 
 /// Runs every step; returns the exit code.
 pub fn run() -> i32 {
+    let started = Instant::now();
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let mut ok = step("format", &cargo, &["fmt", "--all", "--", "--check"], &[])
         && step(
@@ -232,23 +245,31 @@ pub fn run() -> i32 {
         println!(
             "== xtask test: firmware images build, vector tables at their boards' flash origins"
         );
-        for board in crate::qemu::Board::ALL {
-            if let Err(e) = crate::qemu::build_checked(board) {
-                eprintln!("== xtask test: {e}");
-                ok = false;
+        timed("the firmware images", || {
+            for board in crate::qemu::Board::ALL {
+                if let Err(e) = crate::qemu::build_checked(board) {
+                    eprintln!("== xtask test: {e}");
+                    ok = false;
+                }
             }
-        }
+        });
     }
     if ok {
         println!("== xtask test: panic freedom of the flight images, proven at link time");
-        for board in crate::qemu::Board::ALL {
-            if let Err(e) = crate::qemu::prove_panic_free(board) {
-                eprintln!("== xtask test: {e}");
-                ok = false;
+        timed("the panic-freedom links", || {
+            for board in crate::qemu::Board::ALL {
+                if let Err(e) = crate::qemu::prove_panic_free(board) {
+                    eprintln!("== xtask test: {e}");
+                    ok = false;
+                }
             }
-        }
+        });
     }
-    let counts = if ok { host_tests(&cargo) } else { None };
+    let counts = if ok {
+        timed("the host tests", || host_tests(&cargo))
+    } else {
+        None
+    };
     ok = ok
         && counts.is_some()
         && step(
@@ -266,19 +287,20 @@ pub fn run() -> i32 {
         );
     let (mut passed, mut failed) = counts.unwrap_or((0, 0));
     if ok {
-        let (p, f) = crate::qemu_tests::run();
+        let (p, f) = timed("the QEMU tests", crate::qemu_tests::run);
         passed += p;
         failed += f;
         ok = f == 0;
     }
     if ok {
-        let (p, f) = on_target(&cargo);
+        let (p, f) = timed("the on-target tests", || on_target(&cargo));
         passed += p;
         failed += f;
         ok = f == 0;
     }
     if ok {
         println!("== xtask test: fuzz smoke run, 10 s per target from the seed corpora");
+        let fuzzing = Instant::now();
         if !crate::fuzz::ensure_cargo_fuzz() {
             eprintln!("== xtask test: cargo-fuzz is not available");
             failed += 1;
@@ -311,9 +333,16 @@ pub fn run() -> i32 {
                 }
             }
         }
+        println!(
+            "== xtask test: the fuzz smoke run took {:.1} s",
+            fuzzing.elapsed().as_secs_f64()
+        );
     }
     if ok {
-        println!("== xtask test: all steps passed");
+        println!(
+            "== xtask test: all steps passed in {:.0} s",
+            started.elapsed().as_secs_f64()
+        );
     }
     // The closing line CI reads.
     println!("{passed} passed, {failed} failed");
