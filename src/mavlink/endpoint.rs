@@ -368,7 +368,9 @@ impl Session {
         let live = self
             .target
             .filter(|last| now_ms.wrapping_sub(last.fix.arrived_ms) <= timeout);
-        let jumped = match (live, self.origin, self.params.limits()) {
+        // The limits validated when the guidance was built: not again per fix.
+        let limits = self.guidance.map(|g| g.law().limits);
+        let jumped = match (live, self.origin, limits) {
             (Some(last), Some(origin), Some(limits)) => {
                 let run_s = now_ms.wrapping_sub(last.fix.arrived_ms) as f32 / 1000.0;
                 let reach = JUMP_SLACK_M + 2.0 * limits.evader.v_max() * run_s;
@@ -476,9 +478,10 @@ impl Session {
         let (xe, ye) = origin
             .to_local(target.fix.lat, target.fix.lon)
             .ok_or(Halt::TargetFix)?;
-        let (Some(limits), Some(guidance)) = (self.params.limits(), self.guidance.as_mut()) else {
+        let Some(guidance) = self.guidance.as_mut() else {
             return Err(Halt::Law(Status::InvalidLimits));
         };
+        let limits = guidance.law().limits;
         let (pursuer, evader) = limits
             .states([xp, yp, own.heading], [xe, ye, target.fix.heading])
             .map_err(Halt::Law)?;

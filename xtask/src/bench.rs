@@ -504,22 +504,18 @@ pub fn run() -> i32 {
             ok = false;
         }
     }
-    match crate::bench_mavlink::measure() {
-        Ok(m) => {
-            let _ = writeln!(md, "{}", crate::bench_mavlink::paragraph(&m));
-        }
-        Err(e) => {
-            eprintln!("xtask bench: {e}");
-            ok = false;
-        }
-    }
-    match crate::bench_table::measure() {
-        Ok(m) => {
-            let _ = writeln!(md, "{}", crate::bench_table::paragraph(&m));
-        }
-        Err(e) => {
-            eprintln!("xtask bench: {e}");
-            ok = false;
+    for paragraph in [
+        crate::bench_mavlink::measure().map(|m| crate::bench_mavlink::paragraph(&m)),
+        crate::bench_table::measure().map(|m| crate::bench_table::paragraph(&m)),
+    ] {
+        match paragraph {
+            Ok(text) => {
+                let _ = writeln!(md, "{text}");
+            }
+            Err(e) => {
+                eprintln!("xtask bench: {e}");
+                ok = false;
+            }
         }
     }
     let firmware = firmware_sizes();
