@@ -4,15 +4,18 @@
 use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, REACHED};
 
 /// The paper's limits (v_em / v_pm = 1/2, r_e = 2 r_p), capture radius 0.3 r_p, box +-6 r_p at
-/// 0.3 r_p spacing: about 3 s in release on two threads.
-fn coarse() -> Solution {
-    let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 0.3);
-    let grid = Grid {
-        n: 41,
-        half: 6.0,
-        headings: 24,
-    };
-    solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {})
+/// 0.3 r_p spacing: about 3 s in release on two threads, solved once for the tests that read it.
+fn coarse() -> &'static Solution {
+    static COARSE: std::sync::OnceLock<Solution> = std::sync::OnceLock::new();
+    COARSE.get_or_init(|| {
+        let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 0.3);
+        let grid = Grid {
+            n: 41,
+            half: 6.0,
+            headings: 24,
+        };
+        solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {})
+    })
 }
 
 #[test]
