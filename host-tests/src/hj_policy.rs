@@ -12,6 +12,18 @@ use crate::hj::{Solution, REACHED};
 /// Below this |V_x y - V_y x - V_phi| the pursuer runs straight (no preference).
 const FLAT: f64 = 1e-3;
 
+/// The evader in the table's frame (r_p, radians): position relative to the pursuer, x along
+/// its heading, y to its left, and the relative heading; for limits whose pursuer curvature is
+/// `w_pm` (1/m) and states in metres and radians.
+pub fn relative(w_pm: f64, pursuer: [f64; 3], evader: [f64; 3]) -> (f64, f64, f64) {
+    let (dx, dy) = (
+        (evader[0] - pursuer[0]) * w_pm,
+        (evader[1] - pursuer[1]) * w_pm,
+    );
+    let (s, c) = pursuer[2].sin_cos();
+    (dx * c + dy * s, -dx * s + dy * c, evader[2] - pursuer[2])
+}
+
 /// The pursuer's curvature (1/m) from the table `table` solved for limits whose pursuer
 /// curvature is `w_pm` (1/m), for pursuer and evader states in metres and radians; `None` where
 /// the table gives no preference it can trust: outside its box (less two cells), within three
@@ -22,13 +34,7 @@ pub fn pursuer_curvature(
     pursuer: [f64; 3],
     evader: [f64; 3],
 ) -> Option<f64> {
-    let (dx, dy) = (
-        (evader[0] - pursuer[0]) * w_pm,
-        (evader[1] - pursuer[1]) * w_pm,
-    );
-    let (s, c) = pursuer[2].sin_cos();
-    let (x, y) = (dx * c + dy * s, -dx * s + dy * c);
-    let phi = evader[2] - pursuer[2];
+    let (x, y, phi) = relative(w_pm, pursuer, evader);
     let grid = table.grid;
     let h = grid.spacing();
     let margin = grid.half - 2.0 * h;

@@ -310,6 +310,20 @@ pub fn simulate_against<S: Scalar>(
     opponent: Option<(Opponent, u64)>,
     record: bool,
 ) -> SimResult {
+    simulate_with_pursuer::<S>(params, variant, policy, opponent, record, &|_, _| None)
+}
+
+/// [`simulate_against`] with the pursuer's curvature (1/m) from `pursuer_turn(pursuer, evader)`
+/// (states in metres and radians) wherever it gives one, the guidance's elsewhere; the guidance
+/// still steps every period (a host experiment: the value table's pursuer, issue 30).
+pub fn simulate_with_pursuer<S: Scalar>(
+    params: &SimParams,
+    variant: Variant,
+    policy: Policy,
+    opponent: Option<(Opponent, u64)>,
+    record: bool,
+    pursuer_turn: &(dyn Fn([f64; 3], [f64; 3]) -> Option<f64> + Sync),
+) -> SimResult {
     let idle = SimResult::empty(
         SimStatus::InvalidSimParams,
         distance(params.pursuer, params.evader),
@@ -382,6 +396,9 @@ pub fn simulate_against<S: Scalar>(
             }
             Err(_) => StepCommand::full_speed(0.0, 0.0, None),
         };
+        if let Some(turn) = pursuer_turn(p, e) {
+            command.pursuer = turn;
+        }
         if let Some(adversary) = adversary.as_mut() {
             let (w, v) = adversary.command(t, p, e);
             match adversary.opponent() {

@@ -9,6 +9,7 @@ mod eval;
 mod firmware_loop;
 mod fuzz;
 mod hj;
+mod hj_play;
 mod mavlink_run;
 mod options;
 mod plot;

@@ -4,6 +4,8 @@
 //! The SVG is written here by hand (lines, circles, rectangles, text): no font or plotting
 //! dependency.
 
+mod near_field;
+
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -162,14 +164,24 @@ impl Figure {
     }
 
     fn save(&self, path: &Path) -> std::io::Result<()> {
-        let svg = format!(
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n{}</svg>\n",
-            self.body,
-            w = self.width,
-            h = self.height
-        );
-        std::fs::write(path, svg)
+        std::fs::write(path, svg(self.width, self.height, &self.body))
     }
+
+    /// Two figures of one size in one file, `left` beside `right`.
+    fn save_side_by_side(left: &Figure, right: &Figure, path: &Path) -> std::io::Result<()> {
+        let body = format!(
+            "<g>\n{}</g>\n<g transform=\"translate({} 0)\">\n{}</g>\n",
+            left.body, left.width, right.body
+        );
+        std::fs::write(path, svg(left.width + right.width, left.height, &body))
+    }
+}
+
+/// An SVG document of `width` x `height` px on white with `body`.
+fn svg(width: f64, height: f64, body: &str) -> String {
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n{body}</svg>\n"
+    )
 }
 
 fn metres(v: f64) -> String {
@@ -291,6 +303,16 @@ fn paper_case(
     Ok(path)
 }
 
+/// The paper law's report (its matrix game's solution) for `pursuer` and `evader` at the
+/// paper's limits; `None` where it has none.
+fn paper_report(pursuer: [f64; 3], evader: [f64; 3]) -> Option<twocars::GameReport<f64>> {
+    twocars::evaluate_observation::<f64>(
+        &observation(PAPER_LIMITS, pursuer, evader),
+        Variant::Paper,
+    )
+    .report
+}
+
 /// A colour for a value in [0, 1]: dark blue through green to yellow.
 fn ramp(t: f64) -> String {
     let t = t.clamp(0.0, 1.0);
@@ -325,11 +347,11 @@ fn value_map(dir: &Path) -> Result<Vec<PathBuf>, String> {
         for j in 0..n {
             let x = -half + (i as f64 + 0.5) * step;
             let y = -half + (j as f64 + 0.5) * step;
-            let ev = twocars::evaluate_observation::<f64>(
-                &observation(PAPER_LIMITS, pursuer, [x, y, std::f64::consts::FRAC_PI_2]),
-                Variant::Paper,
-            );
-            cells.push((x, y, ev.report));
+            cells.push((
+                x,
+                y,
+                paper_report(pursuer, [x, y, std::f64::consts::FRAC_PI_2]),
+            ));
         }
     }
     let top = 12.0;
@@ -373,13 +395,7 @@ fn value_map(dir: &Path) -> Result<Vec<PathBuf>, String> {
         ("evader x (m)", "evader y (m)"),
         "Upper value (s); pursuer at the origin heading +y, evader heading +y",
     );
-    let (left, t, w, _) = value.area;
-    for k in 0..=6 {
-        let v = top * k as f64 / 6.0;
-        let x = left + w * k as f64 / 6.0;
-        value.cell_px(x - 12.0, t - 14.0, 24.0, 8.0, &ramp(v / top));
-        value.text(x, t - 2.0, 9.0, "middle", &format!("{v:.0}"));
-    }
+    value.colour_scale(top);
     choice.axes(
         (4.0, 4.0),
         metres,
@@ -402,6 +418,17 @@ fn value_map(dir: &Path) -> Result<Vec<PathBuf>, String> {
 }
 
 impl Figure {
+    /// The colour ramp's scale from 0 to `top` above the plot area, seven ticks.
+    fn colour_scale(&mut self, top: f64) {
+        let (left, t, w, _) = self.area;
+        for k in 0..=6 {
+            let v = top * k as f64 / 6.0;
+            let x = left + w * k as f64 / 6.0;
+            self.cell_px(x - 12.0, t - 14.0, 24.0, 8.0, &ramp(v / top));
+            self.text(x, t - 2.0, 9.0, "middle", &format!("{v:.0}"));
+        }
+    }
+
     fn cell_px(&mut self, x: f64, y: f64, w: f64, h: f64, fill: &str) {
         let _ = writeln!(
             self.body,
@@ -469,6 +496,7 @@ pub fn command() -> i32 {
             written.push(paper_case(&dir, case.name, case.pursuer, case.evader)?);
         }
         written.extend(value_map(&dir)?);
+        written.extend(near_field::maps(&dir)?);
         let evaders = host_tests::adversary::EvaderKind::ALL;
         let progress = crate::progress::Progress::new(
             600 + 300 * evaders.len() as u64,
