@@ -215,6 +215,56 @@ pub fn solve(
     )
 }
 
+/// One step of the reduced game: the pursuer turning at `u` and the evader (speed `a`) at `w`,
+/// both held for `tau`. Both cars move on their exact arcs and the frame turns with the
+/// pursuer. (An Euler step `x + tau (a c - 1 + u y)` grows the radius by a factor
+/// sqrt(1 + (u tau)^2) per turning step: 0.9 r_p per step at 30 r_p with tau = 0.25, which made
+/// every turn far out look costly and V 20 % high at the threshold.)
+#[derive(Clone, Copy, Debug)]
+pub struct Step {
+    /// The pursuer's displacement in its starting frame.
+    pursuer: (f64, f64),
+    /// Sine and cosine of its turn u tau.
+    turn: (f64, f64),
+    /// The evader's displacement in its own starting frame.
+    evader: (f64, f64),
+    /// The relative heading's change (w - u) tau.
+    heading: f64,
+}
+
+impl Step {
+    /// The step for speed ratio `a`, time `tau` and turn rates `u`, `w` (rad per unit time).
+    pub fn new(a: f64, tau: f64, u: f64, w: f64) -> Self {
+        // A car's displacement over tau at unit speed, heading 0, turning at `rate`:
+        // (sin(rt) / r, (1 - cos(rt)) / r), and its small-rate limit.
+        let arc = |rate: f64| -> (f64, f64) {
+            let turn = rate * tau;
+            if turn.abs() < 1e-6 {
+                (tau, 0.5 * turn * tau)
+            } else {
+                (turn.sin() / rate, (1.0 - turn.cos()) / rate)
+            }
+        };
+        let (ex, ey) = arc(w);
+        Step {
+            pursuer: arc(u),
+            turn: (u * tau).sin_cos(),
+            evader: (a * ex, a * ey),
+            heading: tau * (w - u),
+        }
+    }
+
+    /// Where the evader at `(x, y, phi)` in the pursuer's frame (heading sine `s`, cosine `c`)
+    /// is after the step.
+    pub fn from(&self, (x, y, phi, s, c): (f64, f64, f64, f64, f64)) -> (f64, f64, f64) {
+        let ((px, py), (ts, tc), (ex, ey)) = (self.pursuer, self.turn, self.evader);
+        // The evader's displacement turned into the starting frame by its heading phi.
+        let (dx, dy) = (x + ex * c - ey * s - px, y + ex * s + ey * c - py);
+        // Into the pursuer's frame after its turn.
+        (dx * tc + dy * ts, -dx * ts + dy * tc, phi + self.heading)
+    }
+}
+
 /// [`solve`] with `boundary(x, y, phi)` the value of a state outside the box (r_p / v_pm;
 /// [`NEVER`] for never captured): for example the paper's upper value beyond the theorem's
 /// threshold. It is called once per node and control pair whose step leaves the box.
@@ -259,14 +309,11 @@ pub fn solve_with_boundary(
         let (s, c) = phi.sin_cos();
         (x, y, phi, s, c)
     };
-    // The step from a node under the controls (u, w): where it lands.
-    let step = |(x, y, phi, s, c): (f64, f64, f64, f64, f64), u: f64, w: f64| {
-        (
-            x + tau * (a * c - 1.0 + u * y),
-            y + tau * (a * s - u * x),
-            phi + tau * (w - u),
-        )
-    };
+    // The steps under each pair of controls (u, w) held for tau.
+    let steps: Vec<[Step; 3]> = pursuer
+        .iter()
+        .map(|&u| evader.map(|w| Step::new(a, tau, u, w)))
+        .collect();
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
     // The boundary's values, fixed: the steps that leave the box do not depend on V.
     let exits: std::collections::HashMap<(usize, usize, usize), f64> = (0..grid.len())
@@ -274,9 +321,9 @@ pub fn solve_with_boundary(
         .flat_map_iter(|index| {
             let at = node(index);
             let mut out = Vec::new();
-            for (p, &u) in pursuer.iter().enumerate() {
-                for (e, &w) in evader.iter().enumerate() {
-                    let (nx, ny, nphi) = step(at, u, w);
+            for (p, row) in steps.iter().enumerate() {
+                for (e, step) in row.iter().enumerate() {
+                    let (nx, ny, nphi) = step.from(at);
                     if !inside(nx, ny) {
                         out.push(((index, p, e), boundary(nx, ny, nphi).min(NEVER)));
                     }
@@ -305,15 +352,14 @@ pub fn solve_with_boundary(
                     return 0.0;
                 }
                 let at = node(index);
-                pursuer
+                steps
                     .iter()
                     .enumerate()
-                    .map(|(p, &u)| {
-                        evader
-                            .iter()
+                    .map(|(p, row)| {
+                        row.iter()
                             .enumerate()
-                            .map(|(e, &w)| {
-                                let (nx, ny, nphi) = step(at, u, w);
+                            .map(|(e, step)| {
+                                let (nx, ny, nphi) = step.from(at);
                                 let next = if inside(nx, ny) {
                                     interpolate(&grid, old, nx, ny, nphi)
                                 } else {

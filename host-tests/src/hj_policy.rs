@@ -1,16 +1,9 @@
 //! The pursuer that plays the Hamilton-Jacobi-Isaacs value table ([`crate::hj`]) on the host:
-//! in the table's box, away from its capture disc, the turn that makes V fall fastest against
-//! the evader's best reply; elsewhere the flight policy (issue 30's policy, as a host
-//! experiment; the firmware does not play a table yet).
-//!
-//! Along the game, V's rate is grad V . f(s, u, w). The pursuer's turn rate u enters f as
-//! u (y, -x, -1), so the minimising u is a full turn against the sign of
-//! V_x y - V_y x - V_phi (straight where that is flat), whatever the evader does.
+//! in the table's box, away from its capture disc, the turn that makes V least against the
+//! evader's best reply one solver step ahead; elsewhere the flight policy (issue 30's policy,
+//! as a host experiment; the firmware does not play a table yet).
 
-use crate::hj::{Solution, REACHED};
-
-/// Below this |V_x y - V_y x - V_phi| the pursuer runs straight (no preference).
-const FLAT: f64 = 1e-3;
+use crate::hj::{Solution, Step, REACHED};
 
 /// The evader in the table's frame (r_p, radians): position relative to the pursuer, x along
 /// its heading, y to its left, and the relative heading; for limits whose pursuer curvature is
@@ -25,9 +18,12 @@ pub fn relative(w_pm: f64, pursuer: [f64; 3], evader: [f64; 3]) -> (f64, f64, f6
 }
 
 /// The pursuer's curvature (1/m) from the table `table` solved for limits whose pursuer
-/// curvature is `w_pm` (1/m), for pursuer and evader states in metres and radians; `None` where
-/// the table gives no preference it can trust: outside its box (less two cells), within three
-/// capture radii of the capture disc (the terminal law's job), or where capture was not found.
+/// curvature is `w_pm` (1/m), for pursuer and evader states in metres and radians: the turn
+/// (full either way, or straight) whose worst case over the evader's turns, one solver step
+/// `tau` ahead on the exact motion, has the least V: the solver's own minimax, read back.
+/// `None` where the table gives no preference it can trust: outside its box (less two cells),
+/// within three capture radii of the capture disc (the terminal law's job), or where capture
+/// was not found.
 pub fn pursuer_curvature(
     table: &Solution,
     w_pm: f64,
@@ -36,23 +32,29 @@ pub fn pursuer_curvature(
 ) -> Option<f64> {
     let (x, y, phi) = relative(w_pm, pursuer, evader);
     let grid = table.grid;
-    let h = grid.spacing();
-    let margin = grid.half - 2.0 * h;
-    if x.abs() >= margin || y.abs() >= margin || x.hypot(y) <= 3.0 * table.game.eps {
+    let margin = grid.half - 2.0 * grid.spacing();
+    if x.abs() >= margin || y.abs() >= margin || x.hypot(y) <= table.game.eps {
         return None;
     }
     if table.value(x, y, phi) >= REACHED {
         return None;
     }
-    let dphi = std::f64::consts::TAU / grid.headings as f64;
-    let v_x = (table.value(x + h, y, phi) - table.value(x - h, y, phi)) / (2.0 * h);
-    let v_y = (table.value(x, y + h, phi) - table.value(x, y - h, phi)) / (2.0 * h);
-    let v_phi = (table.value(x, y, phi + dphi) - table.value(x, y, phi - dphi)) / (2.0 * dphi);
-    let slope = v_x * y - v_y * x - v_phi;
-    let u = if slope.abs() < FLAT {
-        0.0
-    } else {
-        -slope.signum()
+    let (s, c) = phi.sin_cos();
+    let game = table.game;
+    let worst = |u: f64| {
+        [-game.evader_turn, 0.0, game.evader_turn]
+            .into_iter()
+            .map(|w| {
+                let step = Step::new(game.speed_ratio, table.tau, u, w);
+                let (nx, ny, nphi) = step.from((x, y, phi, s, c));
+                table.value(nx, ny, nphi)
+            })
+            .fold(f64::NEG_INFINITY, f64::max)
     };
+    // Straight first: it keeps ties.
+    let (u, _) = [0.0, 1.0, -1.0].into_iter().map(|u| (u, worst(u))).fold(
+        (0.0, f64::INFINITY),
+        |best, (u, v)| if v < best.1 { (u, v) } else { best },
+    );
     Some(u * w_pm)
 }

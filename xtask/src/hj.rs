@@ -8,6 +8,7 @@
 use std::time::Instant;
 
 use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, NEVER, REACHED};
+use host_tests::hj_paper::PaperValue;
 
 use crate::progress::Progress;
 
@@ -52,43 +53,6 @@ pub struct HjArgs {
     /// Seed of `--play`'s starts.
     #[arg(long, default_value_t = 2019)]
     seed: u64,
-}
-
-/// The paper's upper value in the reduced units (r_p = 1, v_pm = 1) of a game.
-#[derive(Clone, Copy)]
-pub(crate) struct PaperValue {
-    law: twocars::Law<f64>,
-    /// The theorem's threshold distance, r_p.
-    pub(crate) threshold: f64,
-    eps_closing: f64,
-}
-
-impl PaperValue {
-    pub(crate) fn of(game: Game) -> Option<Self> {
-        let a = game.speed_ratio;
-        // r_e = a / (the evader's turn rate per unit time), in r_p.
-        let r_e = a / game.evader_turn;
-        let limits = twocars::Limits::<f64>::new(1.0, 1.0, a as f32, (1.0 / r_e) as f32).ok()?;
-        Some(PaperValue {
-            law: twocars::Law::new(limits, twocars::Variant::Paper),
-            threshold: 2.0 * r_e + std::f64::consts::TAU * r_e / a,
-            eps_closing: game.eps / (1.0 - a),
-        })
-    }
-
-    /// The upper value (r_p / v_pm) of the evader at `(x, y, phi)` in the pursuer's frame, less
-    /// the capture radius's closing time, where the players are beyond the threshold and the
-    /// law has a saddle.
-    fn beyond_threshold(&self, x: f64, y: f64, phi: f64) -> Option<f64> {
-        if x.hypot(y) < self.threshold {
-            return None;
-        }
-        let p = twocars::VehicleState::<f64>::new(0.0, 0.0, 0.0).ok()?;
-        let e = twocars::VehicleState::<f64>::new(x as f32, y as f32, phi as f32).ok()?;
-        let s = self.law.evaluate(&p, &e).report?.solution;
-        let (upper, lower) = (s.upper?, s.lower?);
-        ((upper - lower).abs() <= 1e-9 * upper).then_some(upper - self.eps_closing)
-    }
 }
 
 /// The paper's game over its near field, as `cargo xtask plot` draws it and `--play` plays it:
@@ -329,27 +293,20 @@ fn threshold_comparison(game: Game, table: &twocars::value_table::ValueTable<'_>
         );
         return;
     }
-    let mut rng = host_tests::rng::Rng::new(30);
-    let (mut gaps, mut refused) = (Vec::new(), 0);
-    for _ in 0..3_000 {
-        let pi = std::f64::consts::PI;
-        let (d, bearing) = (rng.uniform(threshold, far), rng.uniform(-pi, pi));
-        let phi = rng.uniform(-pi, pi);
-        let (x, y) = (d * bearing.cos(), d * bearing.sin());
-        let Some(paper_v) = paper.beyond_threshold(x, y, phi) else {
-            continue;
-        };
-        match table.value(x as f32, y as f32, phi as f32) {
-            Some(v) => gaps.push(f64::from(v) - paper_v),
-            None => refused += 1,
-        }
-    }
+    let (gaps, refused) = paper.gaps(far, |x, y, phi| {
+        table.value(x as f32, y as f32, phi as f32).map(f64::from)
+    });
+    let relative = gaps
+        .iter()
+        .fold(0.0f64, |m, (gap, paper)| m.max((gap / paper).abs()));
+    let mut gaps: Vec<f64> = gaps.into_iter().map(|(gap, _)| gap).collect();
     gaps.sort_by(f64::total_cmp);
     if let (Some(first), Some(last)) = (gaps.first(), gaps.last()) {
         println!(
-            "  beyond the threshold ({threshold:.2} to {far:.2} r_p), {} states with a saddle: V + eps / (1 - a) - upper value: min {first:+.3}, median {:+.3}, max {last:+.3} r_p / v_pm; {refused} without a value",
+            "  beyond the threshold ({threshold:.2} to {far:.2} r_p), {} states with a saddle: V + eps / (1 - a) - upper value: min {first:+.3}, median {:+.3}, max {last:+.3} r_p / v_pm (largest {:.2} % of the value); {refused} without a value",
             gaps.len(),
             gaps[gaps.len() / 2],
+            100.0 * relative,
         );
     }
 }

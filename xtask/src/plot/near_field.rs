@@ -1,6 +1,6 @@
 //! `cargo xtask plot`'s near-field figures (issue 30): the game's value V, solved on the
 //! Hamilton-Jacobi-Isaacs grid (`host_tests::hj`), beside the paper's upper value on the same
-//! axes; and the pursuer's optimal turn from V's gradient (`host_tests::hj_policy`) beside the
+//! axes; and the pursuer's optimal turn from V (`host_tests::hj_policy`) beside the
 //! paper law's pursuer circle. The paper's limits; pursuer at the origin heading +y, evader
 //! heading +y.
 
@@ -109,8 +109,8 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let (table, how) = crate::hj::paper_near_field();
     let game = table.game;
     let half_m = table.grid.half / PAPER_LIMITS[1];
-    let threshold_m =
-        crate::hj::PaperValue::of(game).map_or(f64::NAN, |p| p.threshold / PAPER_LIMITS[1]);
+    let threshold_m = host_tests::hj_paper::PaperValue::of(game)
+        .map_or(f64::NAN, |p| p.threshold / PAPER_LIMITS[1]);
     let cells = cells(&table, game);
 
     // Where both give a turn, how often they agree; and V against the paper's upper value
@@ -162,7 +162,7 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
         half_m,
         |c| turn_colour(c.table_turn),
         threshold_m,
-        "The pursuer's optimal turn from grad V",
+        "The pursuer's optimal turn from V (one step's minimax)",
     );
     let agreement = format!(
         "agrees with the paper's circle in {agree} of {} cells where both turn ({:.1} %)",
@@ -170,7 +170,7 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
         100.0 * agree as f64 / both.len().max(1) as f64
     );
     turn_right.legend(&[
-        "blue: left, orange: right, white: flat (straight)",
+        "blue: left, orange: right, white: straight",
         "grey: no trusted turn (capture disc, box edge, not captured)",
         &agreement,
     ]);
