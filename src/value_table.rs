@@ -1,6 +1,6 @@
 //! The game's value V as a table the firmware reads (issue 30): the Hamilton-Jacobi-Isaacs
 //! solution of `cargo xtask hj`, quantised to u16 per node, and the pursuer's optimal turn read
-//! from its gradient.
+//! from it by the solver's own one-step minimax.
 //!
 //! The reduced game (docs/near-field.md): `(x, y)` is the evader's position relative to the
 //! pursuer (x along the pursuer's heading, y to its left), `phi` the evader's heading relative
@@ -16,14 +16,57 @@
 //! Reads are bounds-checked and allocation-free; a malformed table is refused by
 //! [`ValueTable::parse`], never read.
 
+use crate::num::f32_math::{sin_cos, wrap_signed};
+
 /// The table's magic bytes (format version 1).
 pub const MAGIC: [u8; 4] = *b"TCV1";
 /// Bytes before the codes.
 pub const HEADER_LEN: usize = 4 + 5 * 4 + 2 * 2;
 /// The code of a node from which capture was not found.
 pub const NEVER: u16 = u16::MAX;
-/// Below this |V_x y - V_y x - V_phi| the pursuer has no preference and runs straight.
-const FLAT: f32 = 1e-3;
+/// The pursuer's turns in the order ties keep: straight, left, right.
+const PURSUER_TURNS: [f32; 3] = [0.0, 1.0, -1.0];
+
+/// One step of the reduced game, both controls held for tau (the solver's `Step`, in f32): the
+/// pursuer's displacement and the sine and cosine of its turn, the evader's displacement in
+/// its own frame, the relative heading's change.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Step {
+    pursuer: (f32, f32),
+    turn: (f32, f32),
+    evader: (f32, f32),
+    heading: f32,
+}
+
+impl Step {
+    fn new(a: f32, tau: f32, u: f32, w: f32) -> Self {
+        // A car's displacement over tau at unit speed turning at `rate`, and its small-rate
+        // limit.
+        let arc = |rate: f32| {
+            let turn = rate * tau;
+            if turn.abs() < 1e-4 {
+                (tau, 0.5 * turn * tau)
+            } else {
+                let (s, c) = sin_cos(turn);
+                (s / rate, (1.0 - c) / rate)
+            }
+        };
+        let (ex, ey) = arc(w);
+        Step {
+            pursuer: arc(u),
+            turn: sin_cos(u * tau),
+            evader: (a * ex, a * ey),
+            heading: tau * (w - u),
+        }
+    }
+
+    /// Where the evader at `(x, y, phi)` (heading sine `s`, cosine `c`) is after the step.
+    fn from(&self, x: f32, y: f32, phi: f32, (s, c): (f32, f32)) -> (f32, f32, f32) {
+        let ((px, py), (ts, tc), (ex, ey)) = (self.pursuer, self.turn, self.evader);
+        let (dx, dy) = (x + ex * c - ey * s - px, y + ex * s + ey * c - py);
+        (dx * tc + dy * ts, -dx * ts + dy * tc, phi + self.heading)
+    }
+}
 
 /// Why a table was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,6 +95,9 @@ pub struct ValueTable<'a> {
     n: usize,
     headings: usize,
     spacing: f32,
+    /// The steps of the pursuer's turn `PURSUER_TURNS[p]` and the evader's `[-w_e, 0, w_e][e]`
+    /// over half a cell's time, the solver's tau.
+    steps: [[Step; 3]; 3],
     codes: &'a [u8],
 }
 
@@ -96,6 +142,10 @@ impl<'a> ValueTable<'a> {
         let codes = bytes
             .get(HEADER_LEN..HEADER_LEN + 2 * count)
             .ok_or(TableError::Short)?;
+        let spacing = 2.0 * half / (n - 1) as f32;
+        let tau = 0.5 * spacing;
+        let steps = PURSUER_TURNS
+            .map(|u| [-evader_turn, 0.0, evader_turn].map(|w| Step::new(speed_ratio, tau, u, w)));
         Ok(ValueTable {
             speed_ratio,
             evader_turn,
@@ -104,7 +154,8 @@ impl<'a> ValueTable<'a> {
             scale,
             n,
             headings,
-            spacing: 2.0 * half / (n - 1) as f32,
+            spacing,
+            steps,
             codes,
         })
     }
@@ -167,24 +218,32 @@ impl<'a> ValueTable<'a> {
     }
 
     /// The pursuer's optimal turn at `(x, y, phi)`: -1, 0 or 1, the sign of its turn rate u
-    /// (positive: its heading grows, as the law's curvature). The turn enters V's rate as
-    /// u (V_x y - V_y x - V_phi), so the full turn against that sign (central differences over
-    /// one cell) makes V fall fastest whatever the evader does; 0 where it is flat. `None`
-    /// within a cell of the box's edge or where [`ValueTable::value`] has no value.
+    /// (positive: its heading grows, as the law's curvature). For each turn, the largest V over
+    /// the evader's three turns half a cell's time ahead (the solver's step, exact arcs); the
+    /// turn whose worst case is least, straight keeping ties: the minimax the solver solved,
+    /// read back (docs/near-field.md). A step that leaves the box or lands next to a "never"
+    /// node is the worst case. `None` where [`ValueTable::value`] has no value, or no turn
+    /// keeps the evader in the table.
     pub fn pursuer_turn(&self, x: f32, y: f32, phi: f32) -> Option<f32> {
-        let h = self.spacing;
-        let dphi = core::f32::consts::TAU / self.headings as f32;
-        let v = |dx: f32, dy: f32, dp: f32| self.value(x + dx, y + dy, phi + dp);
-        let v_x = (v(h, 0.0, 0.0)? - v(-h, 0.0, 0.0)?) / (2.0 * h);
-        let v_y = (v(0.0, h, 0.0)? - v(0.0, -h, 0.0)?) / (2.0 * h);
-        let v_phi = (v(0.0, 0.0, dphi)? - v(0.0, 0.0, -dphi)?) / (2.0 * dphi);
-        let slope = v_x * y - v_y * x - v_phi;
-        Some(if slope > FLAT {
-            -1.0
-        } else if slope < -FLAT {
-            1.0
-        } else {
-            0.0
-        })
+        self.value(x, y, phi)?;
+        let phi = wrap_signed(phi);
+        let heading = sin_cos(phi);
+        let mut best: Option<(f32, f32)> = None;
+        for (&u, row) in PURSUER_TURNS.iter().zip(&self.steps) {
+            let mut worst = Some(f32::NEG_INFINITY);
+            for step in row {
+                let (nx, ny, nphi) = step.from(x, y, phi, heading);
+                worst = match (worst, self.value(nx, ny, nphi)) {
+                    (Some(w), Some(v)) => Some(w.max(v)),
+                    _ => None,
+                };
+            }
+            if let Some(worst) = worst {
+                if best.is_none_or(|(_, least)| worst < least) {
+                    best = Some((u, worst));
+                }
+            }
+        }
+        best.map(|(u, _)| u)
     }
 }

@@ -18,12 +18,9 @@ pub fn relative(w_pm: f64, pursuer: [f64; 3], evader: [f64; 3]) -> (f64, f64, f6
 }
 
 /// The pursuer's curvature (1/m) from the table `table` solved for limits whose pursuer
-/// curvature is `w_pm` (1/m), for pursuer and evader states in metres and radians: the turn
-/// (full either way, or straight) whose worst case over the evader's turns, one solver step
-/// `tau` ahead on the exact motion, has the least V: the solver's own minimax, read back.
+/// curvature is `w_pm` (1/m), for pursuer and evader states in metres and radians: [`turn`].
 /// `None` where the table gives no preference it can trust: outside its box (less two cells),
-/// within three capture radii of the capture disc (the terminal law's job), or where capture
-/// was not found.
+/// in the capture disc, or where capture was not found.
 pub fn pursuer_curvature(
     table: &Solution,
     w_pm: f64,
@@ -39,6 +36,15 @@ pub fn pursuer_curvature(
     if table.value(x, y, phi) >= REACHED {
         return None;
     }
+    turn(table, x, y, phi).map(|(u, _)| u * w_pm)
+}
+
+/// The pursuer's turn (-1, 0 or 1) at `(x, y, phi)` in the table's frame: the turn (full either
+/// way, or straight) whose worst case over the evader's turns, one solver step `tau` ahead on
+/// the exact motion, has the least V: the solver's own minimax, read back. Straight keeps
+/// ties. With the margin (r_p / v_pm) by which that worst case beats the next turn's; `None`
+/// if every turn's worst case is beyond the capture the table found.
+pub fn turn(table: &Solution, x: f64, y: f64, phi: f64) -> Option<(f64, f64)> {
     let (s, c) = phi.sin_cos();
     let game = table.game;
     let worst = |u: f64| {
@@ -51,10 +57,9 @@ pub fn pursuer_curvature(
             })
             .fold(f64::NEG_INFINITY, f64::max)
     };
-    // Straight first: it keeps ties.
-    let (u, _) = [0.0, 1.0, -1.0].into_iter().map(|u| (u, worst(u))).fold(
-        (0.0, f64::INFINITY),
-        |best, (u, v)| if v < best.1 { (u, v) } else { best },
-    );
-    Some(u * w_pm)
+    let mut worsts = [0.0, 1.0, -1.0].map(|u| (u, worst(u)));
+    // Stable: straight, then left, keep ties.
+    worsts.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let [(u, least), (_, next), _] = worsts;
+    (least < REACHED).then_some((u, next - least))
 }
