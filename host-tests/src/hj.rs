@@ -117,6 +117,11 @@ impl Solution {
     pub fn value(&self, x: f64, y: f64, phi: f64) -> f64 {
         interpolate(&self.grid, &self.values, x, y, phi)
     }
+
+    /// [`Solution::value`] of a state `(x, y, phi)`.
+    pub fn value_at(&self, (x, y, phi): (f64, f64, f64)) -> f64 {
+        self.value(x, y, phi)
+    }
 }
 
 impl Solution {

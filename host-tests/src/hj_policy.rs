@@ -39,6 +39,35 @@ pub fn pursuer_curvature(
     turn(table, x, y, phi).map(|(u, _)| u * w_pm)
 }
 
+/// The evader's curvature (1/m) from the table `table` solved for limits whose pursuer and
+/// evader curvatures are `w_pm` and `w_em` (1/m): the evader's turn whose best case for the
+/// pursuer (the least V over its three turns, one solver step ahead) is largest, straight
+/// keeping ties. `None` where [`pursuer_curvature`] has none.
+pub fn evader_curvature(
+    table: &Solution,
+    [w_pm, w_em]: [f64; 2],
+    pursuer: [f64; 3],
+    evader: [f64; 3],
+) -> Option<f64> {
+    pursuer_curvature(table, w_pm, pursuer, evader)?;
+    let (x, y, phi) = relative(w_pm, pursuer, evader);
+    let (s, c) = phi.sin_cos();
+    let game = table.game;
+    let best_for_pursuer = |w: f64| {
+        [-1.0, 0.0, 1.0]
+            .into_iter()
+            .map(|u| {
+                let step = Step::new(game.speed_ratio, table.tau, u, w);
+                table.value_at(step.from((x, y, phi, s, c)))
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut bests = [0.0, 1.0, -1.0].map(|sign| (sign, best_for_pursuer(sign * game.evader_turn)));
+    // Stable: straight, then left, keep ties; the largest first.
+    bests.sort_by(|a, b| b.1.total_cmp(&a.1));
+    Some(bests[0].0 * w_em)
+}
+
 /// The pursuer's turn (-1, 0 or 1) at `(x, y, phi)` in the table's frame: the turn (full either
 /// way, or straight) whose worst case over the evader's turns, one solver step `tau` ahead on
 /// the exact motion, has the least V: the solver's own minimax, read back. Straight keeps
@@ -52,8 +81,7 @@ pub fn turn(table: &Solution, x: f64, y: f64, phi: f64) -> Option<(f64, f64)> {
             .into_iter()
             .map(|w| {
                 let step = Step::new(game.speed_ratio, table.tau, u, w);
-                let (nx, ny, nphi) = step.from((x, y, phi, s, c));
-                table.value(nx, ny, nphi)
+                table.value_at(step.from((x, y, phi, s, c)))
             })
             .fold(f64::NEG_INFINITY, f64::max)
     };

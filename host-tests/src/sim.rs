@@ -310,19 +310,23 @@ pub fn simulate_against<S: Scalar>(
     opponent: Option<(Opponent, u64)>,
     record: bool,
 ) -> SimResult {
-    simulate_with_pursuer::<S>(params, variant, policy, opponent, record, &|_, _| None)
+    let none = |_: [f64; 3], _: [f64; 3]| None;
+    simulate_with_turns::<S>(params, variant, policy, opponent, record, [&none, &none])
 }
 
-/// [`simulate_against`] with the pursuer's curvature (1/m) from `pursuer_turn(pursuer, evader)`
-/// (states in metres and radians) wherever it gives one, the guidance's elsewhere; the guidance
-/// still steps every period (a host experiment: the value table's pursuer, issue 30).
-pub fn simulate_with_pursuer<S: Scalar>(
+/// A player's curvature (1/m) from both states (metres and radians), where it has one.
+pub type Turn<'a> = &'a (dyn Fn([f64; 3], [f64; 3]) -> Option<f64> + Sync);
+
+/// [`simulate_against`] with the pursuer's and the evader's curvatures (1/m) from `turns`
+/// wherever they give one, the guidance's (or the opponent's) elsewhere; the guidance still
+/// steps every period (a host experiment: the value table's players, issue 30).
+pub fn simulate_with_turns<S: Scalar>(
     params: &SimParams,
     variant: Variant,
     policy: Policy,
     opponent: Option<(Opponent, u64)>,
     record: bool,
-    pursuer_turn: &(dyn Fn([f64; 3], [f64; 3]) -> Option<f64> + Sync),
+    [pursuer_turn, evader_turn]: [Turn<'_>; 2],
 ) -> SimResult {
     let idle = SimResult::empty(
         SimStatus::InvalidSimParams,
@@ -398,6 +402,9 @@ pub fn simulate_with_pursuer<S: Scalar>(
         };
         if let Some(turn) = pursuer_turn(p, e) {
             command.pursuer = turn;
+        }
+        if let Some(turn) = evader_turn(p, e) {
+            command.evader = turn;
         }
         if let Some(adversary) = adversary.as_mut() {
             let (w, v) = adversary.command(t, p, e);

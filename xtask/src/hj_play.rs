@@ -2,17 +2,18 @@
 //! evader of the adversary suite, from seeded starts below the theorem's threshold at the
 //! paper's limits, beside the flight policy. The table is the paper's near field
 //! ([`crate::hj::paper_near_field`]); its pursuer takes the turn whose worst case one solver
-//! step ahead has the least V (`host_tests::hj_policy`) and hands over to the flight policy
-//! within three capture radii of the capture disc and near the box's edge. The runs capture at
-//! the table's radius, and each capture is compared with the table's V(x0), the time to capture
-//! under optimal play by both sides.
+//! step ahead has the least V (`host_tests::hj_policy`), the flight policy near the box's edge.
+//! The last row's evader is the table's own (its turn whose best case for the pursuer one step
+//! ahead has the largest V), where both players play V's game. The runs capture at the table's
+//! radius, and each capture is compared with the table's V(x0), the time to capture under
+//! optimal play by both sides.
 
 use host_tests::adversary::{EvaderKind, Opponent};
 use host_tests::hj::{Solution, REACHED};
-use host_tests::hj_policy::{pursuer_curvature, relative};
+use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative};
 use host_tests::rng::Rng;
 use host_tests::scenarios::PAPER_LIMITS;
-use host_tests::sim::{simulate_with_pursuer, SimParams, SimResult, SimStatus};
+use host_tests::sim::{simulate_with_turns, SimParams, SimResult, SimStatus, Turn};
 use rayon::prelude::*;
 use twocars::{Policy, Variant};
 
@@ -52,8 +53,25 @@ fn capture_radius(table: &Solution) -> f64 {
     table.game.eps / PAPER_LIMITS[1]
 }
 
+/// Who plays the evader: one of the adversary suite, or the table's own evader (the turn whose
+/// best case for the pursuer one solver step ahead has the largest V).
+#[derive(Clone, Copy)]
+enum Evader {
+    Suite(EvaderKind),
+    Table,
+}
+
+impl Evader {
+    fn name(self) -> &'static str {
+        match self {
+            Evader::Suite(kind) => kind.name(),
+            Evader::Table => "the table's evader",
+        }
+    }
+}
+
 /// `runs` seeded starts below the threshold (those the table captures from) against `evader`.
-fn play(table: &Solution, evader: EvaderKind, runs: usize, seed: u64) -> Vec<Play> {
+fn play(table: &Solution, evader: Evader, runs: usize, seed: u64) -> Vec<Play> {
     let mut rng = Rng::new(seed);
     let mut starts = Vec::new();
     while starts.len() < runs {
@@ -66,7 +84,9 @@ fn play(table: &Solution, evader: EvaderKind, runs: usize, seed: u64) -> Vec<Pla
             starts.push((params, v0, adversary_seed));
         }
     }
-    let w_pm = PAPER_LIMITS[1];
+    let [_, w_pm, _, w_em] = PAPER_LIMITS;
+    let table_evader = |p, e| evader_curvature(table, [w_pm, w_em], p, e);
+    let no_turn = |_, _| None;
     starts
         .into_par_iter()
         .map(|(params, v0, adversary_seed)| {
@@ -75,20 +95,24 @@ fn play(table: &Solution, evader: EvaderKind, runs: usize, seed: u64) -> Vec<Pla
                 eps: capture_radius(table),
                 ..params
             };
-            let opponent = Some((Opponent::Evader(evader), adversary_seed));
-            let run = |turn: &(dyn Fn([f64; 3], [f64; 3]) -> Option<f64> + Sync)| {
-                simulate_with_pursuer::<f32>(
+            // The table's evader overrides the law's evader wherever the table has a turn.
+            let (opponent, evader_turn): (_, Turn<'_>) = match evader {
+                Evader::Suite(kind) => (Some((Opponent::Evader(kind), adversary_seed)), &no_turn),
+                Evader::Table => (None, &table_evader),
+            };
+            let run = |pursuer_turn: Turn<'_>| {
+                simulate_with_turns::<f32>(
                     &params,
                     Variant::Paper,
                     Policy::Flight,
                     opponent,
                     false,
-                    turn,
+                    [pursuer_turn, evader_turn],
                 )
             };
             Play {
                 v0,
-                flight: run(&|_, _| None),
+                flight: run(&no_turn),
                 table: run(&|p, e| pursuer_curvature(table, w_pm, p, e)),
             }
         })
@@ -125,7 +149,11 @@ pub fn command(runs: usize, seed: u64) -> i32 {
     println!("Over V: (capture - V(x0) - 5 dt) / V(x0); the issue's bar is 5 % at the 90th percentile and 10 % at worst, none never captured.\n");
     println!("| evader | never (flight / table) | over V, flight: median, p90, worst | over V, table: median, p90, worst | mean capture, flight / table (s) |");
     println!("|---|---|---|---|---|");
-    for (k, evader) in EvaderKind::ALL.into_iter().enumerate() {
+    let evaders = EvaderKind::ALL
+        .into_iter()
+        .map(Evader::Suite)
+        .chain([Evader::Table]);
+    for (k, evader) in evaders.enumerate() {
         let plays = play(&table, evader, runs, seed.wrapping_add(k as u64));
         let summary = |pick: fn(&Play) -> &SimResult| {
             let mut over: Vec<f64> = plays.iter().map(|p| p.over(pick(p))).collect();
