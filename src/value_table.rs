@@ -7,19 +7,22 @@
 //! to the pursuer's; lengths in r_p, times in r_p / v_pm. One table serves every pair of limits
 //! with its two ratios v_em / v_pm and r_e / r_p.
 //!
-//! Format, little endian: the magic `TCV1`; f32 v_em / v_pm, the evader's turn rate (rad per
+//! Format, little endian: the magic `TCV2`; f32 v_em / v_pm, the evader's turn rate (rad per
 //! r_p / v_pm), the capture radius (r_p), half the box's side (r_p) and the time per code
 //! (r_p / v_pm); u16 nodes per position axis `n` and headings per turn; then `n * n * headings`
 //! u16 codes, node (i, j, k) at `(k n + j) n + i`, x = -half + i h, y = -half + j h,
 //! phi = -pi + 2 pi k / headings. Code [`NEVER`]: capture within the box was not found there.
+//! A node inside the capture disc is not read: its value is r - eps, minus its depth (as the
+//! solver keeps it), so that V's zero lies on the disc's edge.
 //!
 //! Reads are bounds-checked and allocation-free; a malformed table is refused by
 //! [`ValueTable::parse`], never read.
 
 use crate::num::f32_math::{sin_cos, wrap_signed};
 
-/// The table's magic bytes (format version 1).
-pub const MAGIC: [u8; 4] = *b"TCV1";
+/// The table's magic bytes (format version 2: the nodes in the capture disc valued by their
+/// depth, the evader's stop among its controls).
+pub const MAGIC: [u8; 4] = *b"TCV2";
 /// Bytes before the codes.
 pub const HEADER_LEN: usize = 4 + 5 * 4 + 2 * 2;
 /// The code of a node from which capture was not found.
@@ -95,9 +98,10 @@ pub struct ValueTable<'a> {
     n: usize,
     headings: usize,
     spacing: f32,
-    /// The steps of the pursuer's turn `PURSUER_TURNS[p]` and the evader's `[-w_e, 0, w_e][e]`
-    /// over half a cell's time, the solver's tau.
-    steps: [[Step; 3]; 3],
+    /// The steps of the pursuer's turn `PURSUER_TURNS[p]` and the evader's control `e` (full
+    /// speed turning right, straight, turning left; standing still) over half a cell's time,
+    /// the solver's tau.
+    steps: [[Step; 4]; 3],
     codes: &'a [u8],
 }
 
@@ -144,8 +148,13 @@ impl<'a> ValueTable<'a> {
             .ok_or(TableError::Short)?;
         let spacing = 2.0 * half / (n - 1) as f32;
         let tau = 0.5 * spacing;
-        let steps = PURSUER_TURNS
-            .map(|u| [-evader_turn, 0.0, evader_turn].map(|w| Step::new(speed_ratio, tau, u, w)));
+        let evader = [
+            (speed_ratio, -evader_turn),
+            (speed_ratio, 0.0),
+            (speed_ratio, evader_turn),
+            (0.0, 0.0),
+        ];
+        let steps = PURSUER_TURNS.map(|u| evader.map(|(a, w)| Step::new(a, tau, u, w)));
         Ok(ValueTable {
             speed_ratio,
             evader_turn,
@@ -170,13 +179,30 @@ impl<'a> ValueTable<'a> {
         self.spacing
     }
 
-    fn code(&self, i: usize, j: usize, k: usize) -> u16 {
+    /// V at node (i, j, k), r_p / v_pm: its code, or, if `near_disc`, in the capture disc
+    /// minus its depth; `None` for a node from which capture was not found.
+    fn node(&self, i: usize, j: usize, k: usize, near_disc: bool) -> Option<f32> {
+        if near_disc {
+            let (x, y) = (
+                i as f32 * self.spacing - self.half,
+                j as f32 * self.spacing - self.half,
+            );
+            let r2 = x * x + y * y;
+            // The solver's margin: a node on the disc's edge is inside whatever its rounding.
+            if r2 <= self.eps * self.eps * (1.0 + 1e-6) {
+                return Some(libm::sqrtf(r2) - self.eps);
+            }
+        }
         let index = (k * self.n + j) * self.n + i;
-        u16_at(self.codes, 2 * index).unwrap_or(NEVER)
+        match u16_at(self.codes, 2 * index) {
+            Some(code) if code != NEVER => Some(f32::from(code) * self.scale),
+            _ => None,
+        }
     }
 
     /// V at `(x, y, phi)` (r_p, radians), r_p / v_pm: trilinear, periodic in phi; `None`
-    /// outside the box or next to a node from which capture was not found.
+    /// outside the box, next to a node from which capture was not found, or for a heading
+    /// beyond 1e5 rad (the law's envelope is 1e4).
     pub fn value(&self, x: f32, y: f32, phi: f32) -> Option<f32> {
         let last = (self.n - 1) as f32;
         let fx = (x + self.half) / self.spacing;
@@ -184,42 +210,39 @@ impl<'a> ValueTable<'a> {
         if !((0.0..=last).contains(&fx) && (0.0..=last).contains(&fy)) {
             return None;
         }
-        let turn = core::f32::consts::TAU;
-        let wrapped = libm::fmodf(phi + core::f32::consts::PI, turn);
-        let wrapped = if wrapped < 0.0 {
-            wrapped + turn
-        } else {
-            wrapped
-        };
-        let fk = wrapped / turn * self.headings as f32;
-        if !fk.is_finite() {
+        // wrap_signed's range: beyond it (or NaN) no value.
+        if phi.is_nan() || phi.abs() > 1e5 {
             return None;
         }
+        let turn = core::f32::consts::TAU;
+        let wrapped = (wrap_signed(phi) + core::f32::consts::PI).max(0.0);
+        let fk = wrapped / turn * self.headings as f32;
         let (i0, j0) = ((fx as usize).min(self.n - 2), (fy as usize).min(self.n - 2));
         // fk is within [0, headings]; its top end is heading 0 again. No division: the
         // image's panic check cannot see that `headings` is not zero.
         let wrap = |k: usize| if k >= self.headings { 0 } else { k };
-        let k0 = wrap(fk as usize);
-        let (tx, ty, tk) = (fx - i0 as f32, fy - j0 as f32, fk - libm::floorf(fk));
+        let below = fk as usize;
+        let k0 = wrap(below);
+        let (tx, ty, tk) = (fx - i0 as f32, fy - j0 as f32, fk - below as f32);
         let k1 = wrap(k0 + 1);
+        // A corner of the cell can be in the disc only if (x, y) is within a cell's diagonal
+        // of it.
+        let reach = self.eps + 1.5 * self.spacing;
+        let near_disc = x * x + y * y <= reach * reach;
         let mut v = 0.0;
         for (k, wk) in [(k0, 1.0 - tk), (k1, tk)] {
             for (j, wj) in [(j0, 1.0 - ty), (j0 + 1, ty)] {
                 for (i, wi) in [(i0, 1.0 - tx), (i0 + 1, tx)] {
-                    let code = self.code(i, j, k);
-                    if code == NEVER {
-                        return None;
-                    }
-                    v += wi * wj * wk * f32::from(code);
+                    v += wi * wj * wk * self.node(i, j, k, near_disc)?;
                 }
             }
         }
-        Some(v * self.scale)
+        Some(v)
     }
 
     /// The pursuer's optimal turn at `(x, y, phi)`: -1, 0 or 1, the sign of its turn rate u
     /// (positive: its heading grows, as the law's curvature). For each turn, the largest V over
-    /// the evader's three turns half a cell's time ahead (the solver's step, exact arcs); the
+    /// the evader's four controls half a cell's time ahead (the solver's step, exact arcs); the
     /// turn whose worst case is least, straight keeping ties: the minimax the solver solved,
     /// read back (docs/near-field.md). A step that leaves the box or lands next to a "never"
     /// node is the worst case. `None` where [`ValueTable::value`] has no value, or no turn

@@ -13,12 +13,15 @@
 //! x' = a cos(phi) - 1 + u y,    y' = a sin(phi) - u x,    phi' = w - u,    a = v_em / v_pm
 //! ```
 //!
-//! Capture is the disc x^2 + y^2 <= eps^2 (V = 0). One sweep sets, at every node outside it,
-//! V = min over u max over w of (tau + V(s + tau f(s, u, w))), V interpolated trilinearly
-//! (periodic in phi), starting from V = [`NEVER`] outside the capture disc: after k sweeps V
-//! is below it where capture within about k tau is guaranteed. Both players' extremal controls are bang-bang or straight
-//! (u, w in {-max, 0, max}), as in the paper's Dubins geometry. Leaving the box counts as never
-//! captured, so values near its edge are too large; the validation reads the interior.
+//! Capture is the disc x^2 + y^2 <= eps^2. One sweep sets, at every node outside it,
+//! V = max(0, min over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step
+//! ([`Step`]), V interpolated trilinearly (periodic in phi), starting from V = [`NEVER`]: after
+//! k sweeps V is below it where capture within about k tau is guaranteed. Nodes in the disc
+//! keep minus their depth, r - eps ([`disc_value`]), so that V's zero lies on the disc's edge.
+//! The pursuer turns fully either way or runs straight (u in {-1, 0, 1}); the evader turns
+//! fully either way or runs straight at full speed, or stands still
+//! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary
+//! value is given ([`solve_with_boundary`]).
 
 use rayon::prelude::*;
 
@@ -41,6 +44,22 @@ pub struct Game {
 }
 
 impl Game {
+    /// The evader's extreme controls, (speed in units of v_pm, turn rate): full speed turning
+    /// either way or straight, and standing still. A command is a curvature and a speed up to
+    /// v_em (docs/contract.md), so the evader's reachable (speed, rate) pairs form a triangle
+    /// whose corners are the two full turns and the stop.
+    pub fn evader_controls(&self) -> [(f64, f64); 4] {
+        let (a, w) = (self.speed_ratio, self.evader_turn);
+        [(a, -w), (a, 0.0), (a, w), (0.0, 0.0)]
+    }
+
+    /// The paper's theorem's threshold 2 r_e + 2 pi r_e v_pm / v_em, r_p: beyond it the
+    /// paper's law is optimal, and the value is the paper's upper value where it has a saddle.
+    pub fn threshold(&self) -> f64 {
+        let r_e = self.speed_ratio / self.evader_turn;
+        2.0 * r_e + std::f64::consts::TAU * r_e / self.speed_ratio
+    }
+
     /// The game of the limits v_pm, w_pm, v_em, w_em (m/s, 1/m) with capture radius `eps` in
     /// units of r_p.
     pub fn with_radius(limits: [f64; 4], eps: f64) -> Self {
@@ -155,7 +174,8 @@ impl Solution {
         bytes.extend((self.grid.headings as u16).to_le_bytes());
         for &v in &self.values {
             let code = if v <= cap {
-                (v / f64::from(scale as f32))
+                // Nodes in the disc (V = r - eps < 0) are not read: code 0.
+                (v.max(0.0) / f64::from(scale as f32))
                     .round()
                     .min(f64::from(NEVER_CODE - 1)) as u16
             } else {
@@ -270,6 +290,13 @@ impl Step {
     }
 }
 
+/// The value the solver keeps at a node inside the capture disc: minus its depth, r - eps
+/// (r_p, a time at unit closing speed). Interpolated with the nodes outside, it puts V's zero
+/// on the disc's edge instead of smearing the edge over a cell.
+pub fn disc_value(game: &Game, x: f64, y: f64) -> f64 {
+    x.hypot(y) - game.eps
+}
+
 /// [`solve`] with `boundary(x, y, phi)` the value of a state outside the box (r_p / v_pm;
 /// [`NEVER`] for never captured): for example the paper's upper value beyond the theorem's
 /// threshold. It is called once per node and control pair whose step leaves the box.
@@ -294,15 +321,14 @@ pub fn solve_with_boundary(
             let i = index % grid.n;
             let j = index / grid.n % grid.n;
             if captured(i, j) {
-                0.0
+                disc_value(&game, grid.position(i), grid.position(j))
             } else {
                 NEVER
             }
         })
         .collect();
-    let a = game.speed_ratio;
     let pursuer = [-1.0, 0.0, 1.0];
-    let evader = [-game.evader_turn, 0.0, game.evader_turn];
+    let evader = game.evader_controls();
     // A node's state and its heading's sine and cosine.
     let node = |index: usize| {
         let (i, j, k) = (
@@ -315,9 +341,9 @@ pub fn solve_with_boundary(
         (x, y, phi, s, c)
     };
     // The steps under each pair of controls (u, w) held for tau.
-    let steps: Vec<[Step; 3]> = pursuer
+    let steps: Vec<[Step; 4]> = pursuer
         .iter()
-        .map(|&u| evader.map(|w| Step::new(a, tau, u, w)))
+        .map(|&u| evader.map(|(speed, w)| Step::new(speed, tau, u, w)))
         .collect();
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
     // The boundary's values, fixed: the steps that leave the box do not depend on V.
@@ -354,7 +380,7 @@ pub fn solve_with_boundary(
                 let i = index % grid.n;
                 let j = index / grid.n % grid.n;
                 if captured(i, j) {
-                    return 0.0;
+                    return old[index];
                 }
                 let at = node(index);
                 steps
@@ -375,6 +401,7 @@ pub fn solve_with_boundary(
                             .fold(f64::NEG_INFINITY, f64::max)
                     })
                     .fold(f64::INFINITY, f64::min)
+                    .max(0.0)
             })
             .collect();
         let (residual, newly_finite) = old

@@ -24,7 +24,7 @@ impl PaperValue {
         let limits = twocars::Limits::<f64>::new(1.0, 1.0, a as f32, (1.0 / r_e) as f32).ok()?;
         Some(PaperValue {
             law: twocars::Law::new(limits, twocars::Variant::Paper),
-            threshold: 2.0 * r_e + std::f64::consts::TAU * r_e / a,
+            threshold: game.threshold(),
             eps_closing: game.eps / (1.0 - a),
         })
     }

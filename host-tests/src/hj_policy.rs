@@ -1,7 +1,12 @@
-//! The pursuer that plays the Hamilton-Jacobi-Isaacs value table ([`crate::hj`]) on the host:
-//! in the table's box, away from its capture disc, the turn that makes V least against the
-//! evader's best reply one solver step ahead; elsewhere the flight policy (issue 30's policy,
-//! as a host experiment; the firmware does not play a table yet).
+//! The players that play the Hamilton-Jacobi-Isaacs value tables ([`crate::hj`]) on the host:
+//! inside the theorem's threshold, in a table's box and outside its capture disc, the pursuer
+//! takes the turn that makes V least against the evader's best reply one solver step ahead;
+//! elsewhere the flight policy, the paper's law beyond the threshold (issue 30's policy, as a
+//! host experiment; the firmware does not play a table yet).
+//!
+//! The tables are nested: a list, finest first, each solved with the next one's values where
+//! its steps leave its box (`cargo xtask hj`'s near field). A state is read from the finest
+//! table whose box holds it (less two cells).
 
 use crate::hj::{Solution, Step, REACHED};
 
@@ -17,40 +22,59 @@ pub fn relative(w_pm: f64, pursuer: [f64; 3], evader: [f64; 3]) -> (f64, f64, f6
     (dx * c + dy * s, -dx * s + dy * c, evader[2] - pursuer[2])
 }
 
-/// The pursuer's curvature (1/m) from the table `table` solved for limits whose pursuer
-/// curvature is `w_pm` (1/m), for pursuer and evader states in metres and radians: [`turn`].
-/// `None` where the table gives no preference it can trust: outside its box (less two cells),
-/// in the capture disc, or where capture was not found.
+/// The finest of `tables` (finest first) that plays at `(x, y)` (r_p): inside the theorem's
+/// threshold and outside the capture disc, in its box less two cells, captured from there.
+/// `None` where none does.
+pub fn finest(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> Option<&Solution> {
+    let table = tables.iter().find(|table| {
+        let margin = table.grid.half - 2.0 * table.grid.spacing();
+        x.abs() < margin && y.abs() < margin
+    })?;
+    let r = x.hypot(y);
+    let plays =
+        r > table.game.eps && r < table.game.threshold() && table.value(x, y, phi) < REACHED;
+    plays.then_some(table)
+}
+
+/// V at `(x, y, phi)` (r_p / v_pm) from the finest of `tables` that plays there ([`finest`]).
+pub fn value(tables: &[Solution], at: (f64, f64, f64)) -> Option<f64> {
+    finest(tables, at).map(|table| table.value_at(at))
+}
+
+/// V at `(x, y, phi)` from the finest of `tables` whose box holds it, to its edge: where a
+/// step from a state lands ([`crate::hj::NEVER`] outside every box).
+fn landing(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> f64 {
+    tables
+        .iter()
+        .find(|table| x.abs() <= table.grid.half && y.abs() <= table.grid.half)
+        .map_or(crate::hj::NEVER, |table| table.value(x, y, phi))
+}
+
+/// The pursuer's curvature (1/m) from `tables` solved for limits whose pursuer curvature is
+/// `w_pm` (1/m), for pursuer and evader states in metres and radians: [`turn`] in the finest
+/// table that plays there ([`finest`]); `None` where none does.
 pub fn pursuer_curvature(
-    table: &Solution,
+    tables: &[Solution],
     w_pm: f64,
     pursuer: [f64; 3],
     evader: [f64; 3],
 ) -> Option<f64> {
-    let (x, y, phi) = relative(w_pm, pursuer, evader);
-    let grid = table.grid;
-    let margin = grid.half - 2.0 * grid.spacing();
-    if x.abs() >= margin || y.abs() >= margin || x.hypot(y) <= table.game.eps {
-        return None;
-    }
-    if table.value(x, y, phi) >= REACHED {
-        return None;
-    }
-    turn(table, x, y, phi).map(|(u, _)| u * w_pm)
+    let at = relative(w_pm, pursuer, evader);
+    turn(tables, at).map(|(u, _)| u * w_pm)
 }
 
-/// The evader's curvature (1/m) from the table `table` solved for limits whose pursuer and
-/// evader curvatures are `w_pm` and `w_em` (1/m): the evader's turn whose best case for the
-/// pursuer (the least V over its three turns, one solver step ahead) is largest, straight
+/// The evader's curvature (1/m) from `tables` solved for limits whose pursuer and evader
+/// curvatures are `w_pm` and `w_em` (1/m): at full speed, the evader's turn whose best case for
+/// the pursuer (the least V over its three turns, one solver step ahead) is largest, straight
 /// keeping ties. `None` where [`pursuer_curvature`] has none.
 pub fn evader_curvature(
-    table: &Solution,
+    tables: &[Solution],
     [w_pm, w_em]: [f64; 2],
     pursuer: [f64; 3],
     evader: [f64; 3],
 ) -> Option<f64> {
-    pursuer_curvature(table, w_pm, pursuer, evader)?;
     let (x, y, phi) = relative(w_pm, pursuer, evader);
+    let table = finest(tables, (x, y, phi))?;
     let (s, c) = phi.sin_cos();
     let game = table.game;
     let best_for_pursuer = |w: f64| {
@@ -58,7 +82,7 @@ pub fn evader_curvature(
             .into_iter()
             .map(|u| {
                 let step = Step::new(game.speed_ratio, table.tau, u, w);
-                table.value_at(step.from((x, y, phi, s, c)))
+                landing(tables, step.from((x, y, phi, s, c)))
             })
             .fold(f64::INFINITY, f64::min)
     };
@@ -68,20 +92,23 @@ pub fn evader_curvature(
     Some(bests[0].0 * w_em)
 }
 
-/// The pursuer's turn (-1, 0 or 1) at `(x, y, phi)` in the table's frame: the turn (full either
-/// way, or straight) whose worst case over the evader's turns, one solver step `tau` ahead on
-/// the exact motion, has the least V: the solver's own minimax, read back. Straight keeps
-/// ties. With the margin (r_p / v_pm) by which that worst case beats the next turn's; `None`
-/// if every turn's worst case is beyond the capture the table found.
-pub fn turn(table: &Solution, x: f64, y: f64, phi: f64) -> Option<(f64, f64)> {
+/// The pursuer's turn (-1, 0 or 1) at `(x, y, phi)` in the tables' frame, from the finest of
+/// `tables` that plays there ([`finest`]): the turn (full either way, or straight) whose worst
+/// case over the evader's controls ([`crate::hj::Game::evader_controls`]), one step of that
+/// table's `tau` ahead on the exact motion, has the least V (each landing read from the finest
+/// table whose box holds it): the solver's own minimax, read back. Straight keeps ties. With
+/// the margin (r_p / v_pm) by which that worst case beats the next turn's; `None` where no
+/// table plays, or every turn's worst case is beyond the capture the tables found.
+pub fn turn(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> Option<(f64, f64)> {
+    let table = finest(tables, (x, y, phi))?;
     let (s, c) = phi.sin_cos();
     let game = table.game;
     let worst = |u: f64| {
-        [-game.evader_turn, 0.0, game.evader_turn]
+        game.evader_controls()
             .into_iter()
-            .map(|w| {
-                let step = Step::new(game.speed_ratio, table.tau, u, w);
-                table.value_at(step.from((x, y, phi, s, c)))
+            .map(|(speed, w)| {
+                let step = Step::new(speed, table.tau, u, w);
+                landing(tables, step.from((x, y, phi, s, c)))
             })
             .fold(f64::NEG_INFINITY, f64::max)
     };

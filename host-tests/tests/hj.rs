@@ -77,8 +77,8 @@ fn the_value_is_mirror_symmetric_and_finite_inside_the_box() {
 /// A full-rate circling evader whose circle meshes with the pursuer's (random limits,
 /// v_em / v_pm = 0.79, r_e / r_p = 1.12; docs/closed-loop.md): the flight policy before its
 /// turn-rate estimate passed it 11 cm off once a lap and never captured; the pursuer that plays
-/// the table's gradient in the near field (the flight policy elsewhere) captures it within
-/// 20 s (the flight policy's own capture is `tests/adversaries.rs`).
+/// the table in the near field (the flight policy elsewhere) captures it at the table's radius
+/// within 20 s (the flight policy's own capture is `tests/adversaries.rs`).
 #[test]
 fn the_table_pursuer_captures_a_meshing_circler() {
     use host_tests::adversary::{Adversary, EvaderKind, Opponent};
@@ -106,8 +106,14 @@ fn the_table_pursuer_captures_a_meshing_circler() {
     };
     let game = Game::with_radius(limits, 2.0 * grid.spacing());
     let table = solve(game, grid, 0.5 * grid.spacing(), 1e-5, 20_000, |_, _| {});
+    // Capture at the table's radius (m), the disc its V is the time to.
+    let params = SimParams {
+        eps: game.eps / limits[1],
+        ..params
+    };
     let narrow = limits.map(|v| v as f32);
     let law_limits = Limits::<f32>::new(narrow[0], narrow[1], narrow[2], narrow[3]).unwrap();
+    let played = std::cell::Cell::new(0u32);
     let with_table = {
         let mut law = Guidance::new(Law::new(law_limits, Variant::Paper), 0.01)
             .unwrap()
@@ -122,7 +128,8 @@ fn the_table_pursuer_captures_a_meshing_circler() {
                 .states(p.map(|v| v as f32), e.map(|v| v as f32))
                 .map_err(|_| ())?;
             let flight = f64::from(law.step(&ps, &es).command.pursuer);
-            let table_turn = pursuer_curvature(&table, limits[1], p, e);
+            let table_turn = pursuer_curvature(std::slice::from_ref(&table), limits[1], p, e);
+            played.set(played.get() + u32::from(table_turn.is_some()));
             let (w, v) = evader.command(t, p, e);
             Ok::<_, ()>(StepCommand {
                 pursuer: table_turn.unwrap_or(flight),
@@ -134,6 +141,11 @@ fn the_table_pursuer_captures_a_meshing_circler() {
         })
         .unwrap()
     };
+    eprintln!(
+        "captured at {:.2} s, the table played {} steps",
+        with_table.t_capture,
+        played.get()
+    );
     assert_eq!(
         with_table.status,
         SimStatus::Captured,
@@ -141,6 +153,8 @@ fn the_table_pursuer_captures_a_meshing_circler() {
         with_table.d_min
     );
     assert!(with_table.t_capture < 20.0, "{}", with_table.t_capture);
+    // The table steered the approach into its disc.
+    assert!(played.get() > 0, "{}", played.get());
 }
 
 /// The boundary value is what a step out of the box lands on: with the box's edge a capture

@@ -94,7 +94,9 @@ fn the_firmware_reads_the_values_the_solver_wrote_within_half_a_code() {
     assert_eq!(table.value(6.1, 0.0, 0.0), None);
     assert_eq!(table.value(f32::NAN, 0.0, 0.0), None);
     assert_eq!(table.value(0.0, 0.0, f32::INFINITY), None);
-    assert!(table.value(1.0, 0.0, 1.0e30).is_some());
+    // Headings within the law's envelope (1e4 rad) are reduced; beyond 1e5 rad, no value.
+    assert!(table.value(1.0, 0.0, 1.0e4).is_some());
+    assert_eq!(table.value(1.0, 0.0, 1.0e30), None);
 }
 
 /// The tail chase, read through the table: V = (d - eps) / (1 - a) within the grid's error.
@@ -124,7 +126,7 @@ fn the_optimal_turn_is_the_solvers() {
         let (x, y, phi) = point(&mut rng, 5.5);
         // Where the host's best turn beats the next by more than the codes' rounding can move
         // a worst case (half a code at each of eight nodes, and f32's arithmetic).
-        let Some((host, margin)) = turn(s, x, y, phi) else {
+        let Some((host, margin)) = turn(std::slice::from_ref(s), (x, y, phi)) else {
             continue;
         };
         // Only where the reader has a value at every landing: beyond the longest time it keeps
@@ -132,9 +134,8 @@ fn the_optimal_turn_is_the_solvers() {
         let (sin, cos) = phi.sin_cos();
         let game = s.game;
         let landings_read = [-1.0, 0.0, 1.0].iter().all(|&u| {
-            [-game.evader_turn, 0.0, game.evader_turn].iter().all(|&w| {
-                let (nx, ny, nphi) =
-                    Step::new(game.speed_ratio, s.tau, u, w).from((x, y, phi, sin, cos));
+            game.evader_controls().iter().all(|&(speed, w)| {
+                let (nx, ny, nphi) = Step::new(speed, s.tau, u, w).from((x, y, phi, sin, cos));
                 table.value(nx as f32, ny as f32, nphi as f32).is_some()
             })
         });

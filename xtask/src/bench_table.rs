@@ -76,7 +76,7 @@ pub fn paragraph(m: &TableMeasured) -> String {
         "Value table (issue 30; Cortex-M4F, f32; `bench-table` image: `twocars::value_table` \
          reading `src/bench/table.tcv`, the paper's game on a {n} x {n} x {headings} grid, \
          {} B, u16 per node; each read is V by trilinear interpolation and the pursuer's \
-         optimal turn by the solver's one-step minimax, nine exact steps and nine more \
+         optimal turn by the solver's one-step minimax, twelve exact steps and twelve more \
          interpolations; at the {} points of \
          `twocars::bench::TABLE_POINTS`, every result equal to the host's bit for bit): \
          **{:.0} instructions per read** ({:.0} - {:.0}; the call overhead, the same call \

@@ -55,19 +55,68 @@ pub struct HjArgs {
     seed: u64,
 }
 
-/// The paper's game over its near field, as `cargo xtask plot` draws it and `--play` plays it:
-/// capture radius 0.5 m (one r_p: four cells across), a box of +-30 r_p (15 m, just past the
-/// theorem's threshold of 14.57 m on the diagonals, where the paper's value is the boundary) at
-/// 0.5 r_p, 24 relative headings; solved to a residual of 1e-4 (about 75 s on two cores), or
-/// read back from `target/hj-cache/` where this build of xtask solved it before; with how.
-pub(crate) fn paper_near_field() -> (Solution, String) {
+/// The paper's game over its near field, as `cargo xtask plot` draws it and `--play` plays it,
+/// as two nested tables, finest first (`host_tests::hj_policy`): capture radius 0.5 m (one
+/// r_p); the outer a box of +-30 r_p (15 m, just past the theorem's threshold of 14.57 m on the
+/// diagonals, where the paper's value is the boundary) at 0.5 r_p with 24 relative headings,
+/// the inner [`INNER`] with the outer's values as its boundary; each solved to a residual of
+/// 1e-4, or read back from `target/hj-cache/` where this build of xtask solved it before; with
+/// how.
+pub(crate) fn paper_near_field() -> (Vec<Solution>, String) {
     let game = Game::of_limits(host_tests::scenarios::PAPER_LIMITS, 0.5);
-    let grid = Grid {
+    let outer = Grid {
         n: 121,
         half: 30.0,
         headings: 24,
     };
-    let cache = crate::qemu::root().join("target/hj-cache/paper-near-field.bin");
+    let started = Instant::now();
+    let (outer, outer_how) = cached(game, outer, "outer", |grid| {
+        solve_grid(game, grid, 1e-4, Boundary::Paper)
+    });
+    let mut tables = vec![outer];
+    let mut hows = vec![format!("outer {outer_how}")];
+    for (level, grid) in INNER.into_iter().enumerate() {
+        let coarser = &tables[tables.len() - 1];
+        let (inner, how) = cached(game, grid, &format!("inner-{level}"), |grid| {
+            solve_grid(game, grid, 1e-4, Boundary::Table(coarser))
+        });
+        hows.push(format!("+-{} r_p {how}", grid.half));
+        tables.push(inner);
+    }
+    tables.reverse();
+    let how = format!(
+        "{}; {:.0} s",
+        hows.join(", "),
+        started.elapsed().as_secs_f64()
+    );
+    (tables, how)
+}
+
+/// The near field's inner tables, each inside the one before: +-6 r_p at 0.2 r_p with 48
+/// relative headings and +-3 r_p at 0.1 r_p with 72. The outer grid's 0.5 r_p and 15 degrees
+/// put V 10 to 40 % low within two capture radii behind the pursuer (docs/near-field.md).
+pub(crate) const INNER: [Grid; 2] = [
+    Grid {
+        n: 61,
+        half: 6.0,
+        headings: 48,
+    },
+    Grid {
+        n: 61,
+        half: 3.0,
+        headings: 72,
+    },
+];
+
+/// `solve(grid)`, or its solution read back from `target/hj-cache/NAME.bin` where this build
+/// of xtask wrote it; with how.
+fn cached(
+    game: Game,
+    grid: Grid,
+    name: &str,
+    solve: impl FnOnce(Grid) -> (Solution, f64),
+) -> (Solution, String) {
+    let cache = crate::qemu::root().join(format!("target/hj-cache/paper-near-field-{name}.bin"));
     // The cache belongs to the xtask binary that wrote it: a rebuild (a changed solver) solves
     // again.
     let stamp: u128 = std::env::current_exe()
@@ -78,9 +127,13 @@ pub(crate) fn paper_near_field() -> (Solution, String) {
     if let Some(solution) = read_cache(&cache, stamp, game, grid) {
         return (solution, "read from target/hj-cache".to_string());
     }
-    let (solution, seconds) = solve_grid(game, grid, 1e-4, true);
+    let (solution, seconds) = solve(grid);
     write_cache(&cache, stamp, &solution);
-    (solution, format!("solved in {seconds:.0} s"))
+    let how = format!(
+        "{} sweeps in {seconds:.0} s, residual {:.1e}",
+        solution.sweeps, solution.residual
+    );
+    (solution, how)
 }
 
 /// The cache's layout: the stamp (u128), sweeps (u64), residual (f64), then each node's V
@@ -138,17 +191,26 @@ fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
             .headings
             .unwrap_or(2 * ((0.5 * per_turn).round().max(12.0) as usize)),
     };
-    solve_grid(game, grid, args.tolerance, args.paper_boundary)
+    solve_grid(
+        game,
+        grid,
+        args.tolerance,
+        if args.paper_boundary {
+            Boundary::Paper
+        } else {
+            Boundary::Never
+        },
+    )
 }
 
 /// Solves `game` on `grid` with half a cell per sweep at v_pm until no value changes by more
-/// than `tolerance`, progress shown; with `paper_boundary`, a step out of the box beyond the
-/// theorem's threshold lands on the paper's upper value. The solution and the seconds taken.
+/// than `tolerance`, progress shown, a step out of the box landing on `boundary`. The solution
+/// and the seconds taken.
 pub(crate) fn solve_grid(
     game: Game,
     grid: Grid,
     tolerance: f64,
-    paper_boundary: bool,
+    boundary: Boundary,
 ) -> (Solution, f64) {
     let tau = 0.5 * grid.spacing();
     let progress = Progress::new(
@@ -165,8 +227,8 @@ pub(crate) fn solve_grid(
             progress.step(&format!("sweep {sweep}, residual {residual:.2e}"));
         }
     };
-    let solution = match (paper_boundary, PaperValue::of(game)) {
-        (true, Some(paper)) => solve_with_boundary(
+    let solution = match (boundary, PaperValue::of(game)) {
+        (Boundary::Paper, Some(paper)) => solve_with_boundary(
             game,
             grid,
             tau,
@@ -175,10 +237,31 @@ pub(crate) fn solve_grid(
             |x, y, phi| paper.beyond_threshold(x, y, phi).unwrap_or(NEVER),
             report,
         ),
+        (Boundary::Table(outer), _) => solve_with_boundary(
+            game,
+            grid,
+            tau,
+            tolerance,
+            20_000,
+            |x, y, phi| outer.value(x, y, phi),
+            report,
+        ),
         _ => solve(game, grid, tau, tolerance, 20_000, report),
     };
     progress.finish();
     (solution, started.elapsed().as_secs_f64())
+}
+
+/// What a step out of the box lands on.
+#[derive(Clone, Copy)]
+pub(crate) enum Boundary<'a> {
+    /// Never captured.
+    Never,
+    /// Beyond the theorem's threshold, the paper's upper value where the law has a saddle
+    /// (less eps / (1 - a)); never captured elsewhere.
+    Paper,
+    /// A coarser table's value over a larger box.
+    Table(&'a Solution),
 }
 
 /// Runs the solver on three grids and prints the validation; returns the exit code.

@@ -8,7 +8,7 @@ use std::f64::consts::FRAC_PI_2;
 use std::path::{Path, PathBuf};
 
 use host_tests::hj::{Game, Solution, REACHED};
-use host_tests::hj_policy::{pursuer_curvature, relative};
+use host_tests::hj_policy::{relative, turn};
 use host_tests::scenarios::PAPER_LIMITS;
 use twocars::Direction;
 
@@ -35,12 +35,15 @@ struct Cell {
     table_turn: Option<f64>,
 }
 
-fn cells(table: &Solution, game: Game) -> Vec<Cell> {
+/// The cells over the outermost of `tables` (finest first), each read from the finest table
+/// whose box holds it (less two cells).
+fn cells(tables: &[Solution], game: Game) -> Vec<Cell> {
+    let outer = &tables[tables.len() - 1];
     let [v_pm, w_pm, ..] = PAPER_LIMITS;
     // V in r_p / v_pm to seconds; the paper's value is a point's capture: add eps's closing.
     let seconds = 1.0 / (w_pm * v_pm);
     let closing = game.eps / (1.0 - game.speed_ratio);
-    let half_m = table.grid.half / w_pm;
+    let half_m = outer.grid.half / w_pm;
     let step = 2.0 * half_m / CELLS as f64;
     let pursuer = [0.0, 0.0, FRAC_PI_2];
     let mut out = Vec::with_capacity(CELLS * CELLS);
@@ -57,13 +60,21 @@ fn cells(table: &Solution, game: Game) -> Vec<Cell> {
                 r.solution.upper.map(|u| (u, turn))
             });
             let (rx, ry, phi) = relative(w_pm, pursuer, evader);
+            let table = tables
+                .iter()
+                .find(|t| {
+                    let margin = t.grid.half - 2.0 * t.grid.spacing();
+                    rx.abs() < margin && ry.abs() < margin
+                })
+                .unwrap_or(outer);
             let v = table.value(rx, ry, phi);
             out.push(Cell {
                 x,
                 y,
                 paper,
                 table_v: (v < REACHED).then_some((v + closing) * seconds),
-                table_turn: pursuer_curvature(table, w_pm, pursuer, evader).map(f64::signum),
+                // The tables play inside the threshold (the paper's law beyond it).
+                table_turn: turn(tables, (rx, ry, phi)).map(|(u, _)| u),
             });
         }
     }
@@ -106,12 +117,12 @@ fn turn_colour(t: Option<f64>) -> String {
 
 /// Solves the paper's game on the near-field grid and writes the two side-by-side figures.
 pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let (table, how) = crate::hj::paper_near_field();
-    let game = table.game;
-    let half_m = table.grid.half / PAPER_LIMITS[1];
-    let threshold_m = host_tests::hj_paper::PaperValue::of(game)
-        .map_or(f64::NAN, |p| p.threshold / PAPER_LIMITS[1]);
-    let cells = cells(&table, game);
+    let (tables, how) = crate::hj::paper_near_field();
+    let outer = &tables[tables.len() - 1];
+    let game = outer.game;
+    let half_m = outer.grid.half / PAPER_LIMITS[1];
+    let threshold_m = game.threshold() / PAPER_LIMITS[1];
+    let cells = cells(&tables, game);
 
     // Where both give a turn, how often they agree; and V against the paper's upper value
     // beyond the threshold (the theorem: equal there).
@@ -120,16 +131,24 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
         .filter_map(|c| Some((c.paper?.1, c.table_turn.filter(|t| *t != 0.0)?)))
         .collect();
     let agree = both.iter().filter(|(p, t)| p == t).count();
+    let grids: Vec<String> = tables
+        .iter()
+        .map(|t| {
+            format!(
+                "{n} x {n} x {} over +-{:.1} m",
+                t.grid.headings,
+                t.grid.half / PAPER_LIMITS[1],
+                n = t.grid.n
+            )
+        })
+        .collect();
     let solved = format!(
-        "{n} x {n} x {} nodes over +-{half_m:.0} m, eps = {} m:",
-        table.grid.headings,
-        game.eps / PAPER_LIMITS[1],
-        n = table.grid.n,
+        "eps = {} m; tables, finest first:",
+        game.eps / PAPER_LIMITS[1]
     );
-    let setup = format!(
-        "{} sweeps, residual {:.1e}, {how}",
-        table.sweeps, table.residual,
-    );
+    let mut value_legend: Vec<&str> = vec![&solved];
+    value_legend.extend(grids.iter().map(String::as_str));
+    value_legend.push("grey: not captured within the box");
 
     let mut value_left = panel(
         &cells,
@@ -148,7 +167,7 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
         "The game's value V (s), Hamilton-Jacobi-Isaacs",
     );
     value_right.colour_scale(TOP_S);
-    value_right.legend(&[&solved, &setup, "grey: not captured within the box"]);
+    value_right.legend(&value_legend);
     let mut turn_left = panel(
         &cells,
         half_m,
@@ -171,10 +190,13 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
     );
     turn_right.legend(&[
         "blue: left, orange: right, white: straight",
-        "grey: no trusted turn (capture disc, box edge, not captured)",
+        "grey: the table does not play (capture disc, beyond the threshold)",
         &agreement,
     ]);
-    println!("near field: {solved} {setup}; the optimal turn {agreement}");
+    println!(
+        "near field: {solved} {} ({how}); the optimal turn {agreement}",
+        grids.join(", ")
+    );
 
     let a = dir.join("near-field-value.svg");
     let b = dir.join("near-field-turn.svg");
