@@ -53,35 +53,33 @@ pub struct HjArgs {
     /// Seed of `--play`'s starts.
     #[arg(long, default_value_t = 2019)]
     seed: u64,
+    /// `--play`'s nested tables, coarsest first, as n:half:headings (nodes per axis, half the
+    /// box in r_p, relative headings); default the near field's three.
+    #[arg(long, value_parser = level, value_delimiter = ',')]
+    levels: Vec<Grid>,
 }
 
 /// The paper's game over its near field, as `cargo xtask plot` draws it and `--play` plays it,
-/// as two nested tables, finest first (`host_tests::hj_policy`): capture radius 0.5 m (one
-/// r_p); the outer a box of +-30 r_p (15 m, just past the theorem's threshold of 14.57 m on the
-/// diagonals, where the paper's value is the boundary) at 0.5 r_p with 24 relative headings,
-/// the inner [`INNER`] with the outer's values as its boundary; each solved to a residual of
+/// as nested tables (`host_tests::hj_policy`) on `levels`, coarsest first; returned finest
+/// first. Capture radius 0.5 m (one r_p). The coarsest table lands on the paper's value beyond
+/// the threshold, each finer one on the table before it; each is solved to a residual of
 /// 1e-4, or read back from `target/hj-cache/` where this build of xtask solved it before; with
 /// how.
-pub(crate) fn paper_near_field() -> (Vec<Solution>, String) {
+pub(crate) fn paper_near_field(levels: &[Grid]) -> (Vec<Solution>, String) {
     let game = Game::of_limits(host_tests::scenarios::PAPER_LIMITS, 0.5);
-    let outer = Grid {
-        n: 121,
-        half: 30.0,
-        headings: 24,
-    };
     let started = Instant::now();
-    let (outer, outer_how) = cached(game, outer, "outer", |grid| {
-        solve_grid(game, grid, 1e-4, Boundary::Paper)
-    });
-    let mut tables = vec![outer];
-    let mut hows = vec![format!("outer {outer_how}")];
-    for (level, grid) in INNER.into_iter().enumerate() {
-        let coarser = &tables[tables.len() - 1];
-        let (inner, how) = cached(game, grid, &format!("inner-{level}"), |grid| {
-            solve_grid(game, grid, 1e-4, Boundary::Table(coarser))
+    let mut tables: Vec<Solution> = Vec::new();
+    let mut hows = Vec::new();
+    let mut name = String::from("paper-near-field");
+    for &grid in levels {
+        // The cache's name: this grid and every coarser one its boundary came from.
+        name.push_str(&format!("_{}-{}-{}", grid.n, grid.half, grid.headings));
+        let (table, how) = cached(game, grid, &name, |grid| match tables.last() {
+            Some(coarser) => solve_grid(game, grid, 1e-4, Boundary::Table(coarser)),
+            None => solve_grid(game, grid, 1e-4, Boundary::Paper),
         });
         hows.push(format!("+-{} r_p {how}", grid.half));
-        tables.push(inner);
+        tables.push(table);
     }
     tables.reverse();
     let how = format!(
@@ -92,10 +90,16 @@ pub(crate) fn paper_near_field() -> (Vec<Solution>, String) {
     (tables, how)
 }
 
-/// The near field's inner tables, each inside the one before: +-6 r_p at 0.2 r_p with 48
-/// relative headings and +-3 r_p at 0.1 r_p with 72. The outer grid's 0.5 r_p and 15 degrees
-/// put V 10 to 40 % low within two capture radii behind the pursuer (docs/near-field.md).
-pub(crate) const INNER: [Grid; 2] = [
+/// The near field's tables, coarsest first: a box of +-30 r_p (15 m, just past the theorem's
+/// threshold of 14.57 m on the diagonals) at 0.5 r_p with 24 relative headings; +-6 r_p at
+/// 0.2 r_p with 48; +-3 r_p at 0.1 r_p with 72. The outer grid alone puts V 10 to 40 % low
+/// within two capture radii behind the pursuer (docs/near-field.md).
+pub(crate) const NEAR_FIELD: [Grid; 3] = [
+    Grid {
+        n: 121,
+        half: 30.0,
+        headings: 24,
+    },
     Grid {
         n: 61,
         half: 6.0,
@@ -107,6 +111,24 @@ pub(crate) const INNER: [Grid; 2] = [
         headings: 72,
     },
 ];
+
+/// Parses one of `--levels`' grids: `n:half:headings`.
+pub(crate) fn level(text: &str) -> Result<Grid, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let [n, half, headings] = parts[..] else {
+        return Err(format!("{text}: expected n:half:headings"));
+    };
+    let bad = |e: &dyn std::fmt::Display| format!("{text}: {e}");
+    let grid = Grid {
+        n: n.parse().map_err(|e| bad(&e))?,
+        half: half.parse().map_err(|e| bad(&e))?,
+        headings: headings.parse().map_err(|e| bad(&e))?,
+    };
+    let valid = grid.n >= 5 && grid.n % 2 == 1 && grid.half > 0.0 && grid.headings >= 4;
+    valid
+        .then_some(grid)
+        .ok_or_else(|| format!("{text}: n odd and at least 5, half positive, headings at least 4"))
+}
 
 /// `solve(grid)`, or its solution read back from `target/hj-cache/NAME.bin` where this build
 /// of xtask wrote it; with how.
@@ -267,7 +289,12 @@ pub(crate) enum Boundary<'a> {
 /// Runs the solver on three grids and prints the validation; returns the exit code.
 pub fn command(args: &HjArgs) -> i32 {
     if let Some(runs) = args.play {
-        return crate::hj_play::command(runs, args.seed);
+        let levels = if args.levels.is_empty() {
+            NEAR_FIELD.to_vec()
+        } else {
+            args.levels.clone()
+        };
+        return crate::hj_play::command(runs, args.seed, &levels);
     }
     let game = Game::with_radius(args.limits, args.eps);
     if !(game.speed_ratio > 0.0 && game.speed_ratio < 1.0 && args.nodes >= 21 && args.eps > 0.0)

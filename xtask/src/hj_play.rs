@@ -1,12 +1,14 @@
-//! `cargo xtask hj --play RUNS`: the value table's pursuer (issue 30, on the host) against every
-//! evader of the adversary suite, from seeded starts below the theorem's threshold at the
-//! paper's limits, beside the flight policy. The table is the paper's near field
-//! ([`crate::hj::paper_near_field`]); its pursuer takes the turn whose worst case one solver
-//! step ahead has the least V (`host_tests::hj_policy`), the flight policy near the box's edge.
-//! The last row's evader is the table's own (its turn whose best case for the pursuer one step
-//! ahead has the largest V), where both players play V's game. The runs capture at the table's
-//! radius, and each capture is compared with the table's V(x0), the time to capture under
-//! optimal play by both sides.
+//! `cargo xtask hj --play RUNS`: the value tables' pursuer (issue 30, on the host) against
+//! every evader of the adversary suite, from seeded starts below the theorem's threshold at the
+//! paper's limits, beside the flight policy. The tables are the paper's near field
+//! ([`crate::hj::paper_near_field`], `--levels`); their pursuer takes the turn whose worst case
+//! one step ahead has the least V (`host_tests::hj_policy`), the paper's law beyond the
+//! threshold. The last row's evader plays the reference tables (its turn whose best case for
+//! the pursuer one step ahead has the largest V), where both players play V's game. The runs
+//! capture at the tables' radius, and each capture is compared with V(x0), the time to capture
+//! under optimal play by both sides, read from the reference tables
+//! ([`crate::hj::NEAR_FIELD`]) whatever `--levels` the pursuer plays: a coarser table's V is
+//! larger, and would make its own captures look early.
 
 use host_tests::adversary::{EvaderKind, Opponent};
 use host_tests::hj::Solution;
@@ -70,8 +72,15 @@ impl Evader {
     }
 }
 
-/// `runs` seeded starts below the threshold (those the table captures from) against `evader`.
-fn play(tables: &[Solution], evader: Evader, runs: usize, seed: u64) -> Vec<Play> {
+/// `runs` seeded starts below the threshold (those the reference tables capture from) against
+/// `evader`, the pursuer playing `tables`.
+fn play(
+    reference: &[Solution],
+    tables: &[Solution],
+    evader: Evader,
+    runs: usize,
+    seed: u64,
+) -> Vec<Play> {
     let mut rng = Rng::new(seed);
     let mut starts = Vec::new();
     while starts.len() < runs {
@@ -80,19 +89,19 @@ fn play(tables: &[Solution], evader: Evader, runs: usize, seed: u64) -> Vec<Play
         if regime != Regime::Near {
             continue;
         }
-        if let Some(v0) = table_value(tables, params.pursuer, params.evader) {
+        if let Some(v0) = table_value(reference, params.pursuer, params.evader) {
             starts.push((params, v0, adversary_seed));
         }
     }
     let [_, w_pm, _, w_em] = PAPER_LIMITS;
-    let table_evader = |p, e| evader_curvature(tables, [w_pm, w_em], p, e);
+    let table_evader = |p, e| evader_curvature(reference, [w_pm, w_em], p, e);
     let no_turn = |_, _| None;
     starts
         .into_par_iter()
         .map(|(params, v0, adversary_seed)| {
             let params = SimParams {
                 t_max: 3.0 * v0 + 30.0,
-                eps: capture_radius(tables),
+                eps: capture_radius(reference),
                 ..params
             };
             // The table's evader overrides the law's evader wherever the table has a turn.
@@ -136,23 +145,32 @@ fn percent(v: f64) -> String {
 
 /// Solves the paper's near field, plays `runs` starts per evader, prints the table; the exit
 /// code is 0 (the figures are a measurement, not a test).
-pub fn command(runs: usize, seed: u64) -> i32 {
-    let (tables, how) = crate::hj::paper_near_field();
-    let grids: Vec<String> = tables
-        .iter()
-        .map(|t| {
-            format!(
-                "{n} x {n} x {} over +-{} r_p",
-                t.grid.headings,
-                t.grid.half,
-                n = t.grid.n
-            )
-        })
-        .collect();
+pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid]) -> i32 {
+    let (reference, reference_how) = crate::hj::paper_near_field(&crate::hj::NEAR_FIELD);
+    let (tables, how) = if levels == crate::hj::NEAR_FIELD {
+        (reference.clone(), reference_how.clone())
+    } else {
+        crate::hj::paper_near_field(levels)
+    };
+    let grids = |tables: &[Solution]| -> String {
+        let grids: Vec<String> = tables
+            .iter()
+            .map(|t| {
+                format!(
+                    "{n} x {n} x {} over +-{} r_p",
+                    t.grid.headings,
+                    t.grid.half,
+                    n = t.grid.n
+                )
+            })
+            .collect();
+        grids.join(" in ")
+    };
     println!(
-        "Paper's limits, dt = {DT} s, eps = {} m (the tables'); tables {} ({how}). {runs} seeded starts per evader below the threshold (seed {seed}), those the tables capture from.\n",
+        "Paper's limits, dt = {DT} s, eps = {} m (the tables'); the pursuer's tables {} ({how}); V(x0) and the tables' evader from {} ({reference_how}). {runs} seeded starts per evader below the threshold (seed {seed}), those the tables capture from.\n",
         capture_radius(&tables),
-        grids.join(" in "),
+        grids(&tables),
+        grids(&reference),
     );
     println!("Over V: (capture - V(x0) - 5 dt) / V(x0); the issue's bar is 5 % at the 90th percentile and 10 % at worst, none never captured.\n");
     println!("| evader | never (flight / table) | over V, flight: median, p90, worst | over V, table: median, p90, worst | mean capture, flight / table (s) | the table's worst start: x, y (r_p), phi (rad), V(x0) |");
@@ -162,7 +180,13 @@ pub fn command(runs: usize, seed: u64) -> i32 {
         .map(Evader::Suite)
         .chain([Evader::Table]);
     for (k, evader) in evaders.enumerate() {
-        let plays = play(&tables, evader, runs, seed.wrapping_add(k as u64));
+        let plays = play(
+            &reference,
+            &tables,
+            evader,
+            runs,
+            seed.wrapping_add(k as u64),
+        );
         let summary = |pick: fn(&Play) -> &SimResult| {
             let mut over: Vec<f64> = plays.iter().map(|p| p.over(pick(p))).collect();
             over.sort_by(f64::total_cmp);
