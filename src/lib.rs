@@ -71,6 +71,7 @@ pub mod serial;
 pub mod status;
 pub mod unit;
 pub mod value_table;
+pub mod value_tables;
 pub mod wire;
 
 pub use capture::{CaptureTime, Variant};

@@ -9,32 +9,34 @@
 //!
 //! Format, little endian: the magic `TCV2`; f32 v_em / v_pm, the evader's turn rate (rad per
 //! r_p / v_pm), the capture radius (r_p), half the box's side (r_p) and the time per code
-//! (r_p / v_pm); u16 nodes per position axis `n` and headings per turn; then `n * n * headings`
-//! u16 codes, node (i, j, k) at `(k n + j) n + i`, x = -half + i h, y = -half + j h,
-//! phi = -pi + 2 pi k / headings. Code [`NEVER`]: capture within the box was not found there.
-//! A node inside the capture disc is not read: its value is r - eps, minus its depth (as the
-//! solver keeps it), so that V's zero lies on the disc's edge.
+//! (r_p / v_pm); u16 nodes per position axis `n` (odd) and headings per turn; then the u16
+//! codes of the rows y >= 0 only, `n * (n + 1) / 2 * headings` of them: node (i, j, k) with
+//! j >= c = (n - 1) / 2 at `(k (n - c) + j - c) n + i`, x = -half + i h, y = -half + j h,
+//! phi = -pi + 2 pi k / headings. A row y < 0 is its mirror's: V(x, y, phi) = V(x, -y, -phi),
+//! node (i, n - 1 - j, (headings - k) mod headings). Code [`NEVER`]: capture within the box was
+//! not found there. A node inside the capture disc is not read: its value is r - eps, minus its
+//! depth (as the solver keeps it), so that V's zero lies on the disc's edge.
 //!
 //! Reads are bounds-checked and allocation-free; a malformed table is refused by
 //! [`ValueTable::parse`], never read.
 
 use crate::num::f32_math::{sin_cos, wrap_signed};
 
-/// The table's magic bytes (format version 2: the nodes in the capture disc valued by their
-/// depth, the evader's stop among its controls).
+/// The table's magic bytes (format version 2: the rows y >= 0 only, the nodes in the capture
+/// disc valued by their depth, the evader's stop among its controls).
 pub const MAGIC: [u8; 4] = *b"TCV2";
 /// Bytes before the codes.
 pub const HEADER_LEN: usize = 4 + 5 * 4 + 2 * 2;
 /// The code of a node from which capture was not found.
 pub const NEVER: u16 = u16::MAX;
 /// The pursuer's turns in the order ties keep: straight, left, right.
-const PURSUER_TURNS: [f32; 3] = [0.0, 1.0, -1.0];
+pub(crate) const PURSUER_TURNS: [f32; 3] = [0.0, 1.0, -1.0];
 
 /// One step of the reduced game, both controls held for tau (the solver's `Step`, in f32): the
 /// pursuer's displacement and the sine and cosine of its turn, the evader's displacement in
 /// its own frame, the relative heading's change.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Step {
+pub(crate) struct Step {
     pursuer: (f32, f32),
     turn: (f32, f32),
     evader: (f32, f32),
@@ -64,7 +66,7 @@ impl Step {
     }
 
     /// Where the evader at `(x, y, phi)` (heading sine `s`, cosine `c`) is after the step.
-    fn from(&self, x: f32, y: f32, phi: f32, (s, c): (f32, f32)) -> (f32, f32, f32) {
+    pub(crate) fn from(&self, x: f32, y: f32, phi: f32, (s, c): (f32, f32)) -> (f32, f32, f32) {
         let ((px, py), (ts, tc), (ex, ey)) = (self.pursuer, self.turn, self.evader);
         let (dx, dy) = (x + ex * c - ey * s - px, y + ex * s + ey * c - py);
         (dx * tc + dy * ts, -dx * ts + dy * tc, phi + self.heading)
@@ -98,6 +100,8 @@ pub struct ValueTable<'a> {
     n: usize,
     headings: usize,
     spacing: f32,
+    /// The theorem's threshold, r_p.
+    threshold: f32,
     /// The steps of the pursuer's turn `PURSUER_TURNS[p]` and the evader's control `e` (full
     /// speed turning right, straight, turning left; standing still) over half a cell's time,
     /// the solver's tau.
@@ -138,11 +142,12 @@ impl<'a> ValueTable<'a> {
             && eps < half
             && positive(scale)
             && n >= 3
+            && n % 2 == 1
             && headings >= 2;
         if !valid {
             return Err(TableError::Header);
         }
-        let count = n * n * headings;
+        let count = n * n.div_ceil(2) * headings;
         let codes = bytes
             .get(HEADER_LEN..HEADER_LEN + 2 * count)
             .ok_or(TableError::Short)?;
@@ -155,7 +160,9 @@ impl<'a> ValueTable<'a> {
             (0.0, 0.0),
         ];
         let steps = PURSUER_TURNS.map(|u| evader.map(|(a, w)| Step::new(a, tau, u, w)));
+        let r_e = speed_ratio / evader_turn;
         Ok(ValueTable {
+            threshold: 2.0 * r_e + core::f32::consts::TAU * r_e / speed_ratio,
             speed_ratio,
             evader_turn,
             eps,
@@ -179,9 +186,22 @@ impl<'a> ValueTable<'a> {
         self.spacing
     }
 
-    /// V at node (i, j, k), r_p / v_pm: its code, or, if `near_disc`, in the capture disc
-    /// minus its depth; `None` for a node from which capture was not found.
-    fn node(&self, i: usize, j: usize, k: usize, near_disc: bool) -> Option<f32> {
+    /// Where row j of heading k starts among the codes (a node index): rows below the x axis
+    /// are their mirrors'.
+    fn row(&self, j: usize, k: usize) -> usize {
+        let centre = self.n / 2;
+        let (j, k) = if j < centre {
+            (self.n - 1 - j, if k == 0 { 0 } else { self.headings - k })
+        } else {
+            (j, k)
+        };
+        (k * (self.n - centre) + j - centre) * self.n
+    }
+
+    /// V at node i of row j (r_p / v_pm), its codes starting at `row`: its code, or, if
+    /// `near_disc`, in the capture disc minus its depth; `None` for a node from which capture
+    /// was not found.
+    fn node(&self, i: usize, j: usize, row: usize, near_disc: bool) -> Option<f32> {
         if near_disc {
             let (x, y) = (
                 i as f32 * self.spacing - self.half,
@@ -193,8 +213,7 @@ impl<'a> ValueTable<'a> {
                 return Some(libm::sqrtf(r2) - self.eps);
             }
         }
-        let index = (k * self.n + j) * self.n + i;
-        match u16_at(self.codes, 2 * index) {
+        match u16_at(self.codes, 2 * (row + i)) {
             Some(code) if code != NEVER => Some(f32::from(code) * self.scale),
             _ => None,
         }
@@ -232,41 +251,32 @@ impl<'a> ValueTable<'a> {
         let mut v = 0.0;
         for (k, wk) in [(k0, 1.0 - tk), (k1, tk)] {
             for (j, wj) in [(j0, 1.0 - ty), (j0 + 1, ty)] {
+                let row = self.row(j, k);
                 for (i, wi) in [(i0, 1.0 - tx), (i0 + 1, tx)] {
-                    v += wi * wj * wk * self.node(i, j, k, near_disc)?;
+                    v += wi * wj * wk * self.node(i, j, row, near_disc)?;
                 }
             }
         }
         Some(v)
     }
 
-    /// The pursuer's optimal turn at `(x, y, phi)`: -1, 0 or 1, the sign of its turn rate u
-    /// (positive: its heading grows, as the law's curvature). For each turn, the largest V over
-    /// the evader's four controls half a cell's time ahead (the solver's step, exact arcs); the
-    /// turn whose worst case is least, straight keeping ties: the minimax the solver solved,
-    /// read back (docs/near-field.md). A step that leaves the box or lands next to a "never"
-    /// node is the worst case. `None` where [`ValueTable::value`] has no value, or no turn
-    /// keeps the evader in the table.
-    pub fn pursuer_turn(&self, x: f32, y: f32, phi: f32) -> Option<f32> {
-        self.value(x, y, phi)?;
-        let phi = wrap_signed(phi);
-        let heading = sin_cos(phi);
-        let mut best: Option<(f32, f32)> = None;
-        for (&u, row) in PURSUER_TURNS.iter().zip(&self.steps) {
-            let mut worst = Some(f32::NEG_INFINITY);
-            for step in row {
-                let (nx, ny, nphi) = step.from(x, y, phi, heading);
-                worst = match (worst, self.value(nx, ny, nphi)) {
-                    (Some(w), Some(v)) => Some(w.max(v)),
-                    _ => None,
-                };
-            }
-            if let Some(worst) = worst {
-                if best.is_none_or(|(_, least)| worst < least) {
-                    best = Some((u, worst));
-                }
-            }
-        }
-        best.map(|(u, _)| u)
+    /// The byte length of this table in its source: header and codes.
+    pub fn len_bytes(&self) -> usize {
+        HEADER_LEN + self.codes.len()
+    }
+
+    /// Whether `(x, y)` (r_p) lies in the box.
+    pub(crate) fn holds(&self, x: f32, y: f32) -> bool {
+        x.abs() <= self.half && y.abs() <= self.half
+    }
+
+    /// The theorem's threshold 2 r_e + 2 pi r_e v_pm / v_em of this table's game, r_p.
+    pub fn threshold(&self) -> f32 {
+        self.threshold
+    }
+
+    /// The steps of the pursuer's turn `PURSUER_TURNS[p]` under each of the evader's controls.
+    pub(crate) fn steps(&self) -> &[[Step; 4]; 3] {
+        &self.steps
     }
 }

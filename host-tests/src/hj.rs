@@ -153,10 +153,14 @@ impl Solution {
         2.0 * (std::f64::consts::TAU + diagonal) / (1.0 - self.game.speed_ratio)
     }
 
-    /// The table as the firmware reads it (`twocars::value_table`): the header, then each
-    /// node's V quantised to u16, [`Solution::longest_kept`] at code 65534 (time per code
+    /// The table as the firmware reads it (`twocars::value_table`): the header, then the V of
+    /// each node with y >= 0 quantised to u16, [`Solution::longest_kept`] at code 65534 (time per code
     /// `scale`), [`twocars::value_table::NEVER`] where capture was not found or takes longer.
     pub fn table_bytes(&self) -> Vec<u8> {
+        assert!(
+            self.grid.n % 2 == 1,
+            "the firmware's tables have an odd number of nodes"
+        );
         use twocars::value_table::{MAGIC, NEVER as NEVER_CODE};
         let cap = self.longest_kept().min(REACHED);
         let scale = cap / f64::from(NEVER_CODE - 1);
@@ -172,7 +176,11 @@ impl Solution {
         }
         bytes.extend((self.grid.n as u16).to_le_bytes());
         bytes.extend((self.grid.headings as u16).to_le_bytes());
-        for &v in &self.values {
+        // The rows y >= 0 only: the others are their mirrors (V(x, y, phi) = V(x, -y, -phi)).
+        let (n, centre) = (self.grid.n, self.grid.n / 2);
+        let rows = (0..self.grid.headings).flat_map(|k| (centre..n).map(move |j| (j, k)));
+        let kept = rows.flat_map(|(j, k)| (0..n).map(move |i| self.grid.index(i, j, k)));
+        for v in kept.map(|index| self.values[index]) {
             let code = if v <= cap {
                 // Nodes in the disc (V = r - eps < 0) are not read: code 0.
                 (v.max(0.0) / f64::from(scale as f32))
@@ -185,6 +193,12 @@ impl Solution {
         }
         bytes
     }
+}
+
+/// Nested tables as the firmware reads them (`twocars::value_tables`): each table's
+/// [`Solution::table_bytes`] back to back, `tables` finest first.
+pub fn table_set_bytes(tables: &[Solution]) -> Vec<u8> {
+    tables.iter().flat_map(Solution::table_bytes).collect()
 }
 
 fn interpolate(grid: &Grid, values: &[f64], x: f64, y: f64, phi: f64) -> f64 {

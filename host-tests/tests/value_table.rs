@@ -1,14 +1,16 @@
 //! The value table as the firmware reads it (`twocars::value_table`, no_std, f32, u16 codes)
 //! against the solver's f64 table it was written from (`host_tests::hj`): values within half a
-//! code, the same optimal pursuer turn wherever the gradient says so clearly, the tail chase,
-//! and malformed tables refused without a panic.
+//! code, the same optimal pursuer turn wherever the host's minimax says so clearly (one table
+//! and a nested set, `twocars::value_tables`), the tail chase, and malformed tables refused
+//! without a panic.
 
 use std::sync::OnceLock;
 
-use host_tests::hj::{solve, Game, Grid, Solution, Step};
-use host_tests::hj_policy::turn;
+use host_tests::hj::{solve, solve_with_boundary, table_set_bytes, Game, Grid, Solution, Step};
+use host_tests::hj_policy::{finest, turn};
 use host_tests::rng::Rng;
-use twocars::value_table::{TableError, ValueTable, HEADER_LEN, NEVER};
+use twocars::value_table::{TableError, ValueTable, HEADER_LEN, MAGIC, NEVER};
+use twocars::value_tables::ValueTables;
 
 /// The paper's game (v_em / v_pm = 1/2, r_e = 2 r_p) on the 41 x 41 x 24 grid, capture radius
 /// 0.3 r_p: solved once for every test here.
@@ -114,44 +116,107 @@ fn the_table_keeps_the_tail_chase_value() {
     }
 }
 
-/// Where the host's table pursuer (the solver's one-step minimax on the f64 values) clearly
-/// prefers a turn, the firmware's reader of the quantised table takes the same.
-#[test]
-fn the_optimal_turn_is_the_solvers() {
-    let s = solution();
-    let table = ValueTable::parse(bytes()).unwrap();
+/// Where the host's tables' pursuer (the solver's one-step minimax on the f64 values of
+/// `tables`, finest first) prefers a turn by more than 20 codes and the reader of `set` has a
+/// value at every landing, the reader's turn is the host's; how many such states of `count`
+/// random ones within `half` (r_p) there were.
+fn turns_agree(tables: &[Solution], set: &ValueTables<'_>, half: f64, count: usize) -> usize {
     let mut rng = Rng::new(31);
+    let readers: Vec<ValueTable<'_>> = set.tables().copied().collect();
+    let scale = readers.iter().map(|t| t.scale).fold(0.0, f32::max);
     let mut clear = 0;
-    for _ in 0..20_000 {
-        let (x, y, phi) = point(&mut rng, 5.5);
+    for _ in 0..count {
+        let (x, y, phi) = point(&mut rng, half);
         // Where the host's best turn beats the next by more than the codes' rounding can move
         // a worst case (half a code at each of eight nodes, and f32's arithmetic).
-        let Some((host, margin)) = turn(std::slice::from_ref(s), (x, y, phi)) else {
+        let Some((host, margin)) = turn(tables, (x, y, phi)) else {
             continue;
         };
-        // Only where the reader has a value at every landing: beyond the longest time it keeps
-        // it reads "never" and drops that turn, where the solver still has a large time.
+        if margin < 20.0 * f64::from(scale) {
+            continue;
+        }
+        // Only where the reader has a value at every landing, read from the table the host
+        // reads it from: beyond the longest time it keeps it reads "never" and drops that turn,
+        // where the solver still has a large time.
+        let Some(table) = finest(tables, (x, y, phi)) else {
+            continue;
+        };
         let (sin, cos) = phi.sin_cos();
-        let game = s.game;
+        let game = table.game;
         let landings_read = [-1.0, 0.0, 1.0].iter().all(|&u| {
             game.evader_controls().iter().all(|&(speed, w)| {
-                let (nx, ny, nphi) = Step::new(speed, s.tau, u, w).from((x, y, phi, sin, cos));
-                table.value(nx as f32, ny as f32, nphi as f32).is_some()
+                let (nx, ny, nphi) = Step::new(speed, table.tau, u, w).from((x, y, phi, sin, cos));
+                let level = tables
+                    .iter()
+                    .position(|t| nx.abs() <= t.grid.half && ny.abs() <= t.grid.half);
+                level.is_some_and(|l| {
+                    readers[l]
+                        .value(nx as f32, ny as f32, nphi as f32)
+                        .is_some()
+                })
             })
         });
         if !landings_read {
             continue;
         }
-        if margin < 20.0 * f64::from(table.scale) {
-            continue;
-        }
-        let Some(read) = table.pursuer_turn(x as f32, y as f32, phi as f32) else {
+        let Some(read) = set.pursuer_turn(x as f32, y as f32, phi as f32) else {
             continue;
         };
         assert_eq!(f64::from(read), host, "({x}, {y}, {phi}): margin {margin}");
         clear += 1;
     }
+    clear
+}
+
+/// Where the host's table pursuer clearly prefers a turn, the firmware's reader of the
+/// quantised table takes the same.
+#[test]
+fn the_optimal_turn_is_the_solvers() {
+    let set = ValueTables::parse(bytes()).unwrap();
+    let clear = turns_agree(std::slice::from_ref(solution()), &set, 5.5, 20_000);
     assert!(clear > 5_000, "{clear} clear states");
+}
+
+/// Two nested tables (+-2 r_p at 0.1 r_p inside the 41-node table, solved with its values as
+/// the boundary), written as one set: the reader's turn is the host's nested pursuer's, in the
+/// inner box, across its edge and outside it.
+#[test]
+fn nested_tables_turn_as_the_solvers() {
+    let outer = solution();
+    let grid = Grid {
+        n: 41,
+        half: 2.0,
+        headings: 32,
+    };
+    let inner = solve_with_boundary(
+        outer.game,
+        grid,
+        0.5 * grid.spacing(),
+        1e-6,
+        5_000,
+        |x, y, phi| outer.value(x, y, phi),
+        |_, _| {},
+    );
+    let tables = [inner, outer.clone()];
+    let bytes = table_set_bytes(&tables);
+    let set = ValueTables::parse(&bytes).unwrap();
+    assert_eq!(set.tables().count(), 2);
+    // Half the points fall in the inner box.
+    let clear = turns_agree(&tables, &set, 3.0, 20_000);
+    assert!(clear > 5_000, "{clear} clear states");
+    // The set's V is the finest table's where it plays.
+    let (x, y, phi) = (1.0_f32, -0.8_f32, 0.4_f32);
+    let expected = tables[0].value(f64::from(x), f64::from(y), f64::from(phi));
+    let read = f64::from(set.value(x, y, phi).unwrap());
+    assert!((read - expected).abs() < 1e-3, "{read} vs {expected}");
+    // A set of tables of different games, or with trailing bytes, is refused.
+    let mut other = outer.clone();
+    other.game.eps = 0.6;
+    let mixed = table_set_bytes(&[tables[0].clone(), other]);
+    assert_eq!(ValueTables::parse(&mixed), Err(TableError::Header));
+    let mut trailing = bytes.clone();
+    trailing.push(0);
+    assert!(ValueTables::parse(&trailing).is_err());
 }
 
 #[test]
@@ -190,17 +255,17 @@ fn malformed_tables_are_refused_never_read() {
     }
     // A table of all "never": every read is None, the turn too.
     let mut never = good[..HEADER_LEN].to_vec();
-    never.extend(std::iter::repeat_n(NEVER.to_le_bytes(), 41 * 41 * 24).flatten());
-    let table = ValueTable::parse(&never).unwrap();
-    assert_eq!(table.value(1.0, 1.0, 0.0), None);
-    assert_eq!(table.pursuer_turn(1.0, 1.0, 0.0), None);
+    never.extend(std::iter::repeat_n(NEVER.to_le_bytes(), 41 * 21 * 24).flatten());
+    let set = ValueTables::parse(&never).unwrap();
+    assert_eq!(set.value(1.0, 1.0, 0.0), None);
+    assert_eq!(set.pursuer_turn(1.0, 1.0, 0.0), None);
     // Random bytes behind a valid magic: refused or read, never a panic.
     let mut rng = Rng::new(32);
     for _ in 0..2_000 {
         let len = (rng.next_u64() % 200) as usize;
-        let mut b = b"TCV1".to_vec();
+        let mut b = MAGIC.to_vec();
         b.extend((0..len).map(|_| rng.next_u64() as u8));
-        if let Ok(t) = ValueTable::parse(&b) {
+        if let Ok(t) = ValueTables::parse(&b) {
             let _ = t.value(0.5, -0.5, 1.0);
             let _ = t.pursuer_turn(0.5, -0.5, 1.0);
         }
@@ -221,7 +286,7 @@ fn the_committed_bench_table_is_the_solvers() {
     let fresh = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 20_000, |_, _| {}).table_bytes();
     let committed = include_bytes!("../../src/bench/table.tcv");
     assert!(fresh[..] == committed[..], "regenerate src/bench/table.tcv");
-    let table = ValueTable::parse(committed).unwrap();
+    let table = ValueTables::parse(committed).unwrap();
     for [x, y, phi] in twocars::bench::TABLE_POINTS {
         assert!(table.value(x, y, phi).is_some() && table.pursuer_turn(x, y, phi).is_some());
     }

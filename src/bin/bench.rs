@@ -278,9 +278,9 @@ fn bench_mavlink() {
 /// reads nothing.
 #[cfg(feature = "bench-table")]
 fn bench_table() {
-    use twocars::value_table::ValueTable;
+    use twocars::value_tables::ValueTables;
     static TABLE: &[u8] = include_bytes!("../bench/table.tcv");
-    let Ok(table) = ValueTable::parse(black_box(TABLE)) else {
+    let Ok(table) = ValueTables::parse(black_box(TABLE)) else {
         hprintln!("the bench table does not parse");
         return;
     };
@@ -309,7 +309,7 @@ fn bench_table() {
 /// The timed region: V and the pursuer's optimal turn at `point` (r_p, r_p, rad).
 #[cfg(feature = "bench-table")]
 #[inline(never)]
-fn read_table(table: &twocars::value_table::ValueTable<'_>, [x, y, phi]: [f32; 3]) -> (f32, f32) {
+fn read_table(table: &twocars::value_tables::ValueTables<'_>, [x, y, phi]: [f32; 3]) -> (f32, f32) {
     (
         table.value(x, y, phi).unwrap_or(f32::INFINITY),
         table.pursuer_turn(x, y, phi).unwrap_or(f32::NAN),
@@ -319,7 +319,7 @@ fn read_table(table: &twocars::value_table::ValueTable<'_>, [x, y, phi]: [f32; 3
 /// The same call reading nothing: its ticks are the call overhead.
 #[cfg(feature = "bench-table")]
 #[inline(never)]
-fn read_nothing(table: &twocars::value_table::ValueTable<'_>, point: [f32; 3]) -> (f32, f32) {
+fn read_nothing(table: &twocars::value_tables::ValueTables<'_>, point: [f32; 3]) -> (f32, f32) {
     black_box((table, point));
     (0.0, 0.0)
 }

@@ -4,6 +4,7 @@
 
 use twocars::bench::TABLE_POINTS;
 use twocars::value_table::ValueTable;
+use twocars::value_tables::ValueTables;
 
 use crate::bench::{build_and_print, M4F};
 
@@ -25,7 +26,7 @@ pub struct TableMeasured {
 
 /// Runs the table bench on the Cortex-M4F; an error where a read differs from the host's.
 pub fn measure() -> Result<TableMeasured, String> {
-    let table = ValueTable::parse(TABLE).map_err(|e| format!("src/bench/table.tcv: {e:?}"))?;
+    let table = ValueTables::parse(TABLE).map_err(|e| format!("src/bench/table.tcv: {e:?}"))?;
     let (out, _) = build_and_print(M4F, "bench-table")?;
     let mut instructions = Vec::new();
     let mut stack = 0;

@@ -50,10 +50,14 @@ pub struct HjArgs {
     /// beside the flight policy (`--limits`, `--eps`, `--half`, `--nodes` do not apply).
     #[arg(long)]
     play: Option<usize>,
+    /// Instead of the validation: solve the paper's near field on `--levels` and write its
+    /// nested tables to this file as the firmware reads them (`twocars::value_tables`).
+    #[arg(long)]
+    set: Option<std::path::PathBuf>,
     /// Seed of `--play`'s starts.
     #[arg(long, default_value_t = 2019)]
     seed: u64,
-    /// `--play`'s nested tables, coarsest first, as n:half:headings (nodes per axis, half the
+    /// `--play`'s and `--set`'s nested tables, coarsest first, as n:half:headings (nodes per axis, half the
     /// box in r_p, relative headings); default the near field's three.
     #[arg(long, value_parser = level, value_delimiter = ',')]
     levels: Vec<Grid>,
@@ -111,6 +115,32 @@ pub(crate) const NEAR_FIELD: [Grid; 3] = [
         headings: 72,
     },
 ];
+
+/// Writes the paper's near field on `levels` (coarsest first) to `path` as nested tables;
+/// prints each table's bytes. The exit code.
+fn write_set(path: &std::path::Path, levels: &[Grid]) -> i32 {
+    let (tables, how) = paper_near_field(levels);
+    let bytes = host_tests::hj::table_set_bytes(&tables);
+    if let Err(e) = std::fs::write(path, &bytes) {
+        eprintln!("xtask hj: {}: {e}", path.display());
+        return 1;
+    }
+    println!(
+        "wrote {}: {} B, finest first ({how}):",
+        path.display(),
+        bytes.len()
+    );
+    for t in &tables {
+        println!(
+            "  {n} x {n} x {} over +-{} r_p: {} B",
+            t.grid.headings,
+            t.grid.half,
+            t.table_bytes().len(),
+            n = t.grid.n
+        );
+    }
+    0
+}
 
 /// Parses one of `--levels`' grids: `n:half:headings`.
 pub(crate) fn level(text: &str) -> Result<Grid, String> {
@@ -288,13 +318,16 @@ pub(crate) enum Boundary<'a> {
 
 /// Runs the solver on three grids and prints the validation; returns the exit code.
 pub fn command(args: &HjArgs) -> i32 {
+    let levels = if args.levels.is_empty() {
+        NEAR_FIELD.to_vec()
+    } else {
+        args.levels.clone()
+    };
     if let Some(runs) = args.play {
-        let levels = if args.levels.is_empty() {
-            NEAR_FIELD.to_vec()
-        } else {
-            args.levels.clone()
-        };
         return crate::hj_play::command(runs, args.seed, &levels);
+    }
+    if let Some(path) = &args.set {
+        return write_set(path, &levels);
     }
     let game = Game::with_radius(args.limits, args.eps);
     if !(game.speed_ratio > 0.0 && game.speed_ratio < 1.0 && args.nodes >= 21 && args.eps > 0.0)
