@@ -15,8 +15,11 @@ use crate::law::{
     fallback_command, steer_along, Command, Decision, Evaluation, GameReport, Law, Period, Sampling,
 };
 use crate::near_field::{NearFieldMemory, NearFieldTerms};
+#[cfg(feature = "value-tables")]
+use crate::num::f32_math::{sin_cos, wrap_signed};
 use crate::num::Scalar;
 use crate::status::Status;
+use crate::value_tables::ValueTables;
 
 /// Which feedback a [`Guidance`] applies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -27,6 +30,11 @@ pub enum Policy {
     /// The paper's law while the players are at least the theorem's threshold apart
     /// ([`crate::Limits::theorem_threshold`]); below it the pursuer pursues (module docs).
     Flight,
+    /// The flight policy, and below the threshold, where the game's value tables play
+    /// ([`Guidance::with_tables`], [`crate::value_tables`]), both players' optimal turns from
+    /// the tables (issue 30; docs/near-field.md). Without tables, or built without the
+    /// `value-tables` feature, the flight policy.
+    Table,
 }
 
 /// A stateful caller of the law (firmware, host simulator): the law, the control period, the
@@ -41,7 +49,13 @@ pub struct Guidance<S> {
     sampling: Sampling<S>,
     near_field: NearFieldMemory<S>,
     near_field_terms: NearFieldTerms<S>,
+    /// The game's value tables of these limits' ratios, if any ([`Guidance::with_tables`]).
+    tables: Option<&'static ValueTables<'static>>,
 }
+
+/// Why value tables do not fit a guidance's limits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TablesMismatch;
 
 /// Why a control period is not usable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -91,7 +105,38 @@ impl<S: Scalar> Guidance<S> {
             },
             near_field: NearFieldMemory::FRESH,
             near_field_terms: NearFieldTerms::new(&law.limits, dt),
+            tables: None,
         })
+    }
+
+    /// The same guidance with the game's value `tables`, which [`Policy::Table`] plays.
+    ///
+    /// # Errors
+    /// [`TablesMismatch`] unless the tables were solved for this law's ratios v_em / v_pm and
+    /// (v_em / v_pm) (w_em / w_pm), each within 1e-3 of its value.
+    pub fn with_tables(
+        self,
+        tables: &'static ValueTables<'static>,
+    ) -> Result<Self, TablesMismatch> {
+        let limits = &self.law.limits;
+        let ratio = |a: S, b: S| a.to_f32() / b.to_f32();
+        let speed_ratio = ratio(limits.evader.v_max(), limits.pursuer.v_max());
+        let evader_turn = speed_ratio * ratio(limits.evader.w_max(), limits.pursuer.w_max());
+        let close = |table: f32, limit: f32| (table - limit).abs() <= 1e-3 * limit;
+        let table = tables.finest_table().ok_or(TablesMismatch)?;
+        if close(table.speed_ratio, speed_ratio) && close(table.evader_turn, evader_turn) {
+            Ok(Guidance {
+                tables: Some(tables),
+                ..self
+            })
+        } else {
+            Err(TablesMismatch)
+        }
+    }
+
+    /// The value tables [`Policy::Table`] plays, if any.
+    pub fn tables(&self) -> Option<&'static ValueTables<'static>> {
+        self.tables
     }
 
     /// The same guidance with `policy`.
@@ -109,6 +154,7 @@ impl<S: Scalar> Guidance<S> {
         let mut next = Guidance::new(self.law, dt)?.with_policy(self.policy);
         next.sampling.previous = self.sampling.previous;
         next.near_field = self.near_field;
+        next.tables = self.tables;
         Ok(next)
     }
 
@@ -199,9 +245,46 @@ impl<S: Scalar> Guidance<S> {
         };
         match self.policy {
             Policy::Flight => self.near_field(report, pursuer, evader, &mut command),
+            Policy::Table => {
+                self.near_field(report, pursuer, evader, &mut command);
+                #[cfg(feature = "value-tables")]
+                self.table_turns(pursuer, evader, &mut command);
+            }
             Policy::Paper => self.near_field = NearFieldMemory::FRESH,
         }
         command
+    }
+
+    /// The tables' turns (feature `value-tables`): where the value tables play (below the threshold, outside the capture
+    /// disc, in their boxes), each player turns fully or runs straight as the tables' minimax
+    /// says for the period. Out of line: only [`Policy::Table`] runs it.
+    #[cfg(feature = "value-tables")]
+    #[inline(never)]
+    fn table_turns(
+        &self,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        command: &mut Command<S>,
+    ) {
+        let Some(tables) = self.tables else {
+            return;
+        };
+        let limits = &self.law.limits;
+        // The evader in the pursuer's frame, lengths in r_p (= 1 / w_pm, in any units).
+        let per_radius = limits.pursuer.w_max().to_f32();
+        let (dx, dy) = (
+            (evader.x - pursuer.x).to_f32() * per_radius,
+            (evader.y - pursuer.y).to_f32() * per_radius,
+        );
+        let (s, c) = sin_cos(wrap_signed(pursuer.theta.to_f32()));
+        let (x, y) = (dx * c + dy * s, -dx * s + dy * c);
+        let phi = (evader.theta - pursuer.theta).to_f32();
+        if let Some(u) = tables.pursuer_turn(x, y, phi) {
+            command.pursuer = S::from_f32(u) * limits.pursuer.w_max();
+        }
+        if let Some(w) = tables.evader_turn(x, y, phi) {
+            command.evader = S::from_f32(w) * limits.evader.w_max();
+        }
     }
 
     /// The flight policy's near field: below the theorem's threshold the pursuer's command may

@@ -125,11 +125,19 @@ impl<'a> ValueTables<'a> {
         let heading = sin_cos(phi);
         let steps = table.steps();
         let mut best: Option<(f32, f32)> = None;
-        // The evader's full-speed controls are columns 0 (right), 1 (straight), 2 (left).
-        for (sign, column) in [(0.0, 1), (1.0, 2), (-1.0, 0)] {
+        // The evader's full-speed controls are columns 0 (right), 1 (straight), 2 (left):
+        // destructured, not indexed, so that no bounds check (a panic path) is left.
+        for sign in [0.0_f32, 1.0, -1.0] {
             let mut least = f32::INFINITY;
-            for row in steps {
-                let (nx, ny, nphi) = row[column].from(x, y, phi, heading);
+            for [right, straight, left, _] in steps {
+                let step = if sign > 0.0 {
+                    left
+                } else if sign < 0.0 {
+                    right
+                } else {
+                    straight
+                };
+                let (nx, ny, nphi) = step.from(x, y, phi, heading);
                 least = least.min(self.landing(nx, ny, nphi).unwrap_or(f32::INFINITY));
             }
             if best.is_none_or(|(_, most)| least > most) {

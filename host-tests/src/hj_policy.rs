@@ -64,16 +64,23 @@ pub fn pursuer_curvature(
 }
 
 /// The evader's curvature (1/m) from `tables` solved for limits whose pursuer and evader
-/// curvatures are `w_pm` and `w_em` (1/m): at full speed, the evader's turn whose best case for
-/// the pursuer (the least V over its three turns, one solver step ahead) is largest, straight
-/// keeping ties. `None` where [`pursuer_curvature`] has none.
+/// curvatures are `w_pm` and `w_em` (1/m): [`evader_turn`]. `None` where
+/// [`pursuer_curvature`] has none.
 pub fn evader_curvature(
     tables: &[Solution],
     [w_pm, w_em]: [f64; 2],
     pursuer: [f64; 3],
     evader: [f64; 3],
 ) -> Option<f64> {
-    let (x, y, phi) = relative(w_pm, pursuer, evader);
+    evader_turn(tables, relative(w_pm, pursuer, evader)).map(|(w, _)| w * w_em)
+}
+
+/// The evader's turn (-1, 0 or 1) at full speed at `(x, y, phi)` in the tables' frame, from
+/// the finest of `tables` that plays there: its turn whose best case for the pursuer (the
+/// least V over the pursuer's three turns, one step ahead, each landing read from the finest
+/// table whose box holds it) is largest, straight keeping ties; with the margin (r_p / v_pm)
+/// by which it beats the next. `None` where no table plays.
+pub fn evader_turn(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> Option<(f64, f64)> {
     let table = finest(tables, (x, y, phi))?;
     let (s, c) = phi.sin_cos();
     let game = table.game;
@@ -89,7 +96,8 @@ pub fn evader_curvature(
     let mut bests = [0.0, 1.0, -1.0].map(|sign| (sign, best_for_pursuer(sign * game.evader_turn)));
     // Stable: straight, then left, keep ties; the largest first.
     bests.sort_by(|a, b| b.1.total_cmp(&a.1));
-    Some(bests[0].0 * w_em)
+    let [(w, most), (_, next), _] = bests;
+    Some((w, most - next))
 }
 
 /// The pursuer's turn (-1, 0 or 1) at `(x, y, phi)` in the tables' frame, from the finest of

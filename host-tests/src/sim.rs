@@ -311,7 +311,15 @@ pub fn simulate_against<S: Scalar>(
     record: bool,
 ) -> SimResult {
     let none = |_: [f64; 3], _: [f64; 3]| None;
-    simulate_with_turns::<S>(params, variant, policy, opponent, record, [&none, &none])
+    simulate_with_turns::<S>(
+        params,
+        variant,
+        policy,
+        opponent,
+        record,
+        [&none, &none],
+        None,
+    )
 }
 
 /// A player's curvature (1/m) from both states (metres and radians), where it has one.
@@ -319,7 +327,9 @@ pub type Turn<'a> = &'a (dyn Fn([f64; 3], [f64; 3]) -> Option<f64> + Sync);
 
 /// [`simulate_against`] with the pursuer's and the evader's curvatures (1/m) from `turns`
 /// wherever they give one, the guidance's (or the opponent's) elsewhere; the guidance still
-/// steps every period (a host experiment: the value table's players, issue 30).
+/// steps every period (a host experiment: the value table's players, issue 30). With
+/// `tables`, the guidance plays them ([`Guidance::with_tables`]; ignored if they do not fit
+/// the limits).
 pub fn simulate_with_turns<S: Scalar>(
     params: &SimParams,
     variant: Variant,
@@ -327,6 +337,7 @@ pub fn simulate_with_turns<S: Scalar>(
     opponent: Option<(Opponent, u64)>,
     record: bool,
     [pursuer_turn, evader_turn]: [Turn<'_>; 2],
+    tables: Option<&'static twocars::value_tables::ValueTables<'static>>,
 ) -> SimResult {
     let idle = SimResult::empty(
         SimStatus::InvalidSimParams,
@@ -373,6 +384,9 @@ pub fn simulate_with_turns<S: Scalar>(
         return idle;
     };
     let mut guidance = guidance.with_policy(policy);
+    if let Some(tables) = tables {
+        guidance = guidance.with_tables(tables).unwrap_or(guidance);
+    }
     // The vehicles move with the limits the law was given (f32), so both see the same car.
     let params = SimParams {
         limits: observation.limits.map(f64::from),

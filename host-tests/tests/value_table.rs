@@ -7,7 +7,7 @@
 use std::sync::OnceLock;
 
 use host_tests::hj::{solve, solve_with_boundary, table_set_bytes, Game, Grid, Solution, Step};
-use host_tests::hj_policy::{finest, turn};
+use host_tests::hj_policy::{evader_turn, finest, turn};
 use host_tests::rng::Rng;
 use twocars::value_table::{TableError, ValueTable, HEADER_LEN, MAGIC, NEVER};
 use twocars::value_tables::ValueTables;
@@ -118,13 +118,19 @@ fn the_table_keeps_the_tail_chase_value() {
 
 /// Where the host's tables' pursuer (the solver's one-step minimax on the f64 values of
 /// `tables`, finest first) prefers a turn by more than 20 codes and the reader of `set` has a
-/// value at every landing, the reader's turn is the host's; how many such states of `count`
-/// random ones within `half` (r_p) there were.
-fn turns_agree(tables: &[Solution], set: &ValueTables<'_>, half: f64, count: usize) -> usize {
+/// value at every landing, the reader's turn is the host's, and the evader's where its choice
+/// is clear too; how many such states of `count` random ones within `half` (r_p) there were,
+/// for the pursuer and for the evader.
+fn turns_agree(
+    tables: &[Solution],
+    set: &ValueTables<'_>,
+    half: f64,
+    count: usize,
+) -> (usize, usize) {
     let mut rng = Rng::new(31);
     let readers: Vec<ValueTable<'_>> = set.tables().copied().collect();
     let scale = readers.iter().map(|t| t.scale).fold(0.0, f32::max);
-    let mut clear = 0;
+    let (mut clear, mut evader_clear) = (0, 0);
     for _ in 0..count {
         let (x, y, phi) = point(&mut rng, half);
         // Where the host's best turn beats the next by more than the codes' rounding can move
@@ -164,8 +170,20 @@ fn turns_agree(tables: &[Solution], set: &ValueTables<'_>, half: f64, count: usi
         };
         assert_eq!(f64::from(read), host, "({x}, {y}, {phi}): margin {margin}");
         clear += 1;
+        // The evader's turn likewise, where its choice is clear (every landing was read).
+        if let Some((w, margin)) = evader_turn(tables, (x, y, phi)) {
+            if margin > 20.0 * f64::from(scale) {
+                let read = set.evader_turn(x as f32, y as f32, phi as f32);
+                assert_eq!(
+                    read.map(f64::from),
+                    Some(w),
+                    "({x}, {y}, {phi}): evader margin {margin}"
+                );
+                evader_clear += 1;
+            }
+        }
     }
-    clear
+    (clear, evader_clear)
 }
 
 /// Where the host's table pursuer clearly prefers a turn, the firmware's reader of the
@@ -173,8 +191,11 @@ fn turns_agree(tables: &[Solution], set: &ValueTables<'_>, half: f64, count: usi
 #[test]
 fn the_optimal_turn_is_the_solvers() {
     let set = ValueTables::parse(bytes()).unwrap();
-    let clear = turns_agree(std::slice::from_ref(solution()), &set, 5.5, 20_000);
-    assert!(clear > 5_000, "{clear} clear states");
+    let (clear, evader_clear) = turns_agree(std::slice::from_ref(solution()), &set, 5.5, 20_000);
+    assert!(
+        clear > 5_000 && evader_clear > 1_000,
+        "{clear}, {evader_clear} clear states"
+    );
 }
 
 /// Two nested tables (+-2 r_p at 0.1 r_p inside the 41-node table, solved with its values as
@@ -202,8 +223,11 @@ fn nested_tables_turn_as_the_solvers() {
     let set = ValueTables::parse(&bytes).unwrap();
     assert_eq!(set.tables().count(), 2);
     // Half the points fall in the inner box.
-    let clear = turns_agree(&tables, &set, 3.0, 20_000);
-    assert!(clear > 5_000, "{clear} clear states");
+    let (clear, evader_clear) = turns_agree(&tables, &set, 3.0, 20_000);
+    assert!(
+        clear > 5_000 && evader_clear > 1_000,
+        "{clear}, {evader_clear} clear states"
+    );
     // The set's V is the finest table's where it plays.
     let (x, y, phi) = (1.0_f32, -0.8_f32, 0.4_f32);
     let expected = tables[0].value(f64::from(x), f64::from(y), f64::from(phi));

@@ -152,6 +152,10 @@ pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
         .current_dir(root())
         .args([
             "build",
+            // Only the core's own features: a workspace build would unify in those the host
+            // crates enable (`value-tables`), and its code with them.
+            "--package",
+            "twocars",
             "--release",
             "--target",
             cpu.target,

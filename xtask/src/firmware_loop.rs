@@ -111,6 +111,7 @@ pub fn run_case(
         policy: match policy {
             Policy::Paper => 0,
             Policy::Flight => 1,
+            Policy::Table => 2,
         },
     };
     *sequence = sequence.wrapping_add(1);

@@ -11,12 +11,13 @@
 //! larger, and would make its own captures look early.
 
 use host_tests::adversary::{EvaderKind, Opponent};
-use host_tests::hj::Solution;
+use host_tests::hj::{table_set_bytes, Solution};
 use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative, value};
 use host_tests::rng::Rng;
 use host_tests::scenarios::PAPER_LIMITS;
 use host_tests::sim::{simulate_with_turns, SimParams, SimResult, SimStatus, Turn};
 use rayon::prelude::*;
+use twocars::value_tables::ValueTables;
 use twocars::{Policy, Variant};
 
 use crate::report::{random_state, LimitSet, Regime};
@@ -32,6 +33,8 @@ struct Play {
     start: (f64, f64, f64),
     flight: SimResult,
     table: SimResult,
+    /// The firmware's `Guidance` with `Policy::Table` on the quantised tables (f32).
+    firmware: SimResult,
 }
 
 impl Play {
@@ -77,6 +80,7 @@ impl Evader {
 fn play(
     reference: &[Solution],
     tables: &[Solution],
+    firmware: &'static ValueTables<'static>,
     evader: Evader,
     runs: usize,
     seed: u64,
@@ -109,21 +113,27 @@ fn play(
                 Evader::Suite(kind) => (Some((Opponent::Evader(kind), adversary_seed)), &no_turn),
                 Evader::Table => (None, &table_evader),
             };
-            let run = |pursuer_turn: Turn<'_>| {
+            let run = |pursuer_turn: Turn<'_>, policy, tables| {
                 simulate_with_turns::<f32>(
                     &params,
                     Variant::Paper,
-                    Policy::Flight,
+                    policy,
                     opponent,
                     false,
                     [pursuer_turn, evader_turn],
+                    tables,
                 )
             };
             Play {
                 v0,
                 start: relative(w_pm, params.pursuer, params.evader),
-                flight: run(&no_turn),
-                table: run(&|p, e| pursuer_curvature(tables, w_pm, p, e)),
+                flight: run(&no_turn, Policy::Flight, None),
+                table: run(
+                    &|p, e| pursuer_curvature(tables, w_pm, p, e),
+                    Policy::Flight,
+                    None,
+                ),
+                firmware: run(&no_turn, Policy::Table, Some(firmware)),
             }
         })
         .collect()
@@ -152,6 +162,15 @@ pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid]) -> i32 {
     } else {
         crate::hj::paper_near_field(levels)
     };
+    // The firmware's reader of the same tables, quantised as they are written to flash.
+    let bytes: &'static [u8] = Box::leak(table_set_bytes(&tables).into_boxed_slice());
+    let firmware: &'static ValueTables<'static> = match ValueTables::parse(bytes) {
+        Ok(set) => Box::leak(Box::new(set)),
+        Err(e) => {
+            eprintln!("xtask hj: the tables do not read back: {e:?}");
+            return 1;
+        }
+    };
     let grids = |tables: &[Solution]| -> String {
         let grids: Vec<String> = tables
             .iter()
@@ -173,8 +192,9 @@ pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid]) -> i32 {
         grids(&reference),
     );
     println!("Over V: (capture - V(x0) - 5 dt) / V(x0); the issue's bar is 5 % at the 90th percentile and 10 % at worst, none never captured.\n");
-    println!("| evader | never (flight / table) | over V, flight: median, p90, worst | over V, table: median, p90, worst | mean capture, flight / table (s) | the table's worst start: x, y (r_p), phi (rad), V(x0) |");
-    println!("|---|---|---|---|---|---|");
+    println!("The firmware column is `twocars::Guidance` with `Policy::Table` on the tables as the firmware reads them (u16, f32; {} B), the flight policy in the capture disc; the others are the host's pursuers (f64 tables).\n", bytes.len());
+    println!("| evader | never (flight / table / firmware) | over V, flight: median, p90, worst | over V, table: median, p90, worst | over V, firmware: median, p90, worst | mean capture, flight / table / firmware (s) | the table's worst start: x, y (r_p), phi (rad), V(x0) |");
+    println!("|---|---|---|---|---|---|---|");
     let evaders = EvaderKind::ALL
         .into_iter()
         .map(Evader::Suite)
@@ -183,6 +203,7 @@ pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid]) -> i32 {
         let plays = play(
             &reference,
             &tables,
+            firmware,
             evader,
             runs,
             seed.wrapping_add(k as u64),
@@ -223,8 +244,9 @@ pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid]) -> i32 {
         };
         let (flight_never, flight, flight_mean, _) = summary(|p| &p.flight);
         let (table_never, with_table, table_mean, worst) = summary(|p| &p.table);
+        let (firmware_never, with_firmware, firmware_mean, _) = summary(|p| &p.firmware);
         println!(
-            "| {} | {flight_never} / {table_never} | {flight} | {with_table} | {flight_mean:.2} / {table_mean:.2} | {worst} |",
+            "| {} | {flight_never} / {table_never} / {firmware_never} | {flight} | {with_table} | {with_firmware} | {flight_mean:.2} / {table_mean:.2} / {firmware_mean:.2} | {worst} |",
             evader.name()
         );
     }

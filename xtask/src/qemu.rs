@@ -137,7 +137,15 @@ fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let status = Command::new(cargo)
         .current_dir(root())
-        .args(["build", "--release", "--target", board.target()])
+        // Only the core's own features (as the bench's build).
+        .args([
+            "build",
+            "--package",
+            "twocars",
+            "--release",
+            "--target",
+            board.target(),
+        ])
         .args(["--features", features, "--bin", board.bin()])
         .env("DEFMT_LOG", "info")
         .status()

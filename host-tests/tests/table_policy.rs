@@ -1,0 +1,178 @@
+//! `Policy::Table`: the firmware's `Guidance` playing the game's value tables
+//! (`twocars::value_tables`) below the theorem's threshold, against the host's players of the
+//! same tables (`host_tests::hj_policy`) and in closed loop.
+
+use std::sync::OnceLock;
+
+use host_tests::adversary::{EvaderKind, Opponent};
+use host_tests::hj::{solve, table_set_bytes, Game, Grid, Solution};
+use host_tests::hj_policy::{pursuer_curvature, relative};
+use host_tests::rng::Rng;
+use host_tests::sim::{simulate_with_turns, SimParams, SimStatus};
+use twocars::value_tables::ValueTables;
+use twocars::{Guidance, Law, Limits, Policy, Variant};
+
+/// The paper's limits, v_pm, w_pm, v_em, w_em (r_p = 0.5 m).
+const LIMITS: [f64; 4] = [2.0, 2.0, 1.0, 1.0];
+
+/// The paper's game on a 41 x 41 x 24 grid over +-6 r_p, capture radius 0.6 r_p (0.3 m), and
+/// the same table as the firmware reads it.
+fn tables() -> &'static (Vec<Solution>, ValueTables<'static>) {
+    static TABLES: OnceLock<(Vec<Solution>, ValueTables<'static>)> = OnceLock::new();
+    TABLES.get_or_init(|| {
+        let grid = Grid {
+            n: 41,
+            half: 6.0,
+            headings: 24,
+        };
+        let game = Game::with_radius(LIMITS, 2.0 * grid.spacing());
+        let solution = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {});
+        let bytes: &'static [u8] =
+            Box::leak(table_set_bytes(std::slice::from_ref(&solution)).into_boxed_slice());
+        (vec![solution], ValueTables::parse(bytes).unwrap())
+    })
+}
+
+fn guidance(policy: Policy) -> Guidance<f32> {
+    let l = LIMITS.map(|v| v as f32);
+    let law = Law::new(Limits::new(l[0], l[1], l[2], l[3]).unwrap(), Variant::Paper);
+    Guidance::new(law, 0.01).unwrap().with_policy(policy)
+}
+
+/// Where the tables' reader has a turn for a player, the guidance commands that full turn (the
+/// reader's turns are the host's players' in `tests/value_table.rs`); where the reader has
+/// none, the guidance commands what the flight policy would.
+#[test]
+fn the_guidance_turns_as_the_host_players_of_the_tables() {
+    let (_, set) = tables();
+    let set: &'static ValueTables<'static> = set;
+    let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
+    let mut rng = Rng::new(41);
+    let (mut pursuer_checked, mut evader_checked) = (0, 0);
+    for _ in 0..4_000 {
+        // Both players anywhere within 2.5 m of each other, any headings.
+        let pi = std::f64::consts::PI;
+        let p = [
+            rng.uniform(-5.0, 5.0),
+            rng.uniform(-5.0, 5.0),
+            rng.uniform(-pi, pi),
+        ];
+        let e = [
+            p[0] + rng.uniform(-2.5, 2.5),
+            p[1] + rng.uniform(-2.5, 2.5),
+            rng.uniform(-pi, pi),
+        ];
+        let (ps, es) = limits
+            .states(p.map(|v| v as f32), e.map(|v| v as f32))
+            .unwrap();
+        let mut with_tables = guidance(Policy::Table).with_tables(set).unwrap();
+        let mut flight = guidance(Policy::Flight);
+        let command = with_tables.step(&ps, &es).command;
+        let flight_command = flight.step(&ps, &es).command;
+        let at = relative(LIMITS[1], p, e);
+        let (x, y, phi) = (at.0 as f32, at.1 as f32, at.2 as f32);
+        // Where the reader has a turn (read at the state in the tables' frame computed here) the
+        // guidance commands it in full; elsewhere the flight policy's command.
+        match set.pursuer_turn(x, y, phi) {
+            Some(read) => {
+                assert_eq!(command.pursuer, read * 2.0, "{p:?} {e:?}");
+                pursuer_checked += 1;
+            }
+            None => assert_eq!(command.pursuer, flight_command.pursuer, "{p:?} {e:?}"),
+        }
+        match set.evader_turn(x, y, phi) {
+            Some(read) => {
+                assert_eq!(command.evader, read * 1.0, "{p:?} {e:?}");
+                evader_checked += 1;
+            }
+            None => assert_eq!(command.evader, flight_command.evader, "{p:?} {e:?}"),
+        }
+        assert!(command.pursuer.is_finite() && command.evader.is_finite());
+    }
+    assert!(pursuer_checked > 1_000, "{pursuer_checked}");
+    assert!(evader_checked > 1_000, "{evader_checked}");
+}
+
+/// Tables of other ratios are refused, and without tables `Policy::Table` is the flight policy.
+#[test]
+fn tables_of_other_ratios_are_refused() {
+    let (_, set) = tables();
+    let set: &'static ValueTables<'static> = set;
+    let other = Law::new(
+        Limits::<f32>::new(2.0, 2.0, 1.2, 1.0).unwrap(),
+        Variant::Paper,
+    );
+    let guidance_other = Guidance::new(other, 0.01).unwrap();
+    assert!(guidance_other.with_tables(set).is_err());
+    let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
+    let (ps, es) = limits.states([0.0, 0.0, 0.3], [0.8, 1.1, -2.0]).unwrap();
+    let mut table_without = guidance(Policy::Table);
+    let mut flight = guidance(Policy::Flight);
+    assert_eq!(table_without.step(&ps, &es), flight.step(&ps, &es));
+}
+
+/// In closed loop against the adversary suite's evaders, from seeded starts 0.5 to 2.5 m
+/// apart, the guidance playing the tables captures every run at the tables' radius, and the
+/// pursuer's captures match the host's pursuer of the same tables within a control period's
+/// worth of difference per second of chase (u16 codes and f32 against f64).
+#[test]
+fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
+    let (solutions, set) = tables();
+    let set: &'static ValueTables<'static> = set;
+    let mut rng = Rng::new(43);
+    let none = |_: [f64; 3], _: [f64; 3]| None;
+    let host = |p, e| pursuer_curvature(solutions, LIMITS[1], p, e);
+    let mut runs = 0;
+    for kind in [
+        EvaderKind::Straight,
+        EvaderKind::Circle {
+            left: true,
+            half: false,
+        },
+        EvaderKind::BangBang,
+        EvaderKind::Greedy { periods: 1 },
+    ] {
+        for _ in 0..10 {
+            let pi = std::f64::consts::PI;
+            let (d, bearing) = (rng.uniform(0.5, 2.5), rng.uniform(-pi, pi));
+            let params = SimParams {
+                limits: LIMITS,
+                pursuer: [0.0, 0.0, rng.uniform(-pi, pi)],
+                evader: [d * bearing.cos(), d * bearing.sin(), rng.uniform(-pi, pi)],
+                dt: 0.01,
+                t_max: 30.0,
+                eps: solutions[0].game.eps / LIMITS[1],
+            };
+            let opponent = Some((Opponent::Evader(kind), rng.next_u64()));
+            let firmware = simulate_with_turns::<f32>(
+                &params,
+                Variant::Paper,
+                Policy::Table,
+                opponent,
+                false,
+                [&none, &none],
+                Some(set),
+            );
+            let on_host = simulate_with_turns::<f32>(
+                &params,
+                Variant::Paper,
+                Policy::Flight,
+                opponent,
+                false,
+                [&host, &none],
+                None,
+            );
+            assert_eq!(firmware.status, SimStatus::Captured, "{kind:?} {params:?}");
+            assert_eq!(on_host.status, SimStatus::Captured, "{kind:?} {params:?}");
+            let gap = (firmware.t_capture - on_host.t_capture).abs();
+            assert!(
+                gap <= 0.01 * (1.0 + on_host.t_capture),
+                "{kind:?} {params:?}: {} vs {}",
+                firmware.t_capture,
+                on_host.t_capture
+            );
+            runs += 1;
+        }
+    }
+    assert_eq!(runs, 40);
+}
