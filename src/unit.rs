@@ -15,6 +15,7 @@ use crate::message::{
 use crate::num::{ieee, Scalar};
 use crate::sampled::{Guidance, Policy};
 use crate::status::Status;
+use crate::value_tables::ValueTables;
 use crate::wire::{
     encode_frame, header_sequence, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
 };
@@ -96,6 +97,9 @@ impl Reply {
 #[derive(Clone, Copy, Debug)]
 struct Configured<S> {
     guidance: Guidance<S>,
+    /// The policy byte in effect: the Configure's, or 1 (flight) where it asked for tables
+    /// and none fit.
+    policy: u8,
     roles: u8,
     watchdog_ms: u32,
     /// Wire units per law unit: rad/s per turn rate, seconds per time (1 on SI backends).
@@ -122,6 +126,8 @@ pub struct Unit<S = f32> {
 #[derive(Debug)]
 struct Session<S> {
     configured: Option<Configured<S>>,
+    /// The image's value tables, if it carries any ([`Unit::with_tables`]).
+    tables: Option<&'static ValueTables<'static>>,
     counters: Counters,
     watchdog: Watchdog,
 }
@@ -151,6 +157,7 @@ impl<S: Scalar> Unit<S> {
             deframer: Deframer::new(),
             session: Session {
                 configured: None,
+                tables: None,
                 counters: Counters {
                     accepted: 0,
                     stale: 0,
@@ -168,6 +175,14 @@ impl<S: Scalar> Unit<S> {
             },
             reply: Reply::EMPTY,
         }
+    }
+
+    /// The unit with the game's value tables its image carries: a Configure with policy 2
+    /// plays them where they fit its limits' ratios (issue 30).
+    #[must_use]
+    pub fn with_tables(mut self, tables: &'static ValueTables<'static>) -> Self {
+        self.session.tables = Some(tables);
+        self
     }
 
     /// Counters so far.
@@ -272,9 +287,14 @@ impl<S: Scalar> Session<S> {
         match frame.message_type() {
             kind::CONFIGURE => {
                 let message = Configure::parse(frame.payload()).map_err(refuse)?;
-                self.configured = Some(configure(&message).map_err(refuse)?);
+                // Written in place; only its policy byte is read back (a copy of the whole
+                // configuration kept for the ack cost the M0's loop 264 B of stack).
+                let configured = self
+                    .configured
+                    .insert(configure(&message, self.tables).map_err(refuse)?);
+                let policy = configured.policy;
                 self.watchdog = Watchdog::Idle;
-                Ok(reply.write(kind::CONFIGURE_ACK, sequence, |_| Some(())))
+                Ok(reply.write(kind::CONFIGURE_ACK, sequence, |w| w.u8(policy)))
             }
             kind::STATE => {
                 let message = StateMsg::parse(frame.payload()).map_err(refuse)?;
@@ -352,7 +372,10 @@ impl<S: Scalar> Session<S> {
 /// Largest watchdog time accepted, seconds.
 pub const MAX_WATCHDOG_S: f32 = 3600.0;
 
-fn configure<S: Scalar>(message: &Configure) -> Result<Configured<S>, WireError> {
+fn configure<S: Scalar>(
+    message: &Configure,
+    tables: Option<&'static ValueTables<'static>>,
+) -> Result<Configured<S>, WireError> {
     let [v_pm, w_pm, v_em, w_em] = message.limits;
     let limits = Limits::<S>::new(v_pm, w_pm, v_em, w_em).map_err(|status| match status {
         Status::NonFiniteInput => WireError::NonFiniteField,
@@ -367,6 +390,7 @@ fn configure<S: Scalar>(message: &Configure) -> Result<Configured<S>, WireError>
     let policy = match message.policy {
         0 => Policy::Paper,
         1 => Policy::Flight,
+        2 => Policy::Table,
         _ => return Err(WireError::InvalidConfig),
     };
     let roles_valid = message.roles != 0 && message.roles & !(ROLE_PURSUER | ROLE_EVADER) == 0;
@@ -374,19 +398,42 @@ fn configure<S: Scalar>(message: &Configure) -> Result<Configured<S>, WireError>
     if !(roles_valid && watchdog.is_finite() && watchdog > 0.0 && watchdog <= MAX_WATCHDOG_S) {
         return Err(WireError::InvalidConfig);
     }
+    // Tables asked for: those of the limits' ratios, or the flight policy, said in the ack.
+    let tables = tables.filter(|_| policy == Policy::Table);
     let guidance = Guidance::new(Law::new(limits, variant), message.dt)
         .map_err(|_| WireError::InvalidConfig)?
         .with_policy(policy);
+    let (guidance, policy) = match with_tables(guidance, tables) {
+        Some(with_tables) => (with_tables, message.policy),
+        None if policy == Policy::Table => (guidance.with_policy(Policy::Flight), 1),
+        None => (guidance, message.policy),
+    };
     // In range by the check above: at most 3.6e6 ms.
     let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
     let units = limits.units;
     Ok(Configured {
         guidance,
+        policy,
         roles: message.roles,
         watchdog_ms,
         rate_scale: units.metres_per_second / units.metres,
         time_scale: units.metres / units.metres_per_second,
     })
+}
+
+/// `guidance` with `tables` where they fit its limits' ratios (feature `value-tables`; without
+/// it no image can play tables, and none is taken).
+fn with_tables<S: Scalar>(
+    guidance: Guidance<S>,
+    tables: Option<&'static ValueTables<'static>>,
+) -> Option<Guidance<S>> {
+    #[cfg(feature = "value-tables")]
+    return tables.and_then(|t| guidance.with_tables(t).ok());
+    #[cfg(not(feature = "value-tables"))]
+    {
+        let _ = (guidance, tables);
+        None
+    }
 }
 
 /// The safe command (zero turn rates) with status `stale_input`.

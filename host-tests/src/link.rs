@@ -7,8 +7,9 @@ use twocars::wire::{encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED,
 /// A decoded reply of the unit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Reply {
-    /// Configure accepted (echoed sequence).
-    ConfigureAck(u16),
+    /// Configure accepted (echoed sequence) and the policy byte in effect (`None` from a unit
+    /// that predates it).
+    ConfigureAck(u16, Option<u8>),
     /// A command (echoed sequence; 0 for the watchdog's).
     Command(u16, CommandMsg),
     /// Counters (echoed sequence).
@@ -119,7 +120,7 @@ fn decode(bytes: &[u8]) -> Result<Reply, WireError> {
     let f = Frame::new_checked(bytes)?;
     let seq = f.sequence();
     match f.message_type() {
-        kind::CONFIGURE_ACK => Ok(Reply::ConfigureAck(seq)),
+        kind::CONFIGURE_ACK => Ok(Reply::ConfigureAck(seq, f.payload().first().copied())),
         kind::SHUTDOWN_ACK => Ok(Reply::ShutdownAck(seq)),
         kind::RESET_ACK => Ok(Reply::ResetAck(seq)),
         kind::COMMAND => Ok(Reply::Command(seq, CommandMsg::parse(f.payload())?)),

@@ -176,3 +176,67 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
     }
     assert_eq!(runs, 40);
 }
+
+/// The unit's Configure: policy byte 2 plays the tables its image carries where they fit the
+/// limits' ratios, and the ConfigureAck says the policy in effect (2), else falls back to the
+/// flight policy and says 1; a unit without tables says 1; policies 0 and 1 are echoed. With
+/// the tables in effect, a State in the near field gets the tables' turn as its pursuer rate.
+#[test]
+fn configure_selects_the_tables_of_its_ratios_and_says_so() {
+    use host_tests::link::{self, Reply, ReplyDecoder};
+    use host_tests::session::paper_configure;
+    use twocars::message::{Configure, StateMsg};
+    use twocars::unit::Unit;
+
+    let (_, set) = tables();
+    let set: &'static ValueTables<'static> = set;
+    let ack = |unit: &mut Unit, configure: &Configure| -> Option<u8> {
+        let mut decoder = ReplyDecoder::default();
+        let mut out = None;
+        for &b in &link::configure(7, configure) {
+            if let Some(reply) = unit.receive(b, 0) {
+                out = decoder.feed(reply.as_bytes()).pop();
+            }
+        }
+        match out {
+            Some(Ok(Reply::ConfigureAck(7, policy))) => policy,
+            other => panic!("{other:?}"),
+        }
+    };
+    let paper = Configure {
+        policy: 2,
+        ..paper_configure()
+    };
+    let faster_evader = Configure {
+        limits: [2.0, 2.0, 1.2, 1.0],
+        ..paper
+    };
+    assert_eq!(ack(&mut Unit::new(), &paper), Some(1));
+    let mut unit = Unit::new().with_tables(set);
+    assert_eq!(ack(&mut unit, &faster_evader), Some(1));
+    for policy in [0, 1] {
+        assert_eq!(ack(&mut unit, &Configure { policy, ..paper }), Some(policy));
+    }
+    assert_eq!(ack(&mut unit, &paper), Some(2));
+    // A State 1.2 m apart, the evader behind on the pursuer's left: the tables' pursuer turn,
+    // as a rate v_pm w_pm.
+    let state = StateMsg {
+        time_ms: 10,
+        pursuer: [0.0, 0.0, 0.0],
+        evader: [-0.9, 0.8, 2.0],
+    };
+    let turn = set
+        .pursuer_turn(-1.8, 1.6, 2.0)
+        .expect("the tables play there");
+    let mut decoder = ReplyDecoder::default();
+    let mut command = None;
+    for &b in &link::state(8, &state) {
+        if let Some(reply) = unit.receive(b, 5) {
+            command = decoder.feed(reply.as_bytes()).pop();
+        }
+    }
+    match command {
+        Some(Ok(Reply::Command(8, c))) => assert_eq!(c.pursuer_rate, turn * 4.0, "{c:?}"),
+        other => panic!("{other:?}"),
+    }
+}

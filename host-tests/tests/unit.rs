@@ -33,7 +33,7 @@ fn the_scripted_session_gets_the_documented_replies_and_the_loop_survives() {
         assert_eq!(replies.len(), 1, "{}: {replies:?}", step.name);
         let reply = replies[0];
         match (step.expect, reply) {
-            (Expect::Ack, Reply::ConfigureAck(seq)) => assert_eq!(seq, step.sequence),
+            (Expect::Ack, Reply::ConfigureAck(seq, _)) => assert_eq!(seq, step.sequence),
             (Expect::Error(code, known), Reply::Error(seq, e)) => {
                 assert_eq!(WireError::from_code(e.code), Some(code), "{}", step.name);
                 assert_eq!(seq.is_some(), known, "{}", step.name);
@@ -257,9 +257,21 @@ fn the_configure_message_selects_the_policy() {
         assert_eq!(c.pursuer_rate.to_bits(), (2.0 * want.pursuer).to_bits());
         assert_eq!(c.evader_rate.to_bits(), want.evader.to_bits());
     }
+    // Policy 2 (the value tables) on a unit without tables: the flight policy, said in the ack
+    // (tests/table_policy.rs has a unit with tables).
     let mut unit = Unit::<f32>::new();
     let config = twocars::message::Configure {
         policy: 2,
+        ..paper_configure()
+    };
+    let replies = send(&mut unit, &link::configure(1, &config), 0);
+    assert!(
+        matches!(replies[..], [Reply::ConfigureAck(1, Some(1))]),
+        "{replies:?}"
+    );
+    let mut unit = Unit::<f32>::new();
+    let config = twocars::message::Configure {
+        policy: 3,
         ..paper_configure()
     };
     let replies = send(&mut unit, &link::configure(1, &config), 0);

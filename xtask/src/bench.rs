@@ -146,37 +146,9 @@ pub(crate) fn build_and_print(cpu: Cpu, features: &str) -> Result<(String, u64),
 
 /// Builds the bench image with `features` for `cpu`; returns the ELF's path.
 pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let all_features = format!("{features}{}", cpu.board_features);
-    let status = Command::new(&cargo)
-        .current_dir(root())
-        .args([
-            "build",
-            // Only the core's own features: a workspace build would unify in those the host
-            // crates enable (`value-tables`), and its code with them.
-            "--package",
-            "twocars",
-            "--release",
-            "--target",
-            cpu.target,
-            "--bin",
-            "twocars-bench",
-        ])
-        .args(["--features", &all_features])
-        .stdout(Stdio::null())
-        .status()
-        .map_err(|e| e.to_string())?;
-    if !status.success() {
-        return Err(format!(
-            "bench build for {} ({all_features}) failed",
-            cpu.name
-        ));
-    }
-    Ok(root()
-        .join("target")
-        .join(cpu.target)
-        .join("release")
-        .join("twocars-bench"))
+    crate::qemu::build_image(cpu.target, &all_features, "twocars-bench", Stdio::null())
+        .map_err(|e| format!("bench build for {} ({all_features}) failed: {e}", cpu.name))
 }
 
 /// The session of `twocars::bench::main_loop` served on the host.

@@ -117,7 +117,7 @@ pub fn run_case(
     *sequence = sequence.wrapping_add(1);
     qemu.send(&link::configure(*sequence, &configure))?;
     match qemu.reply()? {
-        Reply::ConfigureAck(s) if s == *sequence => {}
+        Reply::ConfigureAck(s, _) if s == *sequence => {}
         other => return Err(format!("Configure refused: {other:?}")),
     }
     let [v_pm, w_pm, v_em, w_em] = limits32;

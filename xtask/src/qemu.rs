@@ -134,30 +134,33 @@ pub fn prove_panic_free(board: Board) -> Result<PathBuf, String> {
 }
 
 fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
+    build_image(board.target(), features, board.bin(), Stdio::inherit())
+        .map_err(|e| format!("firmware build for {board:?} failed ({e})"))
+}
+
+/// Builds the core's binary `bin` for `target` with `features` (release), cargo's own output
+/// to `stdout`; returns the ELF's path. Only the core's own features: a workspace build would
+/// unify in those the host crates enable (`value-tables`), and their code with them
+/// (docs/optimisation.md, session 41).
+pub fn build_image(
+    target: &str,
+    features: &str,
+    bin: &str,
+    stdout: Stdio,
+) -> Result<PathBuf, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let status = Command::new(cargo)
         .current_dir(root())
-        // Only the core's own features (as the bench's build).
-        .args([
-            "build",
-            "--package",
-            "twocars",
-            "--release",
-            "--target",
-            board.target(),
-        ])
-        .args(["--features", features, "--bin", board.bin()])
+        .args(["build", "--package", "twocars", "--release"])
+        .args(["--target", target, "--features", features, "--bin", bin])
         .env("DEFMT_LOG", "info")
+        .stdout(stdout)
         .status()
         .map_err(|e| format!("cargo build: {e}"))?;
     if !status.success() {
-        return Err(format!("firmware build for {board:?} failed ({status})"));
+        return Err(status.to_string());
     }
-    Ok(root()
-        .join("target")
-        .join(board.target())
-        .join("release")
-        .join(board.bin()))
+    Ok(root().join("target").join(target).join("release").join(bin))
 }
 
 /// `program` on the PATH (or in ~/.cargo/bin).

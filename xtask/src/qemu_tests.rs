@@ -181,7 +181,7 @@ fn noisy_stream(elf: &std::path::Path) -> Outcome {
     let mut q = Qemu::start(elf, Board::Qemu, false)?;
     q.send(&host_tests::link::configure(1, &paper_configure()))?;
     match q.reply()? {
-        Reply::ConfigureAck(1) => {}
+        Reply::ConfigureAck(1, Some(0)) => {}
         other => return Err(format!("expected ConfigureAck, got {other:?}")),
     }
     let mut rng = host_tests::rng::Rng::new(27);
