@@ -115,9 +115,21 @@ impl<S: Scalar> Guidance<S> {
     /// [`TablesMismatch`] unless the tables were solved for this law's ratios v_em / v_pm and
     /// (v_em / v_pm) (w_em / w_pm), each within 1e-3 of its value.
     pub fn with_tables(
-        self,
+        mut self,
         tables: &'static ValueTables<'static>,
     ) -> Result<Self, TablesMismatch> {
+        self.set_tables(tables)?;
+        Ok(self)
+    }
+
+    /// [`Guidance::with_tables`] in place.
+    ///
+    /// # Errors
+    /// As [`Guidance::with_tables`]; the guidance is then unchanged.
+    pub fn set_tables(
+        &mut self,
+        tables: &'static ValueTables<'static>,
+    ) -> Result<(), TablesMismatch> {
         let limits = &self.law.limits;
         let ratio = |a: S, b: S| a.to_f32() / b.to_f32();
         let speed_ratio = ratio(limits.evader.v_max(), limits.pursuer.v_max());
@@ -125,10 +137,8 @@ impl<S: Scalar> Guidance<S> {
         let close = |table: f32, limit: f32| (table - limit).abs() <= 1e-3 * limit;
         let table = tables.finest_table().ok_or(TablesMismatch)?;
         if close(table.speed_ratio, speed_ratio) && close(table.evader_turn, evader_turn) {
-            Ok(Guidance {
-                tables: Some(tables),
-                ..self
-            })
+            self.tables = Some(tables);
+            Ok(())
         } else {
             Err(TablesMismatch)
         }
@@ -143,6 +153,11 @@ impl<S: Scalar> Guidance<S> {
     #[must_use]
     pub fn with_policy(self, policy: Policy) -> Self {
         Guidance { policy, ..self }
+    }
+
+    /// [`Guidance::with_policy`] in place.
+    pub fn set_policy(&mut self, policy: Policy) {
+        self.policy = policy;
     }
 
     /// The same guidance with control period `dt` seconds, its memory kept (the previous

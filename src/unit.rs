@@ -398,22 +398,22 @@ fn configure<S: Scalar>(
     if !(roles_valid && watchdog.is_finite() && watchdog > 0.0 && watchdog <= MAX_WATCHDOG_S) {
         return Err(WireError::InvalidConfig);
     }
-    // Tables asked for: those of the limits' ratios, or the flight policy, said in the ack.
-    let tables = tables.filter(|_| policy == Policy::Table);
-    let guidance = Guidance::new(Law::new(limits, variant), message.dt)
+    let mut guidance = Guidance::new(Law::new(limits, variant), message.dt)
         .map_err(|_| WireError::InvalidConfig)?
         .with_policy(policy);
-    let (guidance, policy) = match with_tables(guidance, tables) {
-        Some(with_tables) => (with_tables, message.policy),
-        None if policy == Policy::Table => (guidance.with_policy(Policy::Flight), 1),
-        None => (guidance, message.policy),
-    };
+    // Tables asked for: those of the limits' ratios, or the flight policy, said in the ack.
+    // In place: a second guidance on the stack cost the M0's loop over 200 B.
+    let mut policy_byte = message.policy;
+    if policy == Policy::Table && !attach_tables(&mut guidance, tables) {
+        guidance.set_policy(Policy::Flight);
+        policy_byte = 1;
+    }
     // In range by the check above: at most 3.6e6 ms.
     let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
     let units = limits.units;
     Ok(Configured {
         guidance,
-        policy,
+        policy: policy_byte,
         roles: message.roles,
         watchdog_ms,
         rate_scale: units.metres_per_second / units.metres,
@@ -421,18 +421,18 @@ fn configure<S: Scalar>(
     })
 }
 
-/// `guidance` with `tables` where they fit its limits' ratios (feature `value-tables`; without
-/// it no image can play tables, and none is taken).
-fn with_tables<S: Scalar>(
-    guidance: Guidance<S>,
+/// Gives `guidance` the `tables` where they fit its limits' ratios; whether it did (feature
+/// `value-tables`; without it no image can play tables, and none is taken).
+fn attach_tables<S: Scalar>(
+    guidance: &mut Guidance<S>,
     tables: Option<&'static ValueTables<'static>>,
-) -> Option<Guidance<S>> {
+) -> bool {
     #[cfg(feature = "value-tables")]
-    return tables.and_then(|t| guidance.with_tables(t).ok());
+    return tables.is_some_and(|t| guidance.set_tables(t).is_ok());
     #[cfg(not(feature = "value-tables"))]
     {
         let _ = (guidance, tables);
-        None
+        false
     }
 }
 
