@@ -26,14 +26,19 @@ pub fn relative(w_pm: f64, pursuer: [f64; 3], evader: [f64; 3]) -> (f64, f64, f6
 /// threshold and outside the capture disc, in its box less two cells, captured from there.
 /// `None` where none does.
 pub fn finest(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> Option<&Solution> {
-    let table = tables.iter().find(|table| {
-        let margin = table.grid.half - 2.0 * table.grid.spacing();
-        x.abs() < margin && y.abs() < margin
-    })?;
+    let table = holding(tables, x, y)?;
     let r = x.hypot(y);
     let plays =
         r > table.game.eps && r < table.game.threshold() && table.value(x, y, phi) < REACHED;
     plays.then_some(table)
+}
+
+/// The finest of `tables` (finest first) whose box holds `(x, y)` (r_p) less two cells.
+pub fn holding(tables: &[Solution], x: f64, y: f64) -> Option<&Solution> {
+    tables.iter().find(|table| {
+        let margin = table.grid.half - 2.0 * table.grid.spacing();
+        x.abs() < margin && y.abs() < margin
+    })
 }
 
 /// V at `(x, y, phi)` (r_p / v_pm) from the finest of `tables` that plays there ([`finest`]).

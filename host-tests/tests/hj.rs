@@ -141,11 +141,6 @@ fn the_table_pursuer_captures_a_meshing_circler() {
         })
         .unwrap()
     };
-    eprintln!(
-        "captured at {:.2} s, the table played {} steps",
-        with_table.t_capture,
-        played.get()
-    );
     assert_eq!(
         with_table.status,
         SimStatus::Captured,

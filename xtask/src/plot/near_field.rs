@@ -8,7 +8,7 @@ use std::f64::consts::FRAC_PI_2;
 use std::path::{Path, PathBuf};
 
 use host_tests::hj::{Game, Solution, REACHED};
-use host_tests::hj_policy::{relative, turn};
+use host_tests::hj_policy::{holding, relative, turn};
 use host_tests::scenarios::PAPER_LIMITS;
 use twocars::Direction;
 
@@ -60,13 +60,7 @@ fn cells(tables: &[Solution], game: Game) -> Vec<Cell> {
                 r.solution.upper.map(|u| (u, turn))
             });
             let (rx, ry, phi) = relative(w_pm, pursuer, evader);
-            let table = tables
-                .iter()
-                .find(|t| {
-                    let margin = t.grid.half - 2.0 * t.grid.spacing();
-                    rx.abs() < margin && ry.abs() < margin
-                })
-                .unwrap_or(outer);
+            let table = holding(tables, rx, ry).unwrap_or(outer);
             let v = table.value(rx, ry, phi);
             out.push(Cell {
                 x,
