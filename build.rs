@@ -1,5 +1,6 @@
-//! Selects the memory map of the board being built (see memory.x) and links defmt's script
-//! into the firmware binaries that log with defmt; `-Tlink.x` comes from `.cargo/config.toml`.
+//! Selects the memory map of the board being built (see memory.x), links defmt's script into
+//! the firmware binaries that log with defmt (`-Tlink.x` comes from `.cargo/config.toml`), and
+//! with `tables-in-flash` names the value-table sets the image includes.
 use std::path::PathBuf;
 
 fn main() {
@@ -19,6 +20,9 @@ fn main() {
             println!("cargo:rustc-link-search={}", out.display());
         }
     }
+    if feature("TABLES_IN_FLASH") {
+        value_table_sets();
+    }
     if target.starts_with("thumb") && feature("DEFMT") {
         println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     }
@@ -31,5 +35,41 @@ fn main() {
         "src/board/rp2040.x",
     ] {
         println!("cargo:rerun-if-changed={file}");
+    }
+}
+
+/// Writes `value_table_sets.rs` into the build directory: `SETS`, the bytes of each file that
+/// `TWOCARS_VALUE_TABLES` names (separated as PATH is), included into flash by
+/// `twocars::board::tables`. Fails the build, saying how to make them, where none is given.
+fn value_table_sets() {
+    println!("cargo:rerun-if-env-changed=TWOCARS_VALUE_TABLES");
+    let paths: Vec<PathBuf> = std::env::var_os("TWOCARS_VALUE_TABLES")
+        .map(|v| std::env::split_paths(&v).collect())
+        .unwrap_or_default();
+    let missing = paths.iter().find(|p| !p.is_file());
+    if paths.is_empty() || missing.is_some() {
+        panic!(
+            "feature tables-in-flash: TWOCARS_VALUE_TABLES must name the value-table sets to \
+             include (missing: {missing:?}); `cargo xtask hj --set FILE` writes one, and \
+             `cargo xtask build --board qemu-tables` builds the image with the project's sets"
+        );
+    }
+    let mut source = format!(
+        "/// How many value-table sets the image carries.\npub const SET_COUNT: usize = {0};\n\
+         /// The value-table sets in flash.\npub static SETS: [&[u8]; {0}] = [\n",
+        paths.len()
+    );
+    for path in &paths {
+        let absolute = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
+        println!("cargo:rerun-if-changed={}", absolute.display());
+        source.push_str(&format!(
+            "    include_bytes!({:?}),\n",
+            absolute.display().to_string()
+        ));
+    }
+    source.push_str("];\n");
+    let out = PathBuf::from(std::env::var_os("OUT_DIR").unwrap_or_default());
+    if let Err(e) = std::fs::write(out.join("value_table_sets.rs"), source) {
+        panic!("writing value_table_sets.rs: {e}");
     }
 }

@@ -126,8 +126,8 @@ pub struct Unit<S = f32> {
 #[derive(Debug)]
 struct Session<S> {
     configured: Option<Configured<S>>,
-    /// The image's value tables, if it carries any ([`Unit::with_tables`]).
-    tables: Option<&'static ValueTables<'static>>,
+    /// The value tables the image carries, one set per pair of ratios ([`Unit::with_tables`]).
+    tables: &'static [ValueTables<'static>],
     counters: Counters,
     watchdog: Watchdog,
 }
@@ -157,7 +157,7 @@ impl<S: Scalar> Unit<S> {
             deframer: Deframer::new(),
             session: Session {
                 configured: None,
-                tables: None,
+                tables: &[],
                 counters: Counters {
                     accepted: 0,
                     stale: 0,
@@ -177,11 +177,11 @@ impl<S: Scalar> Unit<S> {
         }
     }
 
-    /// The unit with the game's value tables its image carries: a Configure with policy 2
-    /// plays them where they fit its limits' ratios (issue 30).
+    /// The unit with the game's value tables its image carries, one set per pair of ratios: a
+    /// Configure with policy 2 plays the first set that fits its limits' ratios (issue 30).
     #[must_use]
-    pub fn with_tables(mut self, tables: &'static ValueTables<'static>) -> Self {
-        self.session.tables = Some(tables);
+    pub fn with_tables(mut self, tables: &'static [ValueTables<'static>]) -> Self {
+        self.session.tables = tables;
         self
     }
 
@@ -374,7 +374,7 @@ pub const MAX_WATCHDOG_S: f32 = 3600.0;
 
 fn configure<S: Scalar>(
     message: &Configure,
-    tables: Option<&'static ValueTables<'static>>,
+    tables: &'static [ValueTables<'static>],
 ) -> Result<Configured<S>, WireError> {
     let [v_pm, w_pm, v_em, w_em] = message.limits;
     let limits = Limits::<S>::new(v_pm, w_pm, v_em, w_em).map_err(|status| match status {
@@ -421,14 +421,14 @@ fn configure<S: Scalar>(
     })
 }
 
-/// Gives `guidance` the `tables` where they fit its limits' ratios; whether it did (feature
-/// `value-tables`; without it no image can play tables, and none is taken).
+/// Gives `guidance` the first set of `tables` that fits its limits' ratios; whether one did
+/// (feature `value-tables`; without it no image can play tables, and none is taken).
 fn attach_tables<S: Scalar>(
     guidance: &mut Guidance<S>,
-    tables: Option<&'static ValueTables<'static>>,
+    tables: &'static [ValueTables<'static>],
 ) -> bool {
     #[cfg(feature = "value-tables")]
-    return tables.is_some_and(|t| guidance.set_tables(t).is_ok());
+    return tables.iter().any(|t| guidance.set_tables(t).is_ok());
     #[cfg(not(feature = "value-tables"))]
     {
         let _ = (guidance, tables);

@@ -19,18 +19,21 @@ const LIMITS: [f64; 4] = [2.0, 2.0, 1.0, 1.0];
 /// the same table as the firmware reads it.
 fn tables() -> &'static (Vec<Solution>, ValueTables<'static>) {
     static TABLES: OnceLock<(Vec<Solution>, ValueTables<'static>)> = OnceLock::new();
-    TABLES.get_or_init(|| {
-        let grid = Grid {
-            n: 41,
-            half: 6.0,
-            headings: 24,
-        };
-        let game = Game::with_radius(LIMITS, 2.0 * grid.spacing());
-        let solution = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {});
-        let bytes: &'static [u8] =
-            Box::leak(table_set_bytes(std::slice::from_ref(&solution)).into_boxed_slice());
-        (vec![solution], ValueTables::parse(bytes).unwrap())
-    })
+    TABLES.get_or_init(|| tables_of(LIMITS))
+}
+
+/// The game of `limits` on the grid of [`tables`].
+fn tables_of(limits: [f64; 4]) -> (Vec<Solution>, ValueTables<'static>) {
+    let grid = Grid {
+        n: 41,
+        half: 6.0,
+        headings: 24,
+    };
+    let game = Game::with_radius(limits, 2.0 * grid.spacing());
+    let solution = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {});
+    let bytes: &'static [u8] =
+        Box::leak(table_set_bytes(std::slice::from_ref(&solution)).into_boxed_slice());
+    (vec![solution], ValueTables::parse(bytes).unwrap())
 }
 
 fn guidance(policy: Policy) -> Guidance<f32> {
@@ -177,10 +180,11 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
     assert_eq!(runs, 40);
 }
 
-/// The unit's Configure: policy byte 2 plays the tables its image carries where they fit the
+/// The unit's Configure: policy byte 2 plays the set of tables its image carries that fits the
 /// limits' ratios, and the ConfigureAck says the policy in effect (2), else falls back to the
 /// flight policy and says 1; a unit without tables says 1; policies 0 and 1 are echoed. With
-/// the tables in effect, a State in the near field gets the tables' turn as its pursuer rate.
+/// the tables in effect, a State in the near field gets the turn of the set of its limits as
+/// its pursuer rate.
 #[test]
 fn configure_selects_the_tables_of_its_ratios_and_says_so() {
     use host_tests::link::{self, Reply, ReplyDecoder};
@@ -203,6 +207,31 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
             other => panic!("{other:?}"),
         }
     };
+    // A State 1.2 m apart, the evader behind on the pursuer's left: the pursuer's rate.
+    let rate = |unit: &mut Unit| -> f32 {
+        let state = StateMsg {
+            time_ms: 10,
+            pursuer: [0.0, 0.0, 0.0],
+            evader: [-0.9, 0.8, 2.0],
+        };
+        let mut decoder = ReplyDecoder::default();
+        let mut command = None;
+        for &b in &link::state(8, &state) {
+            if let Some(reply) = unit.receive(b, 5) {
+                command = decoder.feed(reply.as_bytes()).pop();
+            }
+        }
+        match command {
+            Some(Ok(Reply::Command(8, c))) => c.pursuer_rate,
+            other => panic!("{other:?}"),
+        }
+    };
+    // The tables' pursuer turn there (r_p, radians), as a rate v_pm w_pm.
+    let turn_rate = |set: &ValueTables<'_>| {
+        4.0 * set
+            .pursuer_turn(-1.8, 1.6, 2.0)
+            .expect("the tables play there")
+    };
     let paper = Configure {
         policy: 2,
         ..paper_configure()
@@ -212,31 +241,20 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
         ..paper
     };
     assert_eq!(ack(&mut Unit::new(), &paper), Some(1));
-    let mut unit = Unit::new().with_tables(set);
+    let mut unit = Unit::new().with_tables(std::slice::from_ref(set));
     assert_eq!(ack(&mut unit, &faster_evader), Some(1));
     for policy in [0, 1] {
         assert_eq!(ack(&mut unit, &Configure { policy, ..paper }), Some(policy));
     }
     assert_eq!(ack(&mut unit, &paper), Some(2));
-    // A State 1.2 m apart, the evader behind on the pursuer's left: the tables' pursuer turn,
-    // as a rate v_pm w_pm.
-    let state = StateMsg {
-        time_ms: 10,
-        pursuer: [0.0, 0.0, 0.0],
-        evader: [-0.9, 0.8, 2.0],
-    };
-    let turn = set
-        .pursuer_turn(-1.8, 1.6, 2.0)
-        .expect("the tables play there");
-    let mut decoder = ReplyDecoder::default();
-    let mut command = None;
-    for &b in &link::state(8, &state) {
-        if let Some(reply) = unit.receive(b, 5) {
-            command = decoder.feed(reply.as_bytes()).pop();
-        }
-    }
-    match command {
-        Some(Ok(Reply::Command(8, c))) => assert_eq!(c.pursuer_rate, turn * 4.0, "{c:?}"),
-        other => panic!("{other:?}"),
+    assert_eq!(rate(&mut unit), turn_rate(set));
+    // Two sets, the other ratios' first: each limits play their own.
+    let other: &'static ValueTables<'static> =
+        Box::leak(Box::new(tables_of([2.0, 2.0, 1.2, 1.0]).1));
+    let both: &'static [ValueTables<'static>] = Box::leak(Box::new([*other, *set]));
+    let mut two = Unit::new().with_tables(both);
+    for (configure, set) in [(&faster_evader, other), (&paper, set)] {
+        assert_eq!(ack(&mut two, configure), Some(2));
+        assert_eq!(rate(&mut two), turn_rate(set));
     }
 }

@@ -22,6 +22,10 @@ fn main() -> ! {
         halt(EXIT_FAILURE)
     };
     let mut unit = Unit::<f32>::new();
+    #[cfg(feature = "tables-in-flash")]
+    if let Some(tables) = twocars::board::tables::take_value_tables() {
+        unit = unit.with_tables(tables);
+    }
     twocars::log_info!("twocars guidance unit up (mps2-an386, UART0, interrupt-driven)");
     serve_to_shutdown(&mut line, &board, &mut unit);
     let _c = unit.counters();

@@ -14,6 +14,10 @@ fn main() -> ! {
         cortex_m::peripheral::SCB::sys_reset()
     };
     let mut unit = Unit::<f32>::new();
+    #[cfg(feature = "tables-in-flash")]
+    if let Some(tables) = twocars::board::tables::take_value_tables() {
+        unit = unit.with_tables(tables);
+    }
     loop {
         // A flight unit has no session to end: after a Shutdown it keeps serving.
         serve(&mut line, &board, &mut unit);

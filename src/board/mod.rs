@@ -20,6 +20,9 @@ pub mod microbit;
 #[cfg(feature = "firmware-rp2040")]
 pub mod rp2040;
 
+#[cfg(feature = "tables-in-flash")]
+pub mod tables;
+
 /// The UART interrupt's end of the board's one [`Line`], handed over by [`take_line`].
 static INTERRUPT_END: Mutex<RefCell<Option<InterruptEnd<'static>>>> =
     Mutex::new(RefCell::new(None));

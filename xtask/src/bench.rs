@@ -147,8 +147,14 @@ pub(crate) fn build_and_print(cpu: Cpu, features: &str) -> Result<(String, u64),
 /// Builds the bench image with `features` for `cpu`; returns the ELF's path.
 pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
     let all_features = format!("{features}{}", cpu.board_features);
-    crate::qemu::build_image(cpu.target, &all_features, "twocars-bench", Stdio::null())
-        .map_err(|e| format!("bench build for {} ({all_features}) failed: {e}", cpu.name))
+    crate::qemu::build_image(
+        cpu.target,
+        &all_features,
+        "twocars-bench",
+        Stdio::null(),
+        &[],
+    )
+    .map_err(|e| format!("bench build for {} ({all_features}) failed: {e}", cpu.name))
 }
 
 /// The session of `twocars::bench::main_loop` served on the host.

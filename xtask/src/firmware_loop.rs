@@ -4,10 +4,12 @@
 
 use std::collections::VecDeque;
 
+use host_tests::adversary::{Adversary, EvaderKind, Opponent};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::sim::{closed_loop, SimParams, SimResult, StepCommand};
 use twocars::message::{Configure, Counters, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 use twocars::unit::Unit;
+use twocars::value_tables::ValueTables;
 use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant, VehicleState};
 
 use crate::qemu::Qemu;
@@ -44,6 +46,14 @@ impl<S: Scalar> HostUnit<S> {
             unit: Unit::new(),
             decoder: ReplyDecoder::default(),
             pending: VecDeque::new(),
+        }
+    }
+
+    /// An unconfigured unit with value tables, as an image carrying them.
+    pub fn with_tables(tables: &'static [ValueTables<'static>]) -> Self {
+        HostUnit {
+            unit: Unit::new().with_tables(tables),
+            ..Self::new()
         }
     }
 }
@@ -96,7 +106,20 @@ pub fn run_case(
     sequence: &mut u16,
     params: &SimParams,
     roles: u8,
+    how: (Variant, Policy),
+) -> Result<FirmwareRun, String> {
+    run_against(qemu, sequence, params, roles, how, None)
+}
+
+/// [`run_case`] with the evader played by an adversary of the suite (`opponent`, its seed)
+/// in place of the firmware's or the host law's evader; the Configure's ack must say `policy`.
+pub fn run_against(
+    qemu: &mut impl Link,
+    sequence: &mut u16,
+    params: &SimParams,
+    roles: u8,
     (variant, policy): (Variant, Policy),
+    opponent: Option<(EvaderKind, u64)>,
 ) -> Result<FirmwareRun, String> {
     let limits32 = params.limits.map(|v| v as f32);
     let configure = Configure {
@@ -117,8 +140,8 @@ pub fn run_case(
     *sequence = sequence.wrapping_add(1);
     qemu.send(&link::configure(*sequence, &configure))?;
     match qemu.reply()? {
-        Reply::ConfigureAck(s, _) if s == *sequence => {}
-        other => return Err(format!("Configure refused: {other:?}")),
+        Reply::ConfigureAck(s, Some(p)) if s == *sequence && p == configure.policy => {}
+        other => return Err(format!("Configure refused or another policy: {other:?}")),
     }
     let [v_pm, w_pm, v_em, w_em] = limits32;
     let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|s| s.name().to_string())?;
@@ -135,6 +158,19 @@ pub fn run_case(
     let params = SimParams {
         limits: limits32.map(f64::from),
         ..*params
+    };
+    let mut adversary = match opponent {
+        Some((kind, seed)) => Some(
+            Adversary::new(
+                Opponent::Evader(kind),
+                params.limits,
+                params.dt,
+                params.eps,
+                seed,
+            )
+            .ok_or("no adversary for these limits")?,
+        ),
+        None => None,
     };
     let result = closed_loop(&params, false, |t, p, e| {
         *sequence = sequence.wrapping_add(1);
@@ -182,7 +218,14 @@ pub fn run_case(
         } else {
             f64::from(host_command.evader)
         };
-        Ok::<_, String>(StepCommand::full_speed(pursuer, evader, choice))
+        let mut command = StepCommand::full_speed(pursuer, evader, choice);
+        if let Some(adversary) = adversary.as_mut() {
+            (command.evader, command.evader_speed) = {
+                let (w, v) = adversary.command(t, p, e);
+                (w, Some(v))
+            };
+        }
+        Ok::<_, String>(command)
     })?;
     run.result = result;
     Ok(run)

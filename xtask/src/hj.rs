@@ -50,8 +50,10 @@ pub struct HjArgs {
     /// beside the flight policy (`--limits`, `--eps`, `--half`, `--nodes` do not apply).
     #[arg(long)]
     play: Option<usize>,
-    /// Instead of the validation: solve the paper's near field on `--levels` and write its
-    /// nested tables to this file as the firmware reads them (`twocars::value_tables`).
+    /// Instead of the validation: solve the near field of `--limits` on `--levels`, capture
+    /// radius one r_p, and write its nested tables to this file as the firmware reads them
+    /// (`twocars::value_tables`); an image includes it with feature `tables-in-flash` and
+    /// `TWOCARS_VALUE_TABLES=FILE`.
     #[arg(long)]
     set: Option<std::path::PathBuf>,
     /// Seed of `--play`'s starts.
@@ -64,19 +66,27 @@ pub struct HjArgs {
 }
 
 /// The paper's game over its near field, as `cargo xtask plot` draws it and `--play` plays it,
-/// as nested tables (`host_tests::hj_policy`) on `levels`, coarsest first; returned finest
-/// first. Capture radius 0.5 m (one r_p). The coarsest table lands on the paper's value beyond
-/// the threshold, each finer one on the table before it; each is solved to a residual of
-/// 1e-4, or read back from `target/hj-cache/` where this build of xtask solved it before; with
-/// how.
+/// as nested tables on `levels`, coarsest first; returned finest first, with how
+/// ([`near_field`]).
 pub(crate) fn paper_near_field(levels: &[Grid]) -> (Vec<Solution>, String) {
-    let game = Game::of_limits(host_tests::scenarios::PAPER_LIMITS, 0.5);
+    near_field(host_tests::scenarios::PAPER_LIMITS, levels)
+}
+
+/// The game of `limits` (v_pm, w_pm, v_em, w_em) over its near field as nested tables
+/// (`host_tests::hj_policy`) on `levels`, coarsest first; returned finest first. Capture
+/// radius one r_p (0.5 m at the paper's limits). The coarsest table lands on the paper's value
+/// beyond the threshold, each finer one on the table before it; each is solved to a residual
+/// of 1e-4, or read back from `target/hj-cache/` where this build of xtask solved it before;
+/// with how.
+pub(crate) fn near_field(limits: [f64; 4], levels: &[Grid]) -> (Vec<Solution>, String) {
+    let game = Game::with_radius(limits, 1.0);
     let started = Instant::now();
     let mut tables: Vec<Solution> = Vec::new();
     let mut hows = Vec::new();
-    let mut name = String::from("paper-near-field");
+    let [v_pm, w_pm, v_em, w_em] = limits;
+    let mut name = format!("{v_pm}-{w_pm}-{v_em}-{w_em}");
     for &grid in levels {
-        // The cache's name: this grid and every coarser one its boundary came from.
+        // The cache's name: the limits, this grid and every coarser one its boundary came from.
         name.push_str(&format!("_{}-{}-{}", grid.n, grid.half, grid.headings));
         let (table, how) = cached(game, grid, &name, |grid| match tables.last() {
             Some(coarser) => solve_grid(game, grid, 1e-4, Boundary::Table(coarser)),
@@ -92,6 +102,58 @@ pub(crate) fn paper_near_field(levels: &[Grid]) -> (Vec<Solution>, String) {
         started.elapsed().as_secs_f64()
     );
     (tables, how)
+}
+
+/// The nested tables an image carries per pair of ratios, coarsest first: the near field's
+/// three at 499,308 B, within the play's bar at the paper's limits (docs/near-field.md, "Tables
+/// that fit in flash").
+pub(crate) const FLASH_LEVELS: [Grid; 3] = [
+    Grid {
+        n: 61,
+        half: 30.0,
+        headings: 24,
+    },
+    Grid {
+        n: 61,
+        half: 6.0,
+        headings: 36,
+    },
+    Grid {
+        n: 61,
+        half: 3.0,
+        headings: 72,
+    },
+];
+
+/// The limits (v_pm, w_pm, v_em, w_em) whose ratios the tables images carry sets for: the
+/// paper's (v_em / v_pm = 0.5, r_e / r_p = 2), and a faster, tighter-turning evader (0.6 and
+/// 5 / 3, threshold 20.8 r_p).
+pub(crate) const FLASH_LIMITS: [[f64; 4]; 2] =
+    [host_tests::scenarios::PAPER_LIMITS, [2.0, 2.0, 1.2, 1.2]];
+
+/// The value-table sets of `limits` on [`FLASH_LEVELS`], written to `target/value-tables/`
+/// (rewritten only where the bytes changed, so an image is not rebuilt for nothing); their
+/// paths.
+pub(crate) fn flash_sets(limits: &[[f64; 4]]) -> Result<Vec<std::path::PathBuf>, String> {
+    let dir = crate::qemu::root().join("target/value-tables");
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut paths = Vec::new();
+    for &limits in limits {
+        let (tables, how) = near_field(limits, &FLASH_LEVELS);
+        let bytes = host_tests::hj::table_set_bytes(&tables);
+        let [v_pm, w_pm, v_em, w_em] = limits;
+        let path = dir.join(format!("{v_pm}-{w_pm}-{v_em}-{w_em}.tcv"));
+        if std::fs::read(&path).ok().as_deref() != Some(bytes.as_slice()) {
+            std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        println!(
+            "xtask: value tables {}: {} B ({how})",
+            path.display(),
+            bytes.len()
+        );
+        paths.push(path);
+    }
+    Ok(paths)
 }
 
 /// The near field's tables, coarsest first: a box of +-30 r_p (15 m, just past the theorem's
@@ -116,10 +178,17 @@ pub(crate) const NEAR_FIELD: [Grid; 3] = [
     },
 ];
 
-/// Writes the paper's near field on `levels` (coarsest first) to `path` as nested tables;
+/// Writes the near field of `limits` on `levels` (coarsest first) to `path` as nested tables;
 /// prints each table's bytes. The exit code.
-fn write_set(path: &std::path::Path, levels: &[Grid]) -> i32 {
-    let (tables, how) = paper_near_field(levels);
+fn write_set(path: &std::path::Path, limits: [f64; 4], levels: &[Grid]) -> i32 {
+    let threshold = Game::with_radius(limits, 1.0).threshold();
+    if levels.first().is_none_or(|g| g.half <= threshold) {
+        eprintln!(
+            "xtask hj: the coarsest table must reach beyond the threshold, {threshold:.1} r_p"
+        );
+        return 2;
+    }
+    let (tables, how) = near_field(limits, levels);
     let bytes = host_tests::hj::table_set_bytes(&tables);
     if let Err(e) = std::fs::write(path, &bytes) {
         eprintln!("xtask hj: {}: {e}", path.display());
@@ -168,7 +237,7 @@ fn cached(
     name: &str,
     solve: impl FnOnce(Grid) -> (Solution, f64),
 ) -> (Solution, String) {
-    let cache = crate::qemu::root().join(format!("target/hj-cache/paper-near-field-{name}.bin"));
+    let cache = crate::qemu::root().join(format!("target/hj-cache/near-field-{name}.bin"));
     // The cache belongs to the xtask binary that wrote it: a rebuild (a changed solver) solves
     // again.
     let stamp: u128 = std::env::current_exe()
@@ -327,7 +396,7 @@ pub fn command(args: &HjArgs) -> i32 {
         return crate::hj_play::command(runs, args.seed, &levels);
     }
     if let Some(path) = &args.set {
-        return write_set(path, &levels);
+        return write_set(path, args.limits, &levels);
     }
     let game = Game::with_radius(args.limits, args.eps);
     if !(game.speed_ratio > 0.0 && game.speed_ratio < 1.0 && args.nodes >= 21 && args.eps > 0.0)

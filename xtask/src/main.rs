@@ -16,6 +16,7 @@ mod plot;
 mod profile;
 mod progress;
 mod qemu;
+mod qemu_tables;
 mod qemu_tests;
 mod report;
 mod run;

@@ -29,33 +29,42 @@ pub enum Board {
     /// Raspberry Pi Pico (RP2040, Cortex-M0+, the fixed-point law): build, size and link check
     /// only (no emulator models it).
     Rp2040,
+    /// QEMU mps2-an386 carrying the value tables of two pairs of ratios (issue 30).
+    QemuTables,
+    /// STM32F405 carrying the value tables of the paper's ratios: build and size only.
+    Stm32f405Tables,
 }
 
 impl Board {
     /// Every board.
-    pub const ALL: [Board; 6] = [
+    pub const ALL: [Board; 8] = [
         Board::Qemu,
         Board::QemuMavlink,
         Board::Stm32f405,
         Board::Stm32f405Mavlink,
         Board::Microbit,
         Board::Rp2040,
+        Board::QemuTables,
+        Board::Stm32f405Tables,
     ];
 
     /// The Rust target of the board's core.
     pub fn target(self) -> &'static str {
         match self {
-            Board::Qemu | Board::QemuMavlink | Board::Stm32f405 | Board::Stm32f405Mavlink => {
-                "thumbv7em-none-eabihf"
-            }
+            Board::Qemu
+            | Board::QemuMavlink
+            | Board::Stm32f405
+            | Board::Stm32f405Mavlink
+            | Board::QemuTables
+            | Board::Stm32f405Tables => "thumbv7em-none-eabihf",
             Board::Microbit | Board::Rp2040 => "thumbv6m-none-eabi",
         }
     }
     fn bin(self) -> &'static str {
         match self {
-            Board::Qemu => "twocars-qemu",
+            Board::Qemu | Board::QemuTables => "twocars-qemu",
             Board::QemuMavlink => "twocars-qemu-mavlink",
-            Board::Stm32f405 => "twocars-stm32f405",
+            Board::Stm32f405 | Board::Stm32f405Tables => "twocars-stm32f405",
             Board::Stm32f405Mavlink => "twocars-stm32f405-mavlink",
             Board::Microbit => "twocars-microbit",
             Board::Rp2040 => "twocars-rp2040",
@@ -71,14 +80,29 @@ impl Board {
             Board::Stm32f405Mavlink => "board-stm32f405,mavlink",
             Board::Microbit => "firmware-microbit",
             Board::Rp2040 => "firmware-rp2040",
+            Board::QemuTables => "qemu-log,tables-in-flash",
+            Board::Stm32f405Tables => "board-stm32f405,tables-in-flash",
+        }
+    }
+    /// The limits (v_pm, w_pm, v_em, w_em) of the value-table sets the image carries, one set
+    /// per pair of ratios (`crate::hj::flash_sets`).
+    pub fn table_limits(self) -> &'static [[f64; 4]] {
+        match self {
+            Board::QemuTables => &crate::hj::FLASH_LIMITS,
+            Board::Stm32f405Tables => &[host_tests::scenarios::PAPER_LIMITS],
+            _ => &[],
         }
     }
     /// QEMU's machine options for the board (`None`: no emulator).
     fn machine(self) -> Option<&'static [&'static str]> {
         match self {
-            Board::Qemu | Board::QemuMavlink => Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"]),
+            Board::Qemu | Board::QemuMavlink | Board::QemuTables => {
+                Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"])
+            }
             Board::Microbit => Some(&["-M", "microbit"]),
-            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Rp2040 => None,
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Rp2040 | Board::Stm32f405Tables => {
+                None
+            }
         }
     }
     /// Features of the flight image: no logger, so panic freedom can be proven at link time.
@@ -90,13 +114,15 @@ impl Board {
             Board::Stm32f405Mavlink => "board-stm32f405,mavlink,panic-never",
             Board::Microbit => "firmware-microbit,panic-never",
             Board::Rp2040 => "firmware-rp2040,panic-never",
+            Board::QemuTables => "board-qemu,tables-in-flash,panic-never",
+            Board::Stm32f405Tables => "board-stm32f405,tables-in-flash,panic-never",
         }
     }
     /// Flash origin of the board's memory map: where the vector table must be.
     pub fn flash_origin(self) -> u64 {
         match self {
-            Board::Qemu | Board::QemuMavlink | Board::Microbit => 0x0000_0000,
-            Board::Stm32f405 | Board::Stm32f405Mavlink => 0x0800_0000,
+            Board::Qemu | Board::QemuMavlink | Board::Microbit | Board::QemuTables => 0x0000_0000,
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => 0x0800_0000,
             // After the 256-byte second-stage bootloader at the start of flash.
             Board::Rp2040 => 0x1000_0100,
         }
@@ -109,6 +135,8 @@ impl Board {
             Board::Stm32f405Mavlink => "stm32f405, MAVLink",
             Board::Microbit => "microbit (nRF51822)",
             Board::Rp2040 => "rp2040 (Raspberry Pi Pico)",
+            Board::QemuTables => "qemu (mps2-an386), value tables",
+            Board::Stm32f405Tables => "stm32f405, value tables",
         }
     }
 }
@@ -134,8 +162,25 @@ pub fn prove_panic_free(board: Board) -> Result<PathBuf, String> {
 }
 
 fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
-    build_image(board.target(), features, board.bin(), Stdio::inherit())
-        .map_err(|e| format!("firmware build for {board:?} failed ({e})"))
+    let limits = board.table_limits();
+    if limits.is_empty() {
+        return build_image(board.target(), features, board.bin(), Stdio::inherit(), &[])
+            .map_err(|e| format!("firmware build for {board:?} failed ({e})"));
+    }
+    // The same binary with its sets in flash, kept beside the one without as `<bin>-tables`.
+    let sets = crate::hj::flash_sets(limits)?;
+    let paths = std::env::join_paths(&sets).map_err(|e| e.to_string())?;
+    let elf = build_image(
+        board.target(),
+        features,
+        board.bin(),
+        Stdio::inherit(),
+        &[("TWOCARS_VALUE_TABLES", paths.as_os_str())],
+    )
+    .map_err(|e| format!("firmware build for {board:?} failed ({e})"))?;
+    let kept = elf.with_file_name(format!("{}-tables", board.bin()));
+    std::fs::copy(&elf, &kept).map_err(|e| format!("{}: {e}", kept.display()))?;
+    Ok(kept)
 }
 
 /// Builds the core's binary `bin` for `target` with `features` (release), cargo's own output
@@ -147,6 +192,7 @@ pub fn build_image(
     features: &str,
     bin: &str,
     stdout: Stdio,
+    env: &[(&str, &std::ffi::OsStr)],
 ) -> Result<PathBuf, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let status = Command::new(cargo)
@@ -154,6 +200,7 @@ pub fn build_image(
         .args(["build", "--package", "twocars", "--release"])
         .args(["--target", target, "--features", features, "--bin", bin])
         .env("DEFMT_LOG", "info")
+        .envs(env.iter().copied())
         .stdout(stdout)
         .status()
         .map_err(|e| format!("cargo build: {e}"))?;
@@ -397,6 +444,11 @@ pub enum BoardArg {
     Microbit,
     /// Raspberry Pi Pico (RP2040, Cortex-M0+, fixed point; built and sized only).
     Rp2040,
+    /// QEMU mps2-an386 with the value tables of two pairs of ratios in flash (solved first,
+    /// about a minute each, then cached).
+    QemuTables,
+    /// STM32F405 with the value tables of the paper's ratios in flash (built and sized only).
+    Stm32f405Tables,
     /// Every board.
     All,
 }
@@ -409,7 +461,7 @@ pub struct BuildArgs {
     board: BoardArg,
 }
 
-/// `cargo xtask build [--board qemu|stm32f405|microbit|rp2040|all]`: builds each image, checks its memory map
+/// `cargo xtask build [--board qemu|stm32f405|microbit|rp2040|qemu-tables|stm32f405-tables|all]`: builds each image, checks its memory map
 /// and prints its size.
 pub fn build_command(args: &BuildArgs) -> i32 {
     let boards: Vec<Board> = match args.board {
@@ -417,6 +469,8 @@ pub fn build_command(args: &BuildArgs) -> i32 {
         BoardArg::Stm32f405 => vec![Board::Stm32f405, Board::Stm32f405Mavlink],
         BoardArg::Microbit => vec![Board::Microbit],
         BoardArg::Rp2040 => vec![Board::Rp2040],
+        BoardArg::QemuTables => vec![Board::QemuTables],
+        BoardArg::Stm32f405Tables => vec![Board::Stm32f405Tables],
         BoardArg::All => Board::ALL.to_vec(),
     };
     let mut rows = Vec::new();

@@ -367,6 +367,7 @@ pub fn run() -> (u64, u64) {
         record(name, test(&elf));
     }
     run_microbit(&mut record);
+    crate::qemu_tables::run(&mut record);
     println!("== xtask test: the serial loop's bench session in QEMU (mps2-an386)");
     record(
         "qemu::serial_loop_bench_session_on_cortex_m4f_equals_the_host",
