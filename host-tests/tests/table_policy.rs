@@ -258,3 +258,71 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
         assert_eq!(rate(&mut two), turn_rate(set));
     }
 }
+
+/// The bench's serial session with the tables (`cargo xtask bench` times it on the M4F): one
+/// Configure with policy 2, acknowledged 2, and a State per table point, each answered with the
+/// table's pursuer and evader turns as full rates; the same session through the serial path's
+/// queues writes the same bytes.
+#[test]
+fn the_bench_session_with_the_tables_commands_their_turns() {
+    use host_tests::link::{Reply, ReplyDecoder};
+    use twocars::bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
+    use twocars::bench::TABLE_POINTS;
+    use twocars::unit::Unit;
+
+    let bytes: &'static [u8] = include_bytes!("../../src/bench/table.tcv");
+    let set: &'static [ValueTables<'static>] =
+        Box::leak(Box::new([ValueTables::parse(bytes).unwrap()]));
+    let mut out = [0u8; SCRIPT_CAPACITY];
+    let n = script(true, true, &mut out).expect("the script fits");
+    let mut unit = Unit::<f32>::new().with_tables(set);
+    let mut written = Vec::new();
+    for &b in &out[..n] {
+        if let Some(reply) = unit.receive(b, 0) {
+            written.extend_from_slice(reply.as_bytes());
+        }
+    }
+    let replies: Vec<Reply> = ReplyDecoder::default()
+        .feed(&written)
+        .into_iter()
+        .map(|r| r.expect("a valid reply"))
+        .collect();
+    assert!(
+        matches!(replies[0], Reply::ConfigureAck(_, Some(2))),
+        "{replies:?}"
+    );
+    let commands: Vec<_> = replies
+        .iter()
+        .filter_map(|r| match r {
+            Reply::Command(_, c) => Some(*c),
+            _ => None,
+        })
+        .collect();
+    // One per table point: the script's refused inputs get Error frames.
+    assert_eq!(commands.len(), state_frames(true), "{replies:?}");
+    let [v_pm, w_pm, v_em, w_em] = twocars::bench::LIMITS;
+    for (c, &[x, y, phi]) in commands.iter().zip(&TABLE_POINTS) {
+        let pursuer = set[0]
+            .pursuer_turn(x, y, phi)
+            .expect("the table plays there");
+        let evader = set[0]
+            .evader_turn(x, y, phi)
+            .expect("the table plays there");
+        assert_eq!(
+            c.pursuer_rate,
+            pursuer * v_pm * w_pm,
+            "{c:?} at {x}, {y}, {phi}"
+        );
+        assert_eq!(
+            c.evader_rate,
+            evader * v_em * w_em,
+            "{c:?} at {x}, {y}, {phi}"
+        );
+    }
+    let served = serve_script(&mut twocars::serial::Line::new(), &out[..n], set);
+    let digest = written
+        .iter()
+        .fold(0u32, |d, &b| d.rotate_left(5) ^ u32::from(b));
+    assert!(served.shutdown);
+    assert_eq!(served.digest, digest);
+}

@@ -287,10 +287,10 @@ fn the_configure_message_selects_the_policy() {
 /// Configures, a Command for each State, four refusals, Counters.
 #[test]
 fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
-    use twocars::bench::main_loop::{script, serve_script, SCRIPT_CAPACITY, STATE_FRAMES};
+    use twocars::bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
     for with_states in [true, false] {
         let mut bytes = [0u8; SCRIPT_CAPACITY];
-        let n = script(with_states, &mut bytes).expect("the script fits its capacity");
+        let n = script(with_states, false, &mut bytes).expect("the script fits its capacity");
         let script = &bytes[..n];
         let mut unit = Unit::<f32>::new();
         let mut written = Vec::new();
@@ -304,7 +304,7 @@ fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
             .into_iter()
             .map(|r| r.expect("valid reply"))
             .collect();
-        let states = if with_states { STATE_FRAMES } else { 0 };
+        let states = if with_states { state_frames(false) } else { 0 };
         assert_eq!(replies.len(), 2 + states + 4 + 2, "{replies:?}");
         let commands = replies
             .iter()
@@ -340,7 +340,7 @@ fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
         let digest = written
             .iter()
             .fold(0u32, |d, &b| d.rotate_left(5) ^ u32::from(b));
-        let served = serve_script(&mut twocars::serial::Line::new(), script);
+        let served = serve_script(&mut twocars::serial::Line::new(), script, &[]);
         let counters = unit.counters();
         assert!(served.shutdown);
         assert_eq!(served.replies as usize, replies.len());

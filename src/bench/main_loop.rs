@@ -9,6 +9,8 @@
 //! then four inputs the unit refuses (an unknown type, a short State, a State with a NaN heading,
 //! a bad CRC), ReadCounters and Shutdown. Without the states it is
 //! the same session less its State frames: the difference of the two is the State frames' cost.
+//! With the tables, one Configure selects the value tables (policy 2) and the states are the
+//! points where the bench reads them ([`TABLE_POINTS`], the pursuer at the origin heading +x).
 
 use crate::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 use crate::num::Scalar;
@@ -16,13 +18,34 @@ use crate::serial::{service, Board, Line, RxFlags, UartRegisters};
 use crate::unit::Unit;
 use crate::wire::{cobs_encode, encode_frame, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME};
 
-use super::{DT, LIMITS, STATES};
+use crate::value_tables::ValueTables;
+
+use super::{DT, LIMITS, STATES, TABLE_POINTS};
 
 /// Bytes the longest script takes, with room to spare.
 pub const SCRIPT_CAPACITY: usize = 2048;
 
-/// State frames in the script with the states: the bench states under each policy.
-pub const STATE_FRAMES: usize = 2 * STATES.len();
+/// State frames in the script with the states: the bench states under each policy, or, with
+/// the tables, the table points.
+pub fn state_frames(tables: bool) -> usize {
+    if tables {
+        TABLE_POINTS.len()
+    } else {
+        2 * STATES.len()
+    }
+}
+
+/// The script's (pursuer, evader) states, m and rad: the bench states, or with the tables
+/// the table points (r_p) with the pursuer at the origin heading +x.
+fn states(tables: bool) -> impl Iterator<Item = ([f32; 3], [f32; 3])> {
+    let r_p = 1.0 / LIMITS[1];
+    let near = TABLE_POINTS
+        .iter()
+        .map(move |&[x, y, phi]| ([0.0; 3], [x * r_p, y * r_p, phi]));
+    let far = STATES.iter().copied();
+    far.filter(move |_| !tables)
+        .chain(near.filter(move |_| tables))
+}
 
 /// A script being written: its frames COBS-encoded one after another into `out`.
 struct Script<'a> {
@@ -76,15 +99,17 @@ impl Script<'_> {
     }
 }
 
-/// The session's script written into `out`, with or without the bench states; its length, or
-/// `None` if `out` is shorter than [`SCRIPT_CAPACITY`] needs.
-pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
+/// The session's script written into `out`, with or without its states, for a unit with or
+/// without the bench's value tables; its length, or `None` if `out` is shorter than
+/// [`SCRIPT_CAPACITY`] needs.
+pub fn script(with_states: bool, tables: bool, out: &mut [u8]) -> Option<usize> {
     let mut script = Script {
         out,
         len: 0,
         sequence: 0,
     };
-    for policy in [0, 1] {
+    let policies: &[u8] = if tables { &[2] } else { &[0, 1] };
+    for &policy in policies {
         let configure = Configure {
             limits: LIMITS,
             dt: DT,
@@ -95,7 +120,7 @@ pub fn script(with_states: bool, out: &mut [u8]) -> Option<usize> {
         };
         script.frame(kind::CONFIGURE, |w| configure.emit(w))?;
         if with_states {
-            for (i, &(pursuer, evader)) in STATES.iter().enumerate() {
+            for (i, (pursuer, evader)) in states(tables).enumerate() {
                 let state = StateMsg {
                     time_ms: 10 * i as u32,
                     pursuer,
@@ -212,22 +237,30 @@ pub struct Outcome {
 /// unit lives in this frame, as in a firmware's `main` (the queues in `line`, a static on a
 /// board); out of line, so that the bench's stack paint sees it.
 #[inline(never)]
-pub fn serve_script(line: &mut Line, script: &[u8]) -> Outcome {
-    serve_script_on::<f32>(line, script)
+pub fn serve_script(
+    line: &mut Line,
+    script: &[u8],
+    tables: &'static [ValueTables<'static>],
+) -> Outcome {
+    serve_script_on::<f32>(line, script, tables)
 }
 
 /// [`serve_script`] with the fixed-point unit (the Cortex-M0 image).
 #[inline(never)]
 pub fn serve_script_fixed(line: &mut Line, script: &[u8]) -> Outcome {
-    serve_script_on::<crate::num::fixed::Fixed>(line, script)
+    serve_script_on::<crate::num::fixed::Fixed>(line, script, &[])
 }
 
-/// [`serve_script`] with the unit on backend `S`.
+/// [`serve_script`] with the unit on backend `S`, with `tables`.
 #[inline(always)]
-pub fn serve_script_on<S: Scalar>(line: &mut Line, script: &[u8]) -> Outcome {
+pub fn serve_script_on<S: Scalar>(
+    line: &mut Line,
+    script: &[u8],
+    tables: &'static [ValueTables<'static>],
+) -> Outcome {
     let (mut interrupt, mut main) = line.split();
     let mut uart = ScriptedUart::new(script);
-    let mut unit = Unit::<S>::new();
+    let mut unit = Unit::<S>::new().with_tables(tables);
     let mut shutdown = false;
     while !shutdown {
         let mut arrived = false;

@@ -14,7 +14,9 @@
 //! scripted UART, with and without the bench states) and prints one `loop` line per session: its
 //! ticks, the loop's stack and a digest of its replies. With `bench-mavlink` it runs the MAVLink
 //! endpoint's serial path over the sessions of `twocars::bench::mavlink` instead; with
-//! `bench-table` it reads the value table `src/bench/table.tcv` at `twocars::bench::TABLE_POINTS`.
+//! `bench-table` it reads the value table `src/bench/table.tcv` at `twocars::bench::TABLE_POINTS`;
+//! with both `bench-loop` and `bench-table`, the serial loop's unit carries that table and its
+//! session plays it.
 #![no_std]
 #![no_main]
 
@@ -158,7 +160,7 @@ fn main() -> ! {
     bench_loop();
     #[cfg(feature = "bench-mavlink")]
     bench_mavlink();
-    #[cfg(feature = "bench-table")]
+    #[cfg(all(feature = "bench-table", not(feature = "bench-loop")))]
     bench_table();
     exit(EXIT_SUCCESS);
     loop {
@@ -208,15 +210,28 @@ fn bench_loop() {
     else {
         return;
     };
+    // With `bench-table` the unit carries the bench's value table, and the script plays it.
+    #[cfg(feature = "bench-table")]
+    let tables = match bench_tables() {
+        Some(set) => core::slice::from_ref(set),
+        None => {
+            hprintln!("the bench table does not parse");
+            return;
+        }
+    };
+    #[cfg(not(feature = "bench-table"))]
+    let tables: &'static [twocars::value_tables::ValueTables<'static>] = &[];
     for with_states in [true, false] {
-        let Some(script) = script(with_states, &mut bytes).and_then(|n| bytes.get(..n)) else {
+        let Some(script) =
+            script(with_states, !tables.is_empty(), &mut bytes).and_then(|n| bytes.get(..n))
+        else {
             hprintln!("script does not fit");
             continue;
         };
         let bottom = paint();
         let start = cortex_m::peripheral::SYST::get_current();
         #[cfg(not(feature = "bench-fixed"))]
-        let session = twocars::bench::main_loop::serve_script(line, black_box(script));
+        let session = twocars::bench::main_loop::serve_script(line, black_box(script), tables);
         #[cfg(feature = "bench-fixed")]
         let session = twocars::bench::main_loop::serve_script_fixed(line, black_box(script));
         let ticks = ticks_since(start);
@@ -276,22 +291,20 @@ fn bench_mavlink() {
 /// `table <i> <ticks> <empty ticks> <stack bytes> <value bits> <turn>`, the value table of
 /// `src/bench/table.tcv` read (V and the pursuer's optimal turn) against the same call that
 /// reads nothing.
-#[cfg(feature = "bench-table")]
+#[cfg(all(feature = "bench-table", not(feature = "bench-loop")))]
 fn bench_table() {
-    use twocars::value_tables::ValueTables;
-    static TABLE: &[u8] = include_bytes!("../bench/table.tcv");
-    let Ok(table) = ValueTables::parse(black_box(TABLE)) else {
+    let Some(table) = bench_tables() else {
         hprintln!("the bench table does not parse");
         return;
     };
     for (i, &point) in twocars::bench::TABLE_POINTS.iter().enumerate() {
         let start = cortex_m::peripheral::SYST::get_current();
-        let empty = read_nothing(black_box(&table), black_box(point));
+        let empty = read_nothing(black_box(table), black_box(point));
         let empty_ticks = ticks_since(start);
         black_box(empty);
         let bottom = paint();
         let start = cortex_m::peripheral::SYST::get_current();
-        let (value, turn) = read_table(black_box(&table), black_box(point));
+        let (value, turn) = read_table(black_box(table), black_box(point));
         let ticks = ticks_since(start);
         let stack = used(bottom);
         hprintln!(
@@ -306,8 +319,18 @@ fn bench_table() {
     }
 }
 
-/// The timed region: V and the pursuer's optimal turn at `point` (r_p, r_p, rad).
+/// The value table of `src/bench/table.tcv`, parsed once into a static; `None` if it does not
+/// parse (or on a second call).
 #[cfg(feature = "bench-table")]
+fn bench_tables() -> Option<&'static twocars::value_tables::ValueTables<'static>> {
+    use twocars::value_tables::ValueTables;
+    static TABLE: &[u8] = include_bytes!("../bench/table.tcv");
+    let table = ValueTables::parse(black_box(TABLE)).ok()?;
+    cortex_m::singleton!(: ValueTables<'static> = table).map(|t| &*t)
+}
+
+/// The timed region: V and the pursuer's optimal turn at `point` (r_p, r_p, rad).
+#[cfg(all(feature = "bench-table", not(feature = "bench-loop")))]
 #[inline(never)]
 fn read_table(table: &twocars::value_tables::ValueTables<'_>, [x, y, phi]: [f32; 3]) -> (f32, f32) {
     (
@@ -317,7 +340,7 @@ fn read_table(table: &twocars::value_tables::ValueTables<'_>, [x, y, phi]: [f32;
 }
 
 /// The same call reading nothing: its ticks are the call overhead.
-#[cfg(feature = "bench-table")]
+#[cfg(all(feature = "bench-table", not(feature = "bench-loop")))]
 #[inline(never)]
 fn read_nothing(table: &twocars::value_tables::ValueTables<'_>, point: [f32; 3]) -> (f32, f32) {
     black_box((table, point));

@@ -157,11 +157,14 @@ pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
     .map_err(|e| format!("bench build for {} ({all_features}) failed: {e}", cpu.name))
 }
 
-/// The session of `twocars::bench::main_loop` served on the host.
-fn host_session<S: Scalar>(with_states: bool) -> Result<Outcome, String> {
+/// The session of `twocars::bench::main_loop` served on the host, by a unit with `tables`.
+fn host_session<S: Scalar>(
+    with_states: bool,
+    tables: &'static [twocars::value_tables::ValueTables<'static>],
+) -> Result<Outcome, String> {
     let mut bytes = [0u8; SCRIPT_CAPACITY];
-    let n = script(with_states, &mut bytes).ok_or("the script does not fit")?;
-    let outcome = serve_script_on::<S>(&mut twocars::serial::Line::new(), &bytes[..n]);
+    let n = script(with_states, !tables.is_empty(), &mut bytes).ok_or("the script does not fit")?;
+    let outcome = serve_script_on::<S>(&mut twocars::serial::Line::new(), &bytes[..n], tables);
     if !outcome.shutdown {
         return Err("the host's session ended without its Shutdown".to_string());
     }
@@ -192,6 +195,17 @@ pub enum LoopImage {
     M4fFloat,
     /// micro:bit, Q17.14.
     M0Fixed,
+    /// mps2-an386, f32, the unit with the bench's value table (`bench-table`): the session
+    /// plays it at the table points.
+    M4fTables,
+}
+
+/// The bench's value table (`src/bench/table.tcv`), as the `bench-table` image carries it.
+fn bench_tables() -> Result<&'static [twocars::value_tables::ValueTables<'static>], String> {
+    static TABLE: &[u8] = include_bytes!("../../src/bench/table.tcv");
+    let set = twocars::value_tables::ValueTables::parse(TABLE)
+        .map_err(|e| format!("src/bench/table.tcv: {e:?}"))?;
+    Ok(Box::leak(Box::new([set])))
 }
 
 /// Runs the serial loop's bench session on `image`'s CPU; an error where its replies, their
@@ -200,7 +214,9 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
     let (cpu, features) = match image {
         LoopImage::M4fFloat => (M4F, "bench-loop"),
         LoopImage::M0Fixed => (M0, "bench-loop,bench-fixed"),
+        LoopImage::M4fTables => (M4F, "bench-loop,bench-table"),
     };
+    let tables = image == LoopImage::M4fTables;
     let (out, _) = build_and_print(cpu, features)?;
     let mut ticks = [None, None];
     let mut stack = 0;
@@ -221,8 +237,9 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
             refused: x.parse().map_err(|_| bad())?,
         };
         let want = match image {
-            LoopImage::M4fFloat => host_session::<f32>(with_states)?,
-            LoopImage::M0Fixed => host_session::<Fixed>(with_states)?,
+            LoopImage::M4fFloat => host_session::<f32>(with_states, &[])?,
+            LoopImage::M0Fixed => host_session::<Fixed>(with_states, &[])?,
+            LoopImage::M4fTables => host_session::<f32>(with_states, bench_tables()?)?,
         };
         if got != want {
             return Err(format!(
@@ -245,7 +262,7 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
     Ok(LoopMeasured {
         per_state: (with - without)
             / per_instruction
-            / twocars::bench::main_loop::STATE_FRAMES as f64,
+            / twocars::bench::main_loop::state_frames(tables) as f64,
         rest: without / per_instruction,
         stack,
         replies,
@@ -486,6 +503,28 @@ pub fn run() -> i32 {
             ok = false;
         }
     }
+    match measure_loop(LoopImage::M4fTables) {
+        Ok(l) => {
+            let _ = writeln!(
+                md,
+                "Main loop with the value tables (Cortex-M4F, f32; `bench-loop,bench-table`: the \
+                 unit carries `src/bench/table.tcv` and one Configure selects it, policy 2; the \
+                 {} table points of the bench below as State frames, the pursuer at the origin, \
+                 so that both players' turns are read from the table, {} replies, all equal to \
+                 the host's): **{:.0} instructions per State frame** (the session without its \
+                 State frames: {:.0}); **stack {} B**.\n",
+                twocars::bench::main_loop::state_frames(true),
+                l.replies,
+                l.per_state,
+                l.rest,
+                l.stack
+            );
+        }
+        Err(e) => {
+            eprintln!("xtask bench: {e}");
+            ok = false;
+        }
+    }
     for paragraph in [
         crate::bench_mavlink::measure().map(|m| crate::bench_mavlink::paragraph(&m)),
         crate::bench_table::measure().map(|m| crate::bench_table::paragraph(&m)),
@@ -523,14 +562,23 @@ pub fn run() -> i32 {
 }
 
 fn firmware_sizes() -> String {
-    let mut s = String::from("| firmware image | flash | static RAM |\n|---|---|---|\n");
+    let mut s = String::from(
+        "| firmware image | flash | of the board's flash | static RAM |\n|---|---|---|---|\n",
+    );
     for board in qemu::Board::ALL {
         match qemu::build_checked(board) {
             Ok((elf, size)) => {
                 let name = elf
                     .file_name()
                     .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-                let _ = writeln!(s, "| {name} | {} B | {} B |", size.flash(), size.ram());
+                let _ = writeln!(
+                    s,
+                    "| {name} | {} B | {:.1} % of {} KiB | {} B |",
+                    size.flash(),
+                    100.0 * size.flash() as f64 / board.flash_bytes() as f64,
+                    board.flash_bytes() >> 10,
+                    size.ram()
+                );
             }
             Err(e) => {
                 let _ = writeln!(s, "| {board:?} | build failed: {e} | |");

@@ -45,9 +45,9 @@ pub struct HjArgs {
     /// counts as never captured.
     #[arg(long)]
     paper_boundary: bool,
-    /// Instead of the validation: solve the paper's near field and play this many seeded
+    /// Instead of the validation: solve the near field of `--limits` and play this many seeded
     /// starts below the threshold per evader of the adversary suite, the table's pursuer
-    /// beside the flight policy (`--limits`, `--eps`, `--half`, `--nodes` do not apply).
+    /// beside the flight policy (`--eps`, `--half`, `--nodes` do not apply).
     #[arg(long)]
     play: Option<usize>,
     /// Instead of the validation: solve the near field of `--limits` on `--levels`, capture
@@ -63,13 +63,6 @@ pub struct HjArgs {
     /// box in r_p, relative headings); default the near field's three.
     #[arg(long, value_parser = level, value_delimiter = ',')]
     levels: Vec<Grid>,
-}
-
-/// The paper's game over its near field, as `cargo xtask plot` draws it and `--play` plays it,
-/// as nested tables on `levels`, coarsest first; returned finest first, with how
-/// ([`near_field`]).
-pub(crate) fn paper_near_field(levels: &[Grid]) -> (Vec<Solution>, String) {
-    near_field(host_tests::scenarios::PAPER_LIMITS, levels)
 }
 
 /// The game of `limits` (v_pm, w_pm, v_em, w_em) over its near field as nested tables
@@ -104,44 +97,43 @@ pub(crate) fn near_field(limits: [f64; 4], levels: &[Grid]) -> (Vec<Solution>, S
     (tables, how)
 }
 
-/// The nested tables an image carries per pair of ratios, coarsest first: the near field's
-/// three at 499,308 B, within the play's bar at the paper's limits (docs/near-field.md, "Tables
-/// that fit in flash").
-pub(crate) const FLASH_LEVELS: [Grid; 3] = [
-    Grid {
-        n: 61,
-        half: 30.0,
-        headings: 24,
+/// A set of nested tables an image carries: the limits (v_pm, w_pm, v_em, w_em) whose ratios it
+/// serves, and its levels, coarsest first.
+pub(crate) struct FlashSet {
+    pub limits: [f64; 4],
+    pub levels: [Grid; 3],
+}
+
+const fn grid(n: usize, half: f64, headings: usize) -> Grid {
+    Grid { n, half, headings }
+}
+
+/// The sets the tables images carry (docs/near-field.md, "The tables in flash"): the paper's
+/// ratios (v_em / v_pm = 0.5, r_e / r_p = 2) on the levels chosen to fit the STM32F405
+/// (499,308 B; "Tables that fit in flash"), and a faster, tighter-turning evader's (0.6 and
+/// 5 / 3, threshold 20.8 r_p), whose outer table needs 0.75 r_p per cell to keep the play's
+/// worst run within 10 % (567,948 B; 1 r_p per cell: +10.6 %).
+pub(crate) static FLASH_SETS: [FlashSet; 2] = [
+    FlashSet {
+        limits: host_tests::scenarios::PAPER_LIMITS,
+        levels: [grid(61, 30.0, 24), grid(61, 6.0, 36), grid(61, 3.0, 72)],
     },
-    Grid {
-        n: 61,
-        half: 6.0,
-        headings: 36,
-    },
-    Grid {
-        n: 61,
-        half: 3.0,
-        headings: 72,
+    FlashSet {
+        limits: [2.0, 2.0, 1.2, 1.2],
+        levels: [grid(81, 30.0, 24), grid(61, 6.0, 36), grid(61, 3.0, 72)],
     },
 ];
 
-/// The limits (v_pm, w_pm, v_em, w_em) whose ratios the tables images carry sets for: the
-/// paper's (v_em / v_pm = 0.5, r_e / r_p = 2), and a faster, tighter-turning evader (0.6 and
-/// 5 / 3, threshold 20.8 r_p).
-pub(crate) const FLASH_LIMITS: [[f64; 4]; 2] =
-    [host_tests::scenarios::PAPER_LIMITS, [2.0, 2.0, 1.2, 1.2]];
-
-/// The value-table sets of `limits` on [`FLASH_LEVELS`], written to `target/value-tables/`
-/// (rewritten only where the bytes changed, so an image is not rebuilt for nothing); their
-/// paths.
-pub(crate) fn flash_sets(limits: &[[f64; 4]]) -> Result<Vec<std::path::PathBuf>, String> {
+/// The files of `sets`, solved (or read from the cache) and written to `target/value-tables/`
+/// (rewritten only where the bytes changed, so an image is not rebuilt for nothing).
+pub(crate) fn flash_sets(sets: &[FlashSet]) -> Result<Vec<std::path::PathBuf>, String> {
     let dir = crate::qemu::root().join("target/value-tables");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths = Vec::new();
-    for &limits in limits {
-        let (tables, how) = near_field(limits, &FLASH_LEVELS);
+    for set in sets {
+        let (tables, how) = near_field(set.limits, &set.levels);
         let bytes = host_tests::hj::table_set_bytes(&tables);
-        let [v_pm, w_pm, v_em, w_em] = limits;
+        let [v_pm, w_pm, v_em, w_em] = set.limits;
         let path = dir.join(format!("{v_pm}-{w_pm}-{v_em}-{w_em}.tcv"));
         if std::fs::read(&path).ok().as_deref() != Some(bytes.as_slice()) {
             std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -393,7 +385,7 @@ pub fn command(args: &HjArgs) -> i32 {
         args.levels.clone()
     };
     if let Some(runs) = args.play {
-        return crate::hj_play::command(runs, args.seed, &levels);
+        return crate::hj_play::command(runs, args.seed, &levels, args.limits);
     }
     if let Some(path) = &args.set {
         return write_set(path, args.limits, &levels);

@@ -1,7 +1,7 @@
 //! `cargo xtask hj --play RUNS`: the value tables' pursuer (issue 30, on the host) against
 //! every evader of the adversary suite, from seeded starts below the theorem's threshold at the
-//! paper's limits, beside the flight policy. The tables are the paper's near field
-//! ([`crate::hj::paper_near_field`], `--levels`); their pursuer takes the turn whose worst case
+//! paper's limits (or `--limits`), beside the flight policy. The tables are the limits' near
+//! field ([`crate::hj::near_field`], `--levels`); their pursuer takes the turn whose worst case
 //! one step ahead has the least V (`host_tests::hj_policy`), the paper's law beyond the
 //! threshold. The last row's evader plays the reference tables (its turn whose best case for
 //! the pursuer one step ahead has the largest V), where both players play V's game. The runs
@@ -14,8 +14,9 @@ use host_tests::adversary::{EvaderKind, Opponent};
 use host_tests::hj::{table_set_bytes, Solution};
 use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative, value};
 use host_tests::rng::Rng;
-use host_tests::scenarios::PAPER_LIMITS;
-use host_tests::sim::{simulate_with_turns, SimParams, SimResult, SimStatus, Turn};
+use host_tests::sim::{
+    simulate_with_turns, theorem_threshold, SimParams, SimResult, SimStatus, Turn,
+};
 use rayon::prelude::*;
 use twocars::value_tables::ValueTables;
 use twocars::{Policy, Variant};
@@ -47,15 +48,20 @@ impl Play {
     }
 }
 
-/// The tables' V(x0) (s), from the finest that plays there.
-fn table_value(tables: &[Solution], pursuer: [f64; 3], evader: [f64; 3]) -> Option<f64> {
-    let [v_pm, w_pm, ..] = PAPER_LIMITS;
+/// The tables' V(x0) (s) at `limits`, from the finest that plays there.
+fn table_value(
+    tables: &[Solution],
+    limits: [f64; 4],
+    pursuer: [f64; 3],
+    evader: [f64; 3],
+) -> Option<f64> {
+    let [v_pm, w_pm, ..] = limits;
     value(tables, relative(w_pm, pursuer, evader)).map(|v| v / (w_pm * v_pm))
 }
 
-/// The table's capture radius, m: the runs capture at the radius V was solved for.
-fn capture_radius(tables: &[Solution]) -> f64 {
-    tables[0].game.eps / PAPER_LIMITS[1]
+/// The table's capture radius at `limits`, m: the runs capture at the radius V was solved for.
+fn capture_radius(tables: &[Solution], limits: [f64; 4]) -> f64 {
+    tables[0].game.eps / limits[1]
 }
 
 /// Who plays the evader: one of the adversary suite, or the table's own evader (the turn whose
@@ -75,9 +81,10 @@ impl Evader {
     }
 }
 
-/// `runs` seeded starts below the threshold (those the reference tables capture from) against
-/// `evader`, the pursuer playing `tables`.
+/// `runs` seeded starts below the threshold of `limits` (those the reference tables capture
+/// from) against `evader`, the pursuer playing `tables`.
 fn play(
+    limits: [f64; 4],
     reference: &[Solution],
     tables: &[Solution],
     firmware: &'static ValueTables<'static>,
@@ -93,11 +100,21 @@ fn play(
         if regime != Regime::Near {
             continue;
         }
-        if let Some(v0) = table_value(reference, params.pursuer, params.evader) {
+        // The start drawn at the paper's limits, its distance scaled to the threshold of
+        // `limits`: the same seeded starts, in units of the threshold (and, at the paper's
+        // limits, the very same).
+        let scale = theorem_threshold(limits) / theorem_threshold(params.limits);
+        let [x, y, theta] = params.evader;
+        let params = SimParams {
+            limits,
+            evader: [x * scale, y * scale, theta],
+            ..params
+        };
+        if let Some(v0) = table_value(reference, limits, params.pursuer, params.evader) {
             starts.push((params, v0, adversary_seed));
         }
     }
-    let [_, w_pm, _, w_em] = PAPER_LIMITS;
+    let [_, w_pm, _, w_em] = limits;
     let table_evader = |p, e| evader_curvature(reference, [w_pm, w_em], p, e);
     let no_turn = |_, _| None;
     starts
@@ -105,7 +122,7 @@ fn play(
         .map(|(params, v0, adversary_seed)| {
             let params = SimParams {
                 t_max: 3.0 * v0 + 30.0,
-                eps: capture_radius(reference),
+                eps: capture_radius(reference, limits),
                 ..params
             };
             // The table's evader overrides the law's evader wherever the table has a turn.
@@ -153,14 +170,14 @@ fn percent(v: f64) -> String {
     }
 }
 
-/// Solves the paper's near field, plays `runs` starts per evader, prints the table; the exit
-/// code is 0 (the figures are a measurement, not a test).
-pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid]) -> i32 {
-    let (reference, reference_how) = crate::hj::paper_near_field(&crate::hj::NEAR_FIELD);
+/// Solves the near field of `limits`, plays `runs` starts per evader, prints the table; the
+/// exit code is 0 (the figures are a measurement, not a test).
+pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid], limits: [f64; 4]) -> i32 {
+    let (reference, reference_how) = crate::hj::near_field(limits, &crate::hj::NEAR_FIELD);
     let (tables, how) = if levels == crate::hj::NEAR_FIELD {
         (reference.clone(), reference_how.clone())
     } else {
-        crate::hj::paper_near_field(levels)
+        crate::hj::near_field(limits, levels)
     };
     // The firmware's reader of the same tables, quantised as they are written to flash.
     let bytes: &'static [u8] = Box::leak(table_set_bytes(&tables).into_boxed_slice());
@@ -186,8 +203,8 @@ pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid]) -> i32 {
         grids.join(" in ")
     };
     println!(
-        "Paper's limits, dt = {DT} s, eps = {} m (the tables'); the pursuer's tables {} ({how}); V(x0) and the tables' evader from {} ({reference_how}). {runs} seeded starts per evader below the threshold (seed {seed}), those the tables capture from.\n",
-        capture_radius(&tables),
+        "Limits {limits:?}, dt = {DT} s, eps = {} m (the tables'); the pursuer's tables {} ({how}); V(x0) and the tables' evader from {} ({reference_how}). {runs} seeded starts per evader below the threshold (seed {seed}), those the tables capture from.\n",
+        capture_radius(&tables, limits),
         grids(&tables),
         grids(&reference),
     );
@@ -201,6 +218,7 @@ pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid]) -> i32 {
         .chain([Evader::Table]);
     for (k, evader) in evaders.enumerate() {
         let plays = play(
+            limits,
             &reference,
             &tables,
             firmware,

@@ -84,12 +84,12 @@ impl Board {
             Board::Stm32f405Tables => "board-stm32f405,tables-in-flash",
         }
     }
-    /// The limits (v_pm, w_pm, v_em, w_em) of the value-table sets the image carries, one set
-    /// per pair of ratios (`crate::hj::flash_sets`).
-    pub fn table_limits(self) -> &'static [[f64; 4]] {
+    /// The value-table sets the image carries, one per pair of ratios (`crate::hj::flash_sets`):
+    /// both of [`crate::hj::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
+    pub fn table_sets(self) -> &'static [crate::hj::FlashSet] {
         match self {
-            Board::QemuTables => &crate::hj::FLASH_LIMITS,
-            Board::Stm32f405Tables => &[host_tests::scenarios::PAPER_LIMITS],
+            Board::QemuTables => &crate::hj::FLASH_SETS,
+            Board::Stm32f405Tables => &crate::hj::FLASH_SETS[..1],
             _ => &[],
         }
     }
@@ -116,6 +116,16 @@ impl Board {
             Board::Rp2040 => "firmware-rp2040,panic-never",
             Board::QemuTables => "board-qemu,tables-in-flash,panic-never",
             Board::Stm32f405Tables => "board-stm32f405,tables-in-flash,panic-never",
+        }
+    }
+    /// Flash of the board's memory map (its `src/board/*.x`), bytes.
+    pub fn flash_bytes(self) -> u64 {
+        match self {
+            Board::Qemu | Board::QemuMavlink | Board::QemuTables => 4 << 20,
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => 1 << 20,
+            Board::Microbit => 256 << 10,
+            // Less the 256-byte second-stage bootloader.
+            Board::Rp2040 => (2 << 20) - 0x100,
         }
     }
     /// Flash origin of the board's memory map: where the vector table must be.
@@ -162,14 +172,14 @@ pub fn prove_panic_free(board: Board) -> Result<PathBuf, String> {
 }
 
 fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
-    let limits = board.table_limits();
-    if limits.is_empty() {
+    let sets = board.table_sets();
+    if sets.is_empty() {
         return build_image(board.target(), features, board.bin(), Stdio::inherit(), &[])
             .map_err(|e| format!("firmware build for {board:?} failed ({e})"));
     }
     // The same binary with its sets in flash, kept beside the one without as `<bin>-tables`.
-    let sets = crate::hj::flash_sets(limits)?;
-    let paths = std::env::join_paths(&sets).map_err(|e| e.to_string())?;
+    let files = crate::hj::flash_sets(sets)?;
+    let paths = std::env::join_paths(&files).map_err(|e| e.to_string())?;
     let elf = build_image(
         board.target(),
         features,

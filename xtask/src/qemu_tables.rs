@@ -1,5 +1,5 @@
 //! The value tables in flash, tested in QEMU (issue 30; part of `cargo xtask test`): the
-//! `qemu-tables` image carries a set per pair of ratios ([`crate::hj::FLASH_LIMITS`]); its
+//! `qemu-tables` image carries a set per pair of ratios ([`crate::hj::FLASH_SETS`]); its
 //! Configure selects the set of the limits' ratios and says so; and below the theorem's
 //! threshold it captures every evader of the adversary suite, and the tables' own evader, as
 //! the same unit on the host does, within the issue's bar over V(x0).
@@ -29,7 +29,7 @@ const BAR: (f64, f64) = (0.05, 0.10);
 /// The sets the image carries, read from the files it was built with.
 fn image_sets() -> Result<&'static [ValueTables<'static>], String> {
     let mut sets = Vec::new();
-    for path in crate::hj::flash_sets(Board::QemuTables.table_limits())? {
+    for path in crate::hj::flash_sets(Board::QemuTables.table_sets())? {
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
         sets.push(ValueTables::parse(bytes).map_err(|e| format!("{}: {e:?}", path.display()))?);
@@ -59,9 +59,9 @@ fn configure_selects_each_set(elf: &std::path::Path) -> Result<String, String> {
     let mut q = Qemu::start(elf, Board::QemuTables, false)?;
     let mut got = Vec::new();
     let other = [2.0, 2.0, 1.2, 1.0];
-    let cases = crate::hj::FLASH_LIMITS
-        .map(|l| (l.map(|v| v as f32), 2))
-        .into_iter()
+    let cases = crate::hj::FLASH_SETS
+        .iter()
+        .map(|set| (set.limits.map(|v| v as f32), 2))
         .chain([(other, 1)]);
     for (k, (limits, want)) in cases.enumerate() {
         let policy = ack(&mut q, k as u16 + 1, limits, 2)?;
@@ -120,7 +120,7 @@ fn suite_below_the_threshold(elf: &std::path::Path) -> Result<String, String> {
     let mut over = Vec::new();
     let mut largest_diff = 0.0_f64;
     let evaders = EvaderKind::ALL.map(Some).into_iter().chain([None]);
-    for (limits, set) in crate::hj::FLASH_LIMITS.iter().zip(sets) {
+    for (limits, set) in crate::hj::FLASH_SETS.iter().map(|s| &s.limits).zip(sets) {
         for (k, evader) in evaders.clone().enumerate() {
             // The tables' own evader: the firmware plays both players.
             let roles = match evader {

@@ -194,7 +194,7 @@ pub fn run() -> i32 {
     let tables = if ok {
         println!("== xtask test: the value tables of the tables images");
         let sets = timed("the value tables", || {
-            crate::hj::flash_sets(crate::qemu::Board::QemuTables.table_limits())
+            crate::hj::flash_sets(crate::qemu::Board::QemuTables.table_sets())
         });
         match sets.map(|paths| std::env::join_paths(paths).map_err(|e| e.to_string())) {
             Ok(Ok(joined)) => joined.to_string_lossy().into_owned(),
