@@ -14,8 +14,11 @@
 //! j >= c = (n - 1) / 2 at `(k (n - c) + j - c) n + i`, x = -half + i h, y = -half + j h,
 //! phi = -pi + 2 pi k / headings. A row y < 0 is its mirror's: V(x, y, phi) = V(x, -y, -phi),
 //! node (i, n - 1 - j, (headings - k) mod headings). Code [`NEVER`]: capture within the box was
-//! not found there. A node inside the capture disc is not read: its value is r - eps, minus its
-//! depth (as the solver keeps it), so that V's zero lies on the disc's edge.
+//! not found there. A node inside the capture disc with code 0 is not read: its value is
+//! r - eps, minus its depth (as the solver keeps it behind the usable part of the disc's edge),
+//! so that V's zero lies on the edge; one with another code is read as any node (behind the
+//! rest of the edge, where V jumps, the solver keeps V one cell outside). Tables of session
+//! 41, with code 0 at every node in the disc, read as they did.
 //!
 //! Reads are bounds-checked and allocation-free; a malformed table is refused by
 //! [`ValueTable::parse`], never read.
@@ -199,8 +202,8 @@ impl<'a> ValueTable<'a> {
     }
 
     /// V at node i of row j (r_p / v_pm), its codes starting at `row`: its code, or, if
-    /// `near_disc`, in the capture disc minus its depth; `None` for a node from which capture
-    /// was not found.
+    /// `near_disc`, in the capture disc with code 0, minus its depth; `None` for a node from
+    /// which capture was not found.
     fn node(&self, i: usize, j: usize, row: usize, near_disc: bool) -> Option<f32> {
         if near_disc {
             let (x, y) = (
@@ -209,8 +212,14 @@ impl<'a> ValueTable<'a> {
             );
             let r2 = x * x + y * y;
             // The solver's margin: a node on the disc's edge is inside whatever its rounding.
+            // Code 0 there: behind the disc's usable edge, minus the node's depth; any other
+            // code is the value behind the rest of the edge (V one cell outside).
             if r2 <= self.eps * self.eps * (1.0 + 1e-6) {
-                return Some(libm::sqrtf(r2) - self.eps);
+                return match u16_at(self.codes, 2 * (row + i))? {
+                    0 => Some(libm::sqrtf(r2) - self.eps),
+                    NEVER => None,
+                    code => Some(f32::from(code) * self.scale),
+                };
             }
         }
         match u16_at(self.codes, 2 * (row + i)) {

@@ -17,7 +17,11 @@
 //! V = max(0, min over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step
 //! ([`Step`]), V interpolated trilinearly (periodic in phi), starting from V = [`NEVER`]: after
 //! k sweeps V is below it where capture within about k tau is guaranteed. Nodes in the disc
-//! keep minus their depth, r - eps ([`disc_value`]), so that V's zero lies on the disc's edge.
+//! behind the usable part of its edge (where the pursuer can force the distance down,
+//! [`usable`]) keep minus their depth, r - eps ([`disc_value`]), so that V's zero lies on the
+//! edge; behind the rest of the edge, where V jumps (an evader there slips past), each sweep
+//! sets them to V two cells outside on their ray, so that the jump is not smeared toward zero
+//! (on grids that resolve the disc, about five cells or more across its radius).
 //! The pursuer turns fully either way or runs straight (u in {-1, 0, 1}); the evader turns
 //! fully either way or runs straight at full speed, or stands still
 //! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary
@@ -182,7 +186,8 @@ impl Solution {
         let kept = rows.flat_map(|(j, k)| (0..n).map(move |i| self.grid.index(i, j, k)));
         for v in kept.map(|index| self.values[index]) {
             let code = if v <= cap {
-                // Nodes in the disc (V = r - eps < 0) are not read: code 0.
+                // Nodes in the disc behind its usable edge (V = r - eps < 0): code 0, read
+                // as r - eps; behind the rest, their V one cell outside.
                 (v.max(0.0) / f64::from(scale as f32))
                     .round()
                     .min(f64::from(NEVER_CODE - 1)) as u16
@@ -304,6 +309,18 @@ impl Step {
     }
 }
 
+/// Whether the disc's edge in the direction of `(x, y)` is usable with relative heading `phi`:
+/// there the distance falls whatever the evader does. Its rate is
+/// (a (x cos phi + y sin phi) - x) / r at full speed and -x / r standing still, the turns aside
+/// (they turn the frame), so
+/// the edge is usable where x > 0 and a (x cos phi + y sin phi) < x, by a margin of 1e-9 r_p
+/// per unit time: a node where the rate is zero to rounding (as at (0.2, 0.4, pi / 2) with
+/// a = 1/2) reads the same as its mirror image. The disc's centre counts as usable.
+pub fn usable(game: &Game, x: f64, y: f64, phi: f64) -> bool {
+    let (s, c) = phi.sin_cos();
+    (x == 0.0 && y == 0.0) || (x > 0.0 && game.speed_ratio * (x * c + y * s) - x < -1e-9)
+}
+
 /// The value the solver keeps at a node inside the capture disc: minus its depth, r - eps
 /// (r_p, a time at unit closing speed). Interpolated with the nodes outside, it puts V's zero
 /// on the disc's edge instead of smearing the edge over a cell.
@@ -360,6 +377,10 @@ pub fn solve_with_boundary(
         .map(|&u| evader.map(|(speed, w)| Step::new(speed, tau, u, w)))
         .collect();
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
+    // The jump behind the disc's non-usable edge is kept only where the grid resolves the disc
+    // (its radius about five cells or more): on a 0.3 r_p grid with eps = 0.3 r_p the tail
+    // chase's V at 1 r_p doubled, the disc's few nodes feeding each other's values.
+    let resolved = game.eps > 4.5 * grid.spacing();
     // The boundary's values, fixed: the steps that leave the box do not depend on V.
     let exits: std::collections::HashMap<(usize, usize, usize), f64> = (0..grid.len())
         .into_par_iter()
@@ -394,7 +415,14 @@ pub fn solve_with_boundary(
                 let i = index % grid.n;
                 let j = index / grid.n % grid.n;
                 if captured(i, j) {
-                    return old[index];
+                    let (x, y, phi, ..) = node(index);
+                    if !resolved || usable(&game, x, y, phi) {
+                        return old[index];
+                    }
+                    // Behind a non-usable edge: V two cells outside on the node's ray, where
+                    // no corner of its cell is in the disc.
+                    let out = (game.eps + 2.0 * grid.spacing()) / x.hypot(y);
+                    return interpolate(&grid, old, x * out, y * out, phi).min(NEVER);
                 }
                 let at = node(index);
                 steps

@@ -315,3 +315,89 @@ fn the_committed_bench_table_is_the_solvers() {
         assert!(table.value(x, y, phi).is_some() && table.pursuer_turn(x, y, phi).is_some());
     }
 }
+
+/// On a grid that resolves the capture disc (its radius five cells), the nodes in the disc keep
+/// minus their depth behind the usable part of its edge (`hj::usable`, itself checked against
+/// exact steps off the edge) and V two cells outside behind the rest, and the firmware reads
+/// the values around the disc as the solver wrote them, within half a code.
+#[test]
+fn behind_the_non_usable_edge_the_disc_keeps_the_value_outside() {
+    use host_tests::hj::usable;
+    let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 0.5);
+    let pi = std::f64::consts::PI;
+    let mut rng = Rng::new(42);
+    // The usable edge: the distance falls under every evader control, whatever the turn.
+    let mut checked = 0;
+    for _ in 0..2_000 {
+        let (bearing, phi) = (rng.uniform(-pi, pi), rng.uniform(-pi, pi));
+        let (x, y) = (game.eps * bearing.cos(), game.eps * bearing.sin());
+        let rate = game.speed_ratio * (x * phi.cos() + y * phi.sin()) - x;
+        if rate.abs() < 1e-2 {
+            continue;
+        }
+        let (s, c) = phi.sin_cos();
+        let falls = [-1.0, 0.0, 1.0].iter().all(|&u| {
+            game.evader_controls().iter().all(|&(a, w)| {
+                let (nx, ny, _) = Step::new(a, 1e-4, u, w).from((x, y, phi, s, c));
+                nx.hypot(ny) < game.eps
+            })
+        });
+        assert_eq!(usable(&game, x, y, phi), falls, "({x}, {y}, {phi})");
+        checked += 1;
+    }
+    assert!(checked > 1_500);
+    let grid = Grid {
+        n: 41,
+        half: 2.0,
+        headings: 24,
+    };
+    let s = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {});
+    let h = grid.spacing();
+    let (mut depth, mut kept) = (0, 0);
+    for i in 0..grid.n {
+        for j in 0..grid.n {
+            let (x, y) = (-grid.half + i as f64 * h, -grid.half + j as f64 * h);
+            if x.hypot(y) > game.eps || (x == 0.0 && y == 0.0) {
+                continue;
+            }
+            for k in 0..grid.headings {
+                let phi = -pi + k as f64 * std::f64::consts::TAU / grid.headings as f64;
+                let v = s.value(x, y, phi);
+                if usable(&game, x, y, phi) {
+                    let want = x.hypot(y) - game.eps;
+                    assert!((v - want).abs() < 1e-9, "({x}, {y}, {phi}): {v} vs {want}");
+                    depth += 1;
+                } else {
+                    let out = (game.eps + 2.0 * h) / x.hypot(y);
+                    let outside = s.value(x * out, y * out, phi);
+                    assert!(
+                        (v - outside).abs() < 1e-5,
+                        "({x}, {y}, {phi}): {v} vs {outside}"
+                    );
+                    assert!(v > 0.0, "({x}, {y}, {phi}): {v}");
+                    kept += 1;
+                }
+            }
+        }
+    }
+    assert!(depth > 500 && kept > 500, "{depth} depths, {kept} kept");
+    let bytes = s.table_bytes();
+    let table = ValueTable::parse(&bytes).unwrap();
+    let scale = f64::from(table.scale);
+    let mut compared = 0;
+    for _ in 0..5_000 {
+        let r = game.eps + rng.uniform(0.0, 2.0 * h);
+        let bearing = rng.uniform(-pi, pi);
+        let (x, y, phi) = (r * bearing.cos(), r * bearing.sin(), rng.uniform(-pi, pi));
+        let want = s.value(x, y, phi);
+        if let Some(got) = table.value(x as f32, y as f32, phi as f32) {
+            assert!(
+                (f64::from(got) - want).abs() <= 0.5 * scale + 1e-5 * want.abs(),
+                "({x}, {y}, {phi}): table {got}, solver {want}"
+            );
+            compared += 1;
+        }
+    }
+    // The others are next to states from which capture within the box was not found.
+    assert!(compared > 1_000, "{compared} compared");
+}
