@@ -241,7 +241,8 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
         ..paper
     };
     assert_eq!(ack(&mut Unit::new(), &paper), Some(1));
-    let mut unit = Unit::new().with_tables(std::slice::from_ref(set));
+    let mut unit = Unit::new();
+    unit.set_tables(std::slice::from_ref(set));
     assert_eq!(ack(&mut unit, &faster_evader), Some(1));
     for policy in [0, 1] {
         assert_eq!(ack(&mut unit, &Configure { policy, ..paper }), Some(policy));
@@ -252,7 +253,8 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
     let other: &'static ValueTables<'static> =
         Box::leak(Box::new(tables_of([2.0, 2.0, 1.2, 1.0]).1));
     let both: &'static [ValueTables<'static>] = Box::leak(Box::new([*other, *set]));
-    let mut two = Unit::new().with_tables(both);
+    let mut two = Unit::new();
+    two.set_tables(both);
     for (configure, set) in [(&faster_evader, other), (&paper, set)] {
         assert_eq!(ack(&mut two, configure), Some(2));
         assert_eq!(rate(&mut two), turn_rate(set));
@@ -275,7 +277,8 @@ fn the_bench_session_with_the_tables_commands_their_turns() {
         Box::leak(Box::new([ValueTables::parse(bytes).unwrap()]));
     let mut out = [0u8; SCRIPT_CAPACITY];
     let n = script(true, true, &mut out).expect("the script fits");
-    let mut unit = Unit::<f32>::new().with_tables(set);
+    let mut unit = Unit::<f32>::new();
+    unit.set_tables(set);
     let mut written = Vec::new();
     for &b in &out[..n] {
         if let Some(reply) = unit.receive(b, 0) {

@@ -261,11 +261,7 @@ pub fn serve_script_on<S: Scalar>(
     let (mut interrupt, mut main) = line.split();
     let mut uart = ScriptedUart::new(script);
     let mut unit = Unit::<S>::new();
-    // Only with tables: the unit moved through `with_tables` raised the loop's peak stack by
-    // 64 B on the M4F (1,392 -> 1,456 B).
-    if !tables.is_empty() {
-        unit = unit.with_tables(tables);
-    }
+    unit.set_tables(tables);
     let mut shutdown = false;
     while !shutdown {
         let mut arrived = false;

@@ -24,7 +24,7 @@ fn main() -> ! {
     let mut unit = Unit::<f32>::new();
     #[cfg(feature = "tables-in-flash")]
     if let Some(tables) = twocars::board::tables::take_value_tables() {
-        unit = unit.with_tables(tables);
+        unit.set_tables(tables);
     }
     twocars::log_info!("twocars guidance unit up (mps2-an386, UART0, interrupt-driven)");
     serve_to_shutdown(&mut line, &board, &mut unit);

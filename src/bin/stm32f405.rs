@@ -16,7 +16,7 @@ fn main() -> ! {
     let mut unit = Unit::<f32>::new();
     #[cfg(feature = "tables-in-flash")]
     if let Some(tables) = twocars::board::tables::take_value_tables() {
-        unit = unit.with_tables(tables);
+        unit.set_tables(tables);
     }
     loop {
         // A flight unit has no session to end: after a Shutdown it keeps serving.

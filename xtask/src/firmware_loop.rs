@@ -51,10 +51,9 @@ impl<S: Scalar> HostUnit<S> {
 
     /// An unconfigured unit with value tables, as an image carrying them.
     pub fn with_tables(tables: &'static [ValueTables<'static>]) -> Self {
-        HostUnit {
-            unit: Unit::new().with_tables(tables),
-            ..Self::new()
-        }
+        let mut host = Self::new();
+        host.unit.set_tables(tables);
+        host
     }
 }
 
