@@ -5,6 +5,7 @@
 //! table (`twocars::value_table`), read back: the tail chase, and where the box reaches the
 //! theorem's threshold, V against the paper's upper value beyond it.
 
+use crate::hj_sets::{FlashSet, NEAR_FIELD};
 use std::time::Instant;
 
 use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, NEVER, REACHED};
@@ -69,7 +70,7 @@ pub struct HjArgs {
 /// (`host_tests::hj_policy`) on `levels`, coarsest first; returned finest first. Capture
 /// radius one r_p (0.5 m at the paper's limits). The coarsest table lands on the paper's value
 /// beyond the threshold, each finer one on the table before it; each is solved to a residual
-/// of 1e-4, or read back from `target/hj-cache/` where this build of xtask solved it before;
+/// of 1e-4, or read back from `target/hj-cache/` where the same solver sources solved it;
 /// with how.
 pub(crate) fn near_field(limits: [f64; 4], levels: &[Grid]) -> (Vec<Solution>, String) {
     let game = Game::with_radius(limits, 1.0);
@@ -97,33 +98,6 @@ pub(crate) fn near_field(limits: [f64; 4], levels: &[Grid]) -> (Vec<Solution>, S
     (tables, how)
 }
 
-/// A set of nested tables an image carries: the limits (v_pm, w_pm, v_em, w_em) whose ratios it
-/// serves, and its levels, coarsest first.
-pub(crate) struct FlashSet {
-    pub limits: [f64; 4],
-    pub levels: [Grid; 3],
-}
-
-const fn grid(n: usize, half: f64, headings: usize) -> Grid {
-    Grid { n, half, headings }
-}
-
-/// The sets the tables images carry (docs/near-field.md, "The tables in flash"): the paper's
-/// ratios (v_em / v_pm = 0.5, r_e / r_p = 2) on the levels chosen to fit the STM32F405
-/// (499,308 B; "Tables that fit in flash"), and a faster, tighter-turning evader's (0.6 and
-/// 5 / 3, threshold 20.8 r_p), whose outer table needs 0.75 r_p per cell to keep the play's
-/// worst run within 10 % (567,948 B; 1 r_p per cell: +10.6 %).
-pub(crate) static FLASH_SETS: [FlashSet; 2] = [
-    FlashSet {
-        limits: host_tests::scenarios::PAPER_LIMITS,
-        levels: [grid(61, 30.0, 24), grid(61, 6.0, 36), grid(61, 3.0, 72)],
-    },
-    FlashSet {
-        limits: [2.0, 2.0, 1.2, 1.2],
-        levels: [grid(81, 30.0, 24), grid(61, 6.0, 36), grid(61, 3.0, 72)],
-    },
-];
-
 /// The files of `sets`, solved (or read from the cache) and written to `target/value-tables/`
 /// (rewritten only where the bytes changed, so an image is not rebuilt for nothing).
 pub(crate) fn flash_sets(sets: &[FlashSet]) -> Result<Vec<std::path::PathBuf>, String> {
@@ -147,28 +121,6 @@ pub(crate) fn flash_sets(sets: &[FlashSet]) -> Result<Vec<std::path::PathBuf>, S
     }
     Ok(paths)
 }
-
-/// The near field's tables, coarsest first: a box of +-30 r_p (15 m, just past the theorem's
-/// threshold of 14.57 m on the diagonals) at 0.5 r_p with 24 relative headings; +-6 r_p at
-/// 0.2 r_p with 48; +-3 r_p at 0.1 r_p with 72. The outer grid alone puts V 10 to 40 % low
-/// within two capture radii behind the pursuer (docs/near-field.md).
-pub(crate) const NEAR_FIELD: [Grid; 3] = [
-    Grid {
-        n: 121,
-        half: 30.0,
-        headings: 24,
-    },
-    Grid {
-        n: 61,
-        half: 6.0,
-        headings: 48,
-    },
-    Grid {
-        n: 61,
-        half: 3.0,
-        headings: 72,
-    },
-];
 
 /// Writes the near field of `limits` on `levels` (coarsest first) to `path` as nested tables;
 /// prints each table's bytes. The exit code.
@@ -221,8 +173,29 @@ pub(crate) fn level(text: &str) -> Result<Grid, String> {
         .ok_or_else(|| format!("{text}: n odd and at least 5, half positive, headings at least 4"))
 }
 
-/// `solve(grid)`, or its solution read back from `target/hj-cache/NAME.bin` where this build
-/// of xtask wrote it; with how.
+/// The sources a solution depends on: the solver, its boundaries (the paper's value comes from
+/// the law) and this module's nesting of grids (not `crate::hj_sets`, which only says which
+/// grids: the cache's file names say that).
+const SOLVER_SOURCES: [&str; 6] = [
+    include_str!("../../host-tests/src/hj.rs"),
+    include_str!("../../host-tests/src/hj_paper.rs"),
+    include_str!("hj.rs"),
+    include_str!("../../src/law.rs"),
+    include_str!("../../src/game.rs"),
+    include_str!("../../src/geometry.rs"),
+];
+
+/// The cache's stamp: a hash of [`SOLVER_SOURCES`], so that a change to the solver solves
+/// again and any other rebuild of xtask reads the cache (never 0, which reads as no stamp).
+fn solver_stamp() -> u128 {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    SOLVER_SOURCES.hash(&mut hasher);
+    u128::from(hasher.finish()) | 1
+}
+
+/// `solve(grid)`, or its solution read back from `target/hj-cache/NAME.bin` where the same
+/// solver sources wrote it; with how.
 fn cached(
     game: Game,
     grid: Grid,
@@ -230,13 +203,7 @@ fn cached(
     solve: impl FnOnce(Grid) -> (Solution, f64),
 ) -> (Solution, String) {
     let cache = crate::qemu::root().join(format!("target/hj-cache/near-field-{name}.bin"));
-    // The cache belongs to the xtask binary that wrote it: a rebuild (a changed solver) solves
-    // again.
-    let stamp: u128 = std::env::current_exe()
-        .and_then(|exe| exe.metadata()?.modified())
-        .ok()
-        .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
-        .map_or(0, |d| d.as_nanos());
+    let stamp = solver_stamp();
     if let Some(solution) = read_cache(&cache, stamp, game, grid) {
         return (solution, "read from target/hj-cache".to_string());
     }

@@ -7,8 +7,8 @@
 //! the pursuer one step ahead has the largest V), where both players play V's game. The runs
 //! capture at the tables' radius, and each capture is compared with V(x0), the time to capture
 //! under optimal play by both sides, read from the reference tables
-//! ([`crate::hj::NEAR_FIELD`]) whatever `--levels` the pursuer plays: a coarser table's V is
-//! larger, and would make its own captures look early.
+//! ([`crate::hj_sets::NEAR_FIELD`]) whatever `--levels` the pursuer plays: a coarser table's V
+//! is off by its grid's error, and would judge its own captures by it.
 
 use host_tests::adversary::{EvaderKind, Opponent};
 use host_tests::hj::{table_set_bytes, Solution};
@@ -173,8 +173,8 @@ fn percent(v: f64) -> String {
 /// Solves the near field of `limits`, plays `runs` starts per evader, prints the table; the
 /// exit code is 0 (the figures are a measurement, not a test).
 pub fn command(runs: usize, seed: u64, levels: &[host_tests::hj::Grid], limits: [f64; 4]) -> i32 {
-    let (reference, reference_how) = crate::hj::near_field(limits, &crate::hj::NEAR_FIELD);
-    let (tables, how) = if levels == crate::hj::NEAR_FIELD {
+    let (reference, reference_how) = crate::hj::near_field(limits, &crate::hj_sets::NEAR_FIELD);
+    let (tables, how) = if levels == crate::hj_sets::NEAR_FIELD {
         (reference.clone(), reference_how.clone())
     } else {
         crate::hj::near_field(limits, levels)

@@ -85,11 +85,11 @@ impl Board {
         }
     }
     /// The value-table sets the image carries, one per pair of ratios (`crate::hj::flash_sets`):
-    /// both of [`crate::hj::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
-    pub fn table_sets(self) -> &'static [crate::hj::FlashSet] {
+    /// both of [`crate::hj_sets::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
+    pub fn table_sets(self) -> &'static [crate::hj_sets::FlashSet] {
         match self {
-            Board::QemuTables => &crate::hj::FLASH_SETS,
-            Board::Stm32f405Tables => &crate::hj::FLASH_SETS[..1],
+            Board::QemuTables => &crate::hj_sets::FLASH_SETS,
+            Board::Stm32f405Tables => &crate::hj_sets::FLASH_SETS[..1],
             _ => &[],
         }
     }

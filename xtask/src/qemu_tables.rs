@@ -1,5 +1,5 @@
 //! The value tables in flash, tested in QEMU (issue 30; part of `cargo xtask test`): the
-//! `qemu-tables` image carries a set per pair of ratios ([`crate::hj::FLASH_SETS`]); its
+//! `qemu-tables` image carries a set per pair of ratios ([`crate::hj_sets::FLASH_SETS`]); its
 //! Configure selects the set of the limits' ratios and says so; and below the theorem's
 //! threshold it captures every evader of the adversary suite, and the tables' own evader, as
 //! the same unit on the host does, within the issue's bar over V(x0).
@@ -27,7 +27,7 @@ const STARTS: usize = 2;
 const BAR: (f64, f64) = (0.05, 0.10);
 
 /// The sets the image carries, read from the files it was built with.
-fn image_sets() -> Result<&'static [ValueTables<'static>], String> {
+pub(crate) fn image_sets() -> Result<&'static [ValueTables<'static>], String> {
     let mut sets = Vec::new();
     for path in crate::hj::flash_sets(Board::QemuTables.table_sets())? {
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -59,7 +59,7 @@ fn configure_selects_each_set(elf: &std::path::Path) -> Result<String, String> {
     let mut q = Qemu::start(elf, Board::QemuTables, false)?;
     let mut got = Vec::new();
     let other = [2.0, 2.0, 1.2, 1.0];
-    let cases = crate::hj::FLASH_SETS
+    let cases = crate::hj_sets::FLASH_SETS
         .iter()
         .map(|set| (set.limits.map(|v| v as f32), 2))
         .chain([(other, 1)]);
@@ -120,7 +120,11 @@ fn suite_below_the_threshold(elf: &std::path::Path) -> Result<String, String> {
     let mut over = Vec::new();
     let mut largest_diff = 0.0_f64;
     let evaders = EvaderKind::ALL.map(Some).into_iter().chain([None]);
-    for (limits, set) in crate::hj::FLASH_SETS.iter().map(|s| &s.limits).zip(sets) {
+    for (limits, set) in crate::hj_sets::FLASH_SETS
+        .iter()
+        .map(|s| &s.limits)
+        .zip(sets)
+    {
         for (k, evader) in evaders.clone().enumerate() {
             // The tables' own evader: the firmware plays both players.
             let roles = match evader {
@@ -179,6 +183,35 @@ fn suite_below_the_threshold(elf: &std::path::Path) -> Result<String, String> {
     Ok(summary)
 }
 
+/// `cargo xtask run --board qemu-tables` plays the set of the limits' ratios on the host, and
+/// refuses, saying which ratios the image carries, limits of other ratios.
+fn run_picks_the_set_of_the_limits_ratios() -> Result<String, String> {
+    let ratios = |limits: [f64; 4]| {
+        let [v_pm, w_pm, v_em, w_em] = limits.map(|v| v as f32);
+        (v_em / v_pm, (v_em / v_pm) * (w_em / w_pm))
+    };
+    for set in &crate::hj_sets::FLASH_SETS {
+        let picked = crate::run::table_set(set.limits, Variant::Paper, DT)?;
+        let table = picked.finest_table().ok_or("a set without tables")?;
+        let (speed_ratio, evader_turn) = ratios(set.limits);
+        if (table.speed_ratio - speed_ratio).abs() > 1e-6
+            || (table.evader_turn - evader_turn).abs() > 1e-6
+        {
+            return Err(format!(
+                "{:?}: picked the set of {} and {}",
+                set.limits, table.speed_ratio, table.evader_turn
+            ));
+        }
+    }
+    match crate::run::table_set([2.0, 2.0, 1.2, 1.0], Variant::Paper, DT) {
+        Ok(_) => Err("2, 2, 1.2, 1.0: a set was picked; none has its ratios".to_string()),
+        Err(e) if e.contains("[2.0, 2.0, 1.0, 1.0]") && e.contains("[2.0, 2.0, 1.2, 1.2]") => Ok(
+            format!("each set's limits pick it; 2, 2, 1.2, 1.0: \"{e}\""),
+        ),
+        Err(e) => Err(format!("the refusal does not name the carried ratios: {e}")),
+    }
+}
+
 /// Runs the tables image's tests with `record`.
 pub fn run(record: &mut impl FnMut(&str, Result<String, String>)) {
     println!("== xtask test: the value tables in flash, in QEMU (mps2-an386)");
@@ -196,5 +229,9 @@ pub fn run(record: &mut impl FnMut(&str, Result<String, String>)) {
     record(
         "qemu::tables_image_captures_the_suite_below_the_threshold_as_its_host_twin",
         suite_below_the_threshold(&elf),
+    );
+    record(
+        "qemu::run_on_the_tables_image_picks_the_set_of_the_limits_ratios",
+        run_picks_the_set_of_the_limits_ratios(),
     );
 }

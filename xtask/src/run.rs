@@ -6,6 +6,7 @@
 use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use host_tests::sim::{SimParams, SimStatus};
 use twocars::message::{ROLE_EVADER, ROLE_PURSUER};
+use twocars::value_tables::ValueTables;
 use twocars::{evaluate_observation, Observation, Policy, Scalar};
 
 use crate::firmware_loop;
@@ -95,7 +96,19 @@ pub enum RunBoard {
     Qemu,
     /// QEMU microbit (nRF51822, Cortex-M0, fixed-point law).
     Microbit,
+    /// QEMU mps2-an386 with the value tables in flash (issue 30): the policy defaults to the
+    /// tables' (Configure's policy byte 2), and the host simulation plays the same tables.
+    QemuTables,
 }
+
+/// A start below the theorem's threshold at the paper's limits, where the tables play: the
+/// evader 1.1 m behind and to the left of the pursuer, turning across its path.
+const NEAR_CASE: Case = Case {
+    name: "near",
+    pursuer: [0.0, 0.0, 0.0],
+    evader: [-0.85, 0.75, -0.9],
+    expected_value: f64::NAN,
+};
 
 /// `N` comma-separated numbers.
 pub(crate) fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
@@ -108,6 +121,7 @@ pub(crate) fn numbers<const N: usize>(text: &str) -> Result<[f64; N], String> {
 }
 
 fn parse(args: &RunArgs) -> Result<RunOptions, String> {
+    let tables = args.board == RunBoard::QemuTables;
     let mut o = RunOptions {
         cases: Vec::new(),
         limits: args.limits.unwrap_or(PAPER_LIMITS),
@@ -137,6 +151,9 @@ fn parse(args: &RunArgs) -> Result<RunOptions, String> {
     }
     if o.cases.is_empty() {
         o.cases.extend(paper_cases());
+        if tables {
+            o.cases.push(NEAR_CASE);
+        }
     }
     if !(o.dt.is_finite() && o.dt > 0.0 && o.t_max.is_finite() && o.t_max > 0.0) {
         return Err("--dt and --t-max must be positive".to_string());
@@ -256,18 +273,72 @@ fn twin_agrees(
     }
 }
 
+/// The set of the `qemu-tables` image that fits the ratios of `limits`, as the firmware's
+/// Configure picks it (the first that fits).
+pub(crate) fn table_set(
+    limits: [f64; 4],
+    variant: twocars::Variant,
+    dt: f64,
+) -> Result<&'static ValueTables<'static>, String> {
+    let sets = crate::qemu_tables::image_sets()?;
+    let [v_pm, w_pm, v_em, w_em] = limits.map(|v| v as f32);
+    let law = twocars::Law::new(
+        twocars::Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|s| s.name().to_string())?,
+        variant,
+    );
+    let guidance =
+        twocars::Guidance::new(law, dt as f32).map_err(|_| "invalid --dt".to_string())?;
+    let carried: Vec<String> = crate::hj_sets::FLASH_SETS
+        .iter()
+        .map(|set| format!("{:?}", set.limits))
+        .collect();
+    sets.iter()
+        .find(|set| guidance.clone().set_tables(set).is_ok())
+        .ok_or_else(|| {
+            format!(
+                "the qemu-tables image has no value tables for the ratios of {limits:?} (it carries those of {}); --policy flight plays without them",
+                carried.join(" and ")
+            )
+        })
+}
+
+/// Prints the tables' V(x0) for `case`: the time to capture at the tables' radius (one r_p)
+/// under optimal play by both sides; none beyond the threshold or inside the disc.
+fn print_table_value(o: &RunOptions, case: &Case, set: &ValueTables<'_>) {
+    let [v_pm, w_pm, ..] = o.limits;
+    let (x, y, phi) = host_tests::hj_policy::relative(w_pm, case.pursuer, case.evader);
+    match set.value(x as f32, y as f32, phi as f32) {
+        Some(v) => println!(
+            "  the tables' V(x0): {:.4} s to capture within {} m (one r_p) under optimal play by both sides",
+            f64::from(v) / (w_pm * v_pm),
+            1.0 / w_pm
+        ),
+        None => println!("  the tables do not play here (beyond the threshold or in the capture disc): the paper's law"),
+    }
+}
+
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
     if args.link == RunLink::Mavlink {
         return crate::mavlink_run::run();
     }
-    let mut options = args.law.options(Policy::Flight);
+    let tables_board = args.board == RunBoard::QemuTables;
+    let mut options = args.law.options(if tables_board {
+        Policy::Table
+    } else {
+        Policy::Flight
+    });
     let board = match args.board {
         RunBoard::Qemu => Board::Qemu,
         RunBoard::Microbit => {
             // The image's law: the host simulates the same backend.
             options.numeric = crate::options::Numeric::Fixed;
             Board::Microbit
+        }
+        RunBoard::QemuTables => {
+            // The image's law is f32's; the tables are read in f32.
+            options.numeric = crate::options::Numeric::F32;
+            Board::QemuTables
         }
     };
     let options = &options;
@@ -283,6 +354,18 @@ pub fn run(args: &RunArgs) -> i32 {
         "limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m; variant {:?}, policy {:?}, numeric {:?}",
         options.variant, options.policy, options.numeric
     );
+    // The set the image plays at these limits (the same files it was built with).
+    let tables = if tables_board && options.policy == Policy::Table {
+        match table_set(o.limits, options.variant, o.dt) {
+            Ok(set) => Some(set),
+            Err(e) => {
+                eprintln!("xtask run: {e}");
+                return 2;
+            }
+        }
+    } else {
+        None
+    };
     let mut ok = true;
     let mut session = None;
     if !o.host_only {
@@ -299,7 +382,21 @@ pub fn run(args: &RunArgs) -> i32 {
     let mut sequence = 0u16;
     for case in &o.cases {
         ok &= with_numeric!(options.numeric, S => show_matrix::<S>(&o, case, options));
-        let host = crate::sim::run_one(&params(&o, case), options, None, false);
+        let host = match tables {
+            Some(set) => {
+                print_table_value(&o, case, set);
+                host_tests::sim::simulate_with_turns::<f32>(
+                    &params(&o, case),
+                    options.variant,
+                    options.policy,
+                    None,
+                    false,
+                    [&|_, _| None, &|_, _| None],
+                    Some(set),
+                )
+            }
+            None => crate::sim::run_one(&params(&o, case), options, None, false),
+        };
         println!(
             "  host simulation (dt = {} s): {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); {} switches, {} sign flips",
             o.dt,

@@ -1,0 +1,56 @@
+//! The value tables xtask solves: which limits on which nested grids (`cargo xtask hj`'s
+//! reference near field, and the sets the tables images carry). Kept apart from the solver's
+//! driver (`crate::hj`), whose source stamps the solve cache: a change here names other files
+//! in the cache and solves only what it changes.
+
+use host_tests::hj::Grid;
+
+/// The near field's tables, coarsest first: a box of +-30 r_p (15 m, just past the theorem's
+/// threshold of 14.57 m on the diagonals) at 0.5 r_p with 24 relative headings; +-6 r_p at
+/// 0.2 r_p with 48; +-3 r_p at 0.05 r_p with 72. The outer grid alone puts V 10 to 40 % low
+/// within two capture radii behind the pursuer; the inner one is as fine as the finest table a
+/// set flies, since it is the reference their plays are judged by (docs/near-field.md).
+pub(crate) const NEAR_FIELD: [Grid; 3] = [
+    Grid {
+        n: 121,
+        half: 30.0,
+        headings: 24,
+    },
+    Grid {
+        n: 61,
+        half: 6.0,
+        headings: 48,
+    },
+    Grid {
+        n: 121,
+        half: 3.0,
+        headings: 72,
+    },
+];
+
+/// A set of nested tables an image carries: the limits (v_pm, w_pm, v_em, w_em) whose ratios it
+/// serves, and its levels, coarsest first.
+pub(crate) struct FlashSet {
+    pub limits: [f64; 4],
+    pub levels: [Grid; 3],
+}
+
+const fn grid(n: usize, half: f64, headings: usize) -> Grid {
+    Grid { n, half, headings }
+}
+
+/// The sets the tables images carry (docs/near-field.md, "The tables in flash"): the paper's
+/// ratios (v_em / v_pm = 0.5, r_e / r_p = 2) on the levels chosen to fit the STM32F405
+/// (499,308 B; "Tables that fit in flash"), and a faster, tighter-turning evader's (0.6 and
+/// 5 / 3, threshold 20.8 r_p), whose outer table needs 0.75 r_p per cell and inner table
+/// 0.05 r_p to keep the play's worst run within 10 % ("The second set within the bar").
+pub(crate) static FLASH_SETS: [FlashSet; 2] = [
+    FlashSet {
+        limits: host_tests::scenarios::PAPER_LIMITS,
+        levels: [grid(61, 30.0, 24), grid(61, 6.0, 36), grid(61, 3.0, 72)],
+    },
+    FlashSet {
+        limits: [2.0, 2.0, 1.2, 1.2],
+        levels: [grid(81, 30.0, 24), grid(61, 6.0, 36), grid(121, 3.0, 72)],
+    },
+];
