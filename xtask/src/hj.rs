@@ -5,12 +5,12 @@
 //! table (`twocars::value_table`), read back: the tail chase, and where the box reaches the
 //! theorem's threshold, V against the paper's upper value beyond it.
 
-use crate::hj_sets::{FlashSet, NEAR_FIELD};
 use std::time::Instant;
 
 use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, NEVER, REACHED};
 use host_tests::hj_paper::PaperValue;
 
+use crate::hj_sets::{FlashSet, NEAR_FIELD};
 use crate::progress::Progress;
 
 /// `cargo xtask hj`'s options.

@@ -10,23 +10,8 @@ use host_tests::hj::Grid;
 /// 0.2 r_p with 48; +-3 r_p at 0.05 r_p with 72. The outer grid alone puts V 10 to 40 % low
 /// within two capture radii behind the pursuer; the inner one is as fine as the finest table a
 /// set flies, since it is the reference their plays are judged by (docs/near-field.md).
-pub(crate) const NEAR_FIELD: [Grid; 3] = [
-    Grid {
-        n: 121,
-        half: 30.0,
-        headings: 24,
-    },
-    Grid {
-        n: 61,
-        half: 6.0,
-        headings: 48,
-    },
-    Grid {
-        n: 121,
-        half: 3.0,
-        headings: 72,
-    },
-];
+pub(crate) const NEAR_FIELD: [Grid; 3] =
+    [grid(121, 30.0, 24), grid(61, 6.0, 48), grid(121, 3.0, 72)];
 
 /// A set of nested tables an image carries: the limits (v_pm, w_pm, v_em, w_em) whose ratios it
 /// serves, and its levels, coarsest first.
