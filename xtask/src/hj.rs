@@ -57,9 +57,20 @@ pub struct HjArgs {
     /// `TWOCARS_VALUE_TABLES=FILE`.
     #[arg(long)]
     set: Option<std::path::PathBuf>,
+    /// Instead of the validation: one start X,Y,PHI (the evader in the pursuer's frame: r_p,
+    /// r_p, rad) of `--limits`: V(x0) from the reference and from `--levels`, the `--levels`
+    /// pursuer against the reference tables' evader, and the best open-loop pursuer of three
+    /// turns against that evader.
+    #[arg(long, value_parser = crate::run::numbers::<3>)]
+    probe: Option<[f64; 3]>,
     /// Seed of `--play`'s starts.
     #[arg(long, default_value_t = 2019)]
     seed: u64,
+    /// `--play` from this many seeds, `--seed` and each 1,000 past the last, its figures over
+    /// all their starts (seed s plays its k-th evader from the starts of s + k, so consecutive
+    /// seeds would share starts).
+    #[arg(long, default_value_t = 1)]
+    seeds: u64,
     /// `--play`'s and `--set`'s nested tables, coarsest first, as n:half:headings (nodes per axis, half the
     /// box in r_p, relative headings); default the near field's three.
     #[arg(long, value_parser = level, value_delimiter = ',')]
@@ -351,8 +362,14 @@ pub fn command(args: &HjArgs) -> i32 {
     } else {
         args.levels.clone()
     };
+    if let Some(start) = args.probe {
+        return crate::hj_probe::command(start, &levels, args.limits);
+    }
     if let Some(runs) = args.play {
-        return crate::hj_play::command(runs, args.seed, &levels, args.limits);
+        let seeds: Vec<u64> = (0..args.seeds.max(1))
+            .map(|i| args.seed.wrapping_add(1000 * i))
+            .collect();
+        return crate::hj_play::command(runs, &seeds, &levels, args.limits);
     }
     if let Some(path) = &args.set {
         return write_set(path, args.limits, &levels);

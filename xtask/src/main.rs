@@ -10,6 +10,7 @@ mod firmware_loop;
 mod fuzz;
 mod hj;
 mod hj_play;
+mod hj_probe;
 mod hj_sets;
 mod mavlink_run;
 mod options;

@@ -1,0 +1,111 @@
+//! `cargo xtask hj --probe X,Y,PHI`: one near-field start looked at closely (issue 30). It
+//! prints V(x0) from the reference tables and from `--levels`, the capture when the pursuer
+//! plays `--levels` and the evader plays the reference tables (the `--play` row "the table's
+//! evader"), and the best pursuer of a family of open-loop plans against that same evader: a
+//! turn held for t1, another for t2, a third to the end (turns full either way or straight,
+//! t1 and t2 on a 25 ms grid up to 1.5 s). A pursuer that plays V exactly captures every evader
+//! by V(x0); where the tables' pursuer is late against this evader, a plan that captures well
+//! before it shows what that pursuer left, and V(x0) on two grids shows how far V itself moves.
+
+use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative, value};
+use host_tests::sim::advance;
+use rayon::prelude::*;
+
+/// Control period, s (as `--play`'s).
+const DT: f64 = 0.01;
+/// The longest run, s.
+const T_MAX: f64 = 10.0;
+
+/// A pursuer's open-loop plan: turn signs held for the first two durations (s), then the third.
+type Plan = ([f64; 3], [f64; 2]);
+
+/// Solves (or reads) the tables of `limits`, plays the start `(x, y, phi)` (the evader in the
+/// pursuer's frame: r_p, r_p, rad) and prints what it found; exit code 0.
+pub fn command(start: [f64; 3], levels: &[host_tests::hj::Grid], limits: [f64; 4]) -> i32 {
+    let (reference, _) = crate::hj::near_field(limits, &crate::hj_sets::NEAR_FIELD);
+    let (tables, _) = crate::hj::near_field(limits, levels);
+    let [v_pm, w_pm, v_em, w_em] = limits;
+    let eps = reference[0].game.eps / w_pm;
+    let pursuer0 = [0.0, 0.0, 0.0];
+    let evader0 = [start[0] / w_pm, start[1] / w_pm, start[2]];
+    let at = relative(w_pm, pursuer0, evader0);
+    let seconds = |v: Option<f64>| {
+        v.map_or("none".to_string(), |v| {
+            format!("{:.3} s", v / (w_pm * v_pm))
+        })
+    };
+    // Capture time (s) of the pursuer's curvature `plan(t, pursuer, evader)` against the
+    // reference tables' evader (straight where they have no turn); infinite past T_MAX.
+    let run = |plan: &(dyn Fn(f64, [f64; 3], [f64; 3]) -> f64 + Sync)| -> f64 {
+        let (mut p, mut e, mut t) = (pursuer0, evader0, 0.0);
+        while t < T_MAX {
+            if (p[0] - e[0]).hypot(p[1] - e[1]) <= eps {
+                return t;
+            }
+            let w_e = evader_curvature(&reference, [w_pm, w_em], p, e).unwrap_or(0.0);
+            p = advance(p, v_pm, plan(t, p, e), DT);
+            e = advance(e, v_em, w_e, DT);
+            t += DT;
+        }
+        f64::INFINITY
+    };
+    let closed_loop = run(&|_, p, e| pursuer_curvature(&tables, w_pm, p, e).unwrap_or(0.0));
+    let durations: Vec<f64> = (0..=60).map(|i| f64::from(i) * 0.025).collect();
+    let mut plans: Vec<Plan> = Vec::new();
+    for turns in plan_turns() {
+        for &t1 in &durations {
+            for &t2 in &durations {
+                plans.push((turns, [t1, t2]));
+            }
+        }
+    }
+    let (best, plan) = plans
+        .par_iter()
+        .map(|&(turns, [t1, t2])| {
+            let turn = move |t: f64| match t {
+                t if t < t1 => turns[0],
+                t if t < t1 + t2 => turns[1],
+                _ => turns[2],
+            };
+            (run(&|t, _, _| w_pm * turn(t)), (turns, [t1, t2]))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap_or((f64::INFINITY, ([0.0; 3], [0.0; 2])));
+    println!(
+        "Limits {limits:?}, start (x, y, phi) = ({:.3}, {:.3}, {:.3}) (r_p, rad), capture at {eps} m, dt = {DT} s.",
+        at.0, at.1, at.2
+    );
+    println!(
+        "V(x0): reference {}, --levels {}",
+        seconds(value(&reference, at)),
+        seconds(value(&tables, at))
+    );
+    println!(
+        "the --levels pursuer against the reference tables' evader: capture at {closed_loop:.3} s"
+    );
+    println!(
+        "the best of {} open-loop plans against the same evader: capture at {best:.3} s (turns {:?} for {:.3} s, {:.3} s, then to the end)",
+        plans.len(),
+        plan.0,
+        plan.1[0],
+        plan.1[1]
+    );
+    0
+}
+
+/// The three turns of a plan, each full right (-1), straight or full left, no two neighbours
+/// the same (a plan with fewer changes is one of these with a zero duration).
+fn plan_turns() -> Vec<[f64; 3]> {
+    let turns = [-1.0, 0.0, 1.0];
+    let mut out = Vec::new();
+    for a in turns {
+        for b in turns {
+            for c in turns {
+                if a != b && b != c {
+                    out.push([a, b, c]);
+                }
+            }
+        }
+    }
+    out
+}
