@@ -24,7 +24,7 @@ use twocars::{Policy, Variant};
 use crate::report::{random_state, LimitSet, Regime};
 
 /// Control period, s.
-const DT: f64 = 0.01;
+pub(crate) const DT: f64 = 0.01;
 
 /// One start, played by both pursuers.
 struct Play {
@@ -49,7 +49,7 @@ impl Play {
 }
 
 /// The tables' V(x0) (s) at `limits`, from the finest that plays there.
-fn table_value(
+pub(crate) fn table_value(
     tables: &[Solution],
     limits: [f64; 4],
     pursuer: [f64; 3],
@@ -60,7 +60,7 @@ fn table_value(
 }
 
 /// The table's capture radius at `limits`, m: the runs capture at the radius V was solved for.
-fn capture_radius(tables: &[Solution], limits: [f64; 4]) -> f64 {
+pub(crate) fn capture_radius(tables: &[Solution], limits: [f64; 4]) -> f64 {
     tables[0].game.eps / limits[1]
 }
 

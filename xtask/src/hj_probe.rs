@@ -7,12 +7,12 @@
 //! by V(x0); where the tables' pursuer is late against this evader, a plan that captures well
 //! before it shows what that pursuer left, and V(x0) on two grids shows how far V itself moves.
 
-use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative, value};
+use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative};
+
+use crate::hj_play::{capture_radius, table_value, DT};
 use host_tests::sim::advance;
 use rayon::prelude::*;
 
-/// Control period, s (as `--play`'s).
-const DT: f64 = 0.01;
 /// The longest run, s.
 const T_MAX: f64 = 10.0;
 
@@ -25,14 +25,13 @@ pub fn command(start: [f64; 3], levels: &[host_tests::hj::Grid], limits: [f64; 4
     let (reference, _) = crate::hj::near_field(limits, &crate::hj_sets::NEAR_FIELD);
     let (tables, _) = crate::hj::near_field(limits, levels);
     let [v_pm, w_pm, v_em, w_em] = limits;
-    let eps = reference[0].game.eps / w_pm;
+    let eps = capture_radius(&reference, limits);
     let pursuer0 = [0.0, 0.0, 0.0];
     let evader0 = [start[0] / w_pm, start[1] / w_pm, start[2]];
     let at = relative(w_pm, pursuer0, evader0);
-    let seconds = |v: Option<f64>| {
-        v.map_or("none".to_string(), |v| {
-            format!("{:.3} s", v / (w_pm * v_pm))
-        })
+    let seconds = |tables: &[host_tests::hj::Solution]| {
+        table_value(tables, limits, pursuer0, evader0)
+            .map_or("none".to_string(), |v| format!("{v:.3} s"))
     };
     // Capture time (s) of the pursuer's curvature `plan(t, pursuer, evader)` against the
     // reference tables' evader (straight where they have no turn); infinite past T_MAX.
@@ -77,8 +76,8 @@ pub fn command(start: [f64; 3], levels: &[host_tests::hj::Grid], limits: [f64; 4
     );
     println!(
         "V(x0): reference {}, --levels {}",
-        seconds(value(&reference, at)),
-        seconds(value(&tables, at))
+        seconds(&reference),
+        seconds(&tables)
     );
     println!(
         "the --levels pursuer against the reference tables' evader: capture at {closed_loop:.3} s"
