@@ -35,6 +35,18 @@ pub const NEVER: u16 = u16::MAX;
 /// The pursuer's turns in the order ties keep: straight, left, right.
 pub(crate) const PURSUER_TURNS: [f32; 3] = [0.0, 1.0, -1.0];
 
+/// The shortest time step of the solver and of the reader's look-ahead, r_p / v_pm. Each
+/// step interpolates V once, and interpolation smears V's jumps: half a cell's time on a
+/// 0.05 r_p grid put V 30 % low where the evader grazes the capture disc (docs/near-field.md,
+/// "A longer step").
+pub const MIN_STEP: f32 = 0.2;
+
+/// The time step (r_p / v_pm) on a grid whose cells are `spacing` (r_p) across: half a cell's
+/// time at the pursuer's speed, or [`MIN_STEP`] where that is shorter.
+pub fn step_time(spacing: f32) -> f32 {
+    (0.5 * spacing).max(MIN_STEP)
+}
+
 /// One step of the reduced game, both controls held for tau (the solver's `Step`, in f32): the
 /// pursuer's displacement and the sine and cosine of its turn, the evader's displacement in
 /// its own frame, the relative heading's change.
@@ -106,8 +118,8 @@ pub struct ValueTable<'a> {
     /// The theorem's threshold, r_p.
     threshold: f32,
     /// The steps of the pursuer's turn `PURSUER_TURNS[p]` and the evader's control `e` (full
-    /// speed turning right, straight, turning left; standing still) over half a cell's time,
-    /// the solver's tau.
+    /// speed turning right, straight, turning left; standing still) over the solver's tau
+    /// ([`step_time`]).
     steps: [[Step; 4]; 3],
     codes: &'a [u8],
 }
@@ -155,7 +167,7 @@ impl<'a> ValueTable<'a> {
             .get(HEADER_LEN..HEADER_LEN + 2 * count)
             .ok_or(TableError::Short)?;
         let spacing = 2.0 * half / (n - 1) as f32;
-        let tau = 0.5 * spacing;
+        let tau = step_time(spacing);
         let evader = [
             (speed_ratio, -evader_turn),
             (speed_ratio, 0.0),

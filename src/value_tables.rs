@@ -82,8 +82,8 @@ impl<'a> ValueTables<'a> {
 
     /// The pursuer's optimal turn at `(x, y, phi)`: -1, 0 or 1, the sign of its turn rate u
     /// (positive: its heading grows, as the law's curvature). In the finest table that plays
-    /// there: for each turn, the largest V over the evader's four controls half a cell's time
-    /// ahead (the solver's step, exact arcs), each landing read from the finest table whose
+    /// there: for each turn, the largest V over the evader's four controls one solver step
+    /// ahead ([`crate::value_table::step_time`], exact arcs), each landing read from the finest table whose
     /// box holds it; the turn whose worst case is least, straight keeping ties: the minimax
     /// the solver solved, read back (docs/near-field.md). A landing without a value is that
     /// turn's worst case. `None` where no table plays or has a value, or no turn keeps the
@@ -114,7 +114,7 @@ impl<'a> ValueTables<'a> {
 
     /// The evader's optimal turn at `(x, y, phi)` at full speed: -1, 0 or 1, the sign of its
     /// turn rate. In the finest table that plays there: for each of its turns, the least V over
-    /// the pursuer's three half a cell's time ahead; the turn whose best case for the pursuer is
+    /// the pursuer's three one solver step ahead; the turn whose best case for the pursuer is
     /// largest, straight keeping ties (the host's `hj_policy::evader_curvature`). A landing
     /// without a value counts as never captured (the evader's best). `None` where no table
     /// plays or has a value.

@@ -101,6 +101,13 @@ impl Grid {
     pub fn spacing(&self) -> f64 {
         2.0 * self.half / (self.n - 1) as f64
     }
+
+    /// The solver's time step on this grid, r_p / v_pm: half a cell's time, or
+    /// [`twocars::value_table::MIN_STEP`] where that is shorter, as the firmware's reader
+    /// looks ahead ([`twocars::value_table::step_time`], in f32).
+    pub fn step_time(&self) -> f64 {
+        (0.5 * self.spacing()).max(f64::from(twocars::value_table::MIN_STEP))
+    }
     fn len(&self) -> usize {
         self.n * self.n * self.headings
     }
@@ -376,6 +383,18 @@ pub fn solve_with_boundary(
         .iter()
         .map(|&u| evader.map(|(speed, w)| Step::new(speed, tau, u, w)))
         .collect();
+    // A step longer than half a cell's time is looked at every half a cell's time (or less):
+    // a path that enters the disc between them is captured there, not carried past it.
+    let subs = ((tau / (0.5 * grid.spacing())) - 1e-9).ceil().max(1.0) as usize;
+    let sub_steps: Vec<Vec<[Step; 4]>> = (1..subs)
+        .map(|m| {
+            let t = tau * m as f64 / subs as f64;
+            pursuer
+                .iter()
+                .map(|&u| evader.map(|(speed, w)| Step::new(speed, t, u, w)))
+                .collect()
+        })
+        .collect();
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
     // The jump behind the disc's non-usable edge is kept only where the grid resolves the disc
     // (its radius about five cells or more): on a 0.3 r_p grid with eps = 0.3 r_p the tail
@@ -432,6 +451,12 @@ pub fn solve_with_boundary(
                         row.iter()
                             .enumerate()
                             .map(|(e, step)| {
+                                for (m, sub) in sub_steps.iter().enumerate() {
+                                    let (sx, sy, _) = sub[p][e].from(at);
+                                    if sx * sx + sy * sy <= radius_squared {
+                                        return tau * (m + 1) as f64 / subs as f64;
+                                    }
+                                }
                                 let (nx, ny, nphi) = step.from(at);
                                 let next = if inside(nx, ny) {
                                     interpolate(&grid, old, nx, ny, nphi)

@@ -14,7 +14,7 @@ fn coarse() -> &'static Solution {
             half: 6.0,
             headings: 24,
         };
-        solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {})
+        solve(game, grid, grid.step_time(), 1e-6, 5_000, |_, _| {})
     })
 }
 
@@ -105,7 +105,7 @@ fn the_table_pursuer_captures_a_meshing_circler() {
         headings: 24,
     };
     let game = Game::with_radius(limits, 2.0 * grid.spacing());
-    let table = solve(game, grid, 0.5 * grid.spacing(), 1e-5, 20_000, |_, _| {});
+    let table = solve(game, grid, grid.step_time(), 1e-5, 20_000, |_, _| {});
     // Capture at the table's radius (m), the disc its V is the time to.
     let params = SimParams {
         eps: game.eps / limits[1],
@@ -164,7 +164,7 @@ fn a_step_out_of_the_box_lands_on_the_boundary_value() {
         half: 6.0,
         headings: 24,
     };
-    let tau = 0.5 * grid.spacing();
+    let tau = grid.step_time();
     let edge_captures = solve_with_boundary(game, grid, tau, 1e-6, 5_000, |_, _, _| 0.0, |_, _| {});
     let never = solve(game, grid, tau, 1e-6, 5_000, |_, _| {});
     // Relative x falls at 1 - a = 0.5 per unit time while the pursuer runs straight.
@@ -223,7 +223,7 @@ fn beyond_the_threshold_the_value_is_the_papers() {
     let s = solve_with_boundary(
         game,
         grid,
-        0.5 * grid.spacing(),
+        grid.step_time(),
         1e-4,
         5_000,
         |x, y, phi| paper.beyond_threshold(x, y, phi).unwrap_or(NEVER),

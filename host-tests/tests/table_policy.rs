@@ -30,7 +30,7 @@ fn tables_of(limits: [f64; 4]) -> (Vec<Solution>, ValueTables<'static>) {
         headings: 24,
     };
     let game = Game::with_radius(limits, 2.0 * grid.spacing());
-    let solution = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {});
+    let solution = solve(game, grid, grid.step_time(), 1e-6, 5_000, |_, _| {});
     let bytes: &'static [u8] =
         Box::leak(table_set_bytes(std::slice::from_ref(&solution)).into_boxed_slice());
     (vec![solution], ValueTables::parse(bytes).unwrap())

@@ -23,7 +23,7 @@ fn solution() -> &'static Solution {
             half: 6.0,
             headings: 24,
         };
-        solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {})
+        solve(game, grid, grid.step_time(), 1e-6, 5_000, |_, _| {})
     })
 }
 
@@ -212,7 +212,7 @@ fn nested_tables_turn_as_the_solvers() {
     let inner = solve_with_boundary(
         outer.game,
         grid,
-        0.5 * grid.spacing(),
+        grid.step_time(),
         1e-6,
         5_000,
         |x, y, phi| outer.value(x, y, phi),
@@ -307,7 +307,7 @@ fn the_committed_bench_table_is_the_solvers() {
         half: 6.0,
         headings: 24,
     };
-    let fresh = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 20_000, |_, _| {}).table_bytes();
+    let fresh = solve(game, grid, grid.step_time(), 1e-6, 20_000, |_, _| {}).table_bytes();
     let committed = include_bytes!("../../src/bench/table.tcv");
     assert!(fresh[..] == committed[..], "regenerate src/bench/table.tcv");
     let table = ValueTables::parse(committed).unwrap();
@@ -351,7 +351,7 @@ fn behind_the_non_usable_edge_the_disc_keeps_the_value_outside() {
         half: 2.0,
         headings: 24,
     };
-    let s = solve(game, grid, 0.5 * grid.spacing(), 1e-6, 5_000, |_, _| {});
+    let s = solve(game, grid, grid.step_time(), 1e-6, 5_000, |_, _| {});
     let h = grid.spacing();
     let (mut depth, mut kept) = (0, 0);
     for i in 0..grid.n {

@@ -245,7 +245,7 @@ fn read_cache(path: &std::path::Path, stamp: u128, game: Game, grid: Grid) -> Op
         game,
         grid,
         values,
-        tau: 0.5 * grid.spacing(),
+        tau: grid.step_time(),
         sweeps: u64::from_le_bytes(field(16)?) as usize,
         residual: f64::from_le_bytes(field(24)?),
         newly_finite: 0,
@@ -294,7 +294,7 @@ fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
     )
 }
 
-/// Solves `game` on `grid` with half a cell per sweep at v_pm until no value changes by more
+/// Solves `game` on `grid` with its step time per sweep ([`Grid::step_time`]) until no value changes by more
 /// than `tolerance`, progress shown, a step out of the box landing on `boundary`. The solution
 /// and the seconds taken.
 pub(crate) fn solve_grid(
@@ -303,7 +303,7 @@ pub(crate) fn solve_grid(
     tolerance: f64,
     boundary: Boundary,
 ) -> (Solution, f64) {
-    let tau = 0.5 * grid.spacing();
+    let tau = grid.step_time();
     let progress = Progress::new(
         0,
         &format!(
@@ -383,11 +383,12 @@ pub fn command(args: &HjArgs) -> i32 {
         return 2;
     }
     println!(
-        "# Hamilton-Jacobi-Isaacs value of the game of two cars\n\nv_em / v_pm = {:.4}, evader turn rate {:.4} rad per r_p / v_pm, capture radius {} r_p, box +-{} r_p; semi-Lagrangian value iteration, tau = half a cell at v_pm, trilinear, periodic in the relative heading; {} threads.\n",
+        "# Hamilton-Jacobi-Isaacs value of the game of two cars\n\nv_em / v_pm = {:.4}, evader turn rate {:.4} rad per r_p / v_pm, capture radius {} r_p, box +-{} r_p; semi-Lagrangian value iteration, tau = half a cell at v_pm or {} r_p / v_pm, whichever is longer, a path into the disc within a step captured there; trilinear, periodic in the relative heading; {} threads.\n",
         game.speed_ratio,
         game.evader_turn,
         game.eps,
         args.half,
+        twocars::value_table::MIN_STEP,
         rayon::current_num_threads()
     );
     if let Some(path) = &args.table {
