@@ -83,11 +83,11 @@ impl<'a> ValueTables<'a> {
     /// The pursuer's optimal turn at `(x, y, phi)`: -1, 0 or 1, the sign of its turn rate u
     /// (positive: its heading grows, as the law's curvature). In the finest table that plays
     /// there: for each turn, the largest V over the evader's four controls one solver step
-    /// ahead ([`crate::value_table::step_time`], exact arcs), each landing read from the finest table whose
-    /// box holds it; the turn whose worst case is least, straight keeping ties: the minimax
-    /// the solver solved, read back (docs/near-field.md). A landing without a value is that
-    /// turn's worst case. `None` where no table plays or has a value, or no turn keeps the
-    /// evader in the tables.
+    /// ahead ([`crate::value_table::step_time`], exact arcs), each landing read from the
+    /// finest table whose box holds it; the turn whose worst case is least, straight keeping
+    /// ties: the minimax the solver solved, read back (docs/near-field.md). A landing without a
+    /// value is that turn's worst case. `None` where no table plays or has a value, or no turn
+    /// keeps the evader in the tables.
     pub fn pursuer_turn(&self, x: f32, y: f32, phi: f32) -> Option<f32> {
         let table = self.finest(x, y)?;
         table.value(x, y, phi)?;

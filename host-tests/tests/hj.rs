@@ -175,6 +175,24 @@ fn a_step_out_of_the_box_lands_on_the_boundary_value() {
     assert!(without > 5.0, "{without}");
 }
 
+/// A step longer than half a cell's time captures a path that enters the disc within it: an
+/// evader that barely moves, 1.8 r_p ahead and 0.3 r_p aside, with a 0.6 r_p disc. Run straight
+/// at it, the pursuer enters the disc after 1.28 r_p / v_pm and is out again at 2.32; after one
+/// sweep of a 2.4 step every landing (straight, or either full turn) is outside the disc, so
+/// only the looks within the step (every 0.15) see the capture, at the first inside, 1.35.
+#[test]
+fn a_long_step_captures_a_path_through_the_disc() {
+    let game = Game::with_radius([1.0, 1.0, 1e-3, 1.0], 0.6);
+    let grid = Grid {
+        n: 41,
+        half: 6.0,
+        headings: 24,
+    };
+    let one_sweep = solve(game, grid, 2.4, 1e-6, 1, |_, _| {});
+    let v = one_sweep.value(1.8, 0.3, 0.0);
+    assert!((v - 1.35).abs() < 0.01, "{v}");
+}
+
 /// The solver's step is the relative motion integrated exactly: it agrees with the equations
 /// of motion in the pursuer's frame integrated in 10,000 small Euler steps, far out too, where
 /// one Euler step of the whole tau is off by about a cell.
