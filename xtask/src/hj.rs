@@ -184,11 +184,12 @@ pub(crate) fn level(text: &str) -> Result<Grid, String> {
         .ok_or_else(|| format!("{text}: n odd and at least 5, half positive, headings at least 4"))
 }
 
-/// The sources a solution depends on: the solver, its boundaries (the paper's value comes from
-/// the law) and this module's nesting of grids (not `crate::hj_sets`, which only says which
+/// The sources a solution depends on: the solver and its time step (`value_table::step_time`),
+/// its boundaries (the paper's value comes from the law) and this module's nesting of grids (not `crate::hj_sets`, which only says which
 /// grids: the cache's file names say that).
-const SOLVER_SOURCES: [&str; 6] = [
+const SOLVER_SOURCES: [&str; 7] = [
     include_str!("../../host-tests/src/hj.rs"),
+    include_str!("../../src/value_table.rs"),
     include_str!("../../host-tests/src/hj_paper.rs"),
     include_str!("hj.rs"),
     include_str!("../../src/law.rs"),
