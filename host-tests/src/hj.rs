@@ -378,22 +378,19 @@ pub fn solve_with_boundary(
         let (s, c) = phi.sin_cos();
         (x, y, phi, s, c)
     };
-    // The steps under each pair of controls (u, w) held for tau.
-    let steps: Vec<[Step; 4]> = pursuer
-        .iter()
-        .map(|&u| evader.map(|(speed, w)| Step::new(speed, tau, u, w)))
-        .collect();
+    // The steps under each pair of controls (u, w) held for `t`.
+    let steps_for = |t: f64| -> Vec<[Step; 4]> {
+        pursuer
+            .iter()
+            .map(|&u| evader.map(|(speed, w)| Step::new(speed, t, u, w)))
+            .collect()
+    };
+    let steps = steps_for(tau);
     // A step longer than half a cell's time is looked at every half a cell's time (or less):
     // a path that enters the disc between them is captured there, not carried past it.
     let subs = ((tau / (0.5 * grid.spacing())) - 1e-9).ceil().max(1.0) as usize;
     let sub_steps: Vec<Vec<[Step; 4]>> = (1..subs)
-        .map(|m| {
-            let t = tau * m as f64 / subs as f64;
-            pursuer
-                .iter()
-                .map(|&u| evader.map(|(speed, w)| Step::new(speed, t, u, w)))
-                .collect()
-        })
+        .map(|m| steps_for(tau * m as f64 / subs as f64))
         .collect();
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
     // The jump behind the disc's non-usable edge is kept only where the grid resolves the disc

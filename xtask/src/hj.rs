@@ -185,8 +185,8 @@ pub(crate) fn level(text: &str) -> Result<Grid, String> {
 }
 
 /// The sources a solution depends on: the solver and its time step (`value_table::step_time`),
-/// its boundaries (the paper's value comes from the law) and this module's nesting of grids (not `crate::hj_sets`, which only says which
-/// grids: the cache's file names say that).
+/// its boundaries (the paper's value comes from the law) and this module's nesting of grids
+/// (not `crate::hj_sets`, which only says which grids: the cache's file names say that).
 const SOLVER_SOURCES: [&str; 7] = [
     include_str!("../../host-tests/src/hj.rs"),
     include_str!("../../src/value_table.rs"),
@@ -295,9 +295,9 @@ fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
     )
 }
 
-/// Solves `game` on `grid` with its step time per sweep ([`Grid::step_time`]) until no value changes by more
-/// than `tolerance`, progress shown, a step out of the box landing on `boundary`. The solution
-/// and the seconds taken.
+/// Solves `game` on `grid` with its step time per sweep ([`Grid::step_time`]) until no value
+/// changes by more than `tolerance`, progress shown, a step out of the box landing on
+/// `boundary`. The solution and the seconds taken.
 pub(crate) fn solve_grid(
     game: Game,
     grid: Grid,
