@@ -17,7 +17,7 @@
 //! not found there. A node inside the capture disc with code 0 is not read: its value is
 //! r - eps, minus its depth (as the solver keeps it behind the usable part of the disc's edge),
 //! so that V's zero lies on the edge; one with another code is read as any node (behind the
-//! rest of the edge, where V jumps, the solver keeps V one cell outside). Tables of session
+//! rest of the edge, where V jumps, the solver keeps V two cells outside). Tables of session
 //! 41, with code 0 at every node in the disc, read as they did.
 //!
 //! Reads are bounds-checked and allocation-free; a malformed table is refused by
@@ -222,13 +222,11 @@ impl<'a> ValueTable<'a> {
                 i as f32 * self.spacing - self.half,
                 j as f32 * self.spacing - self.half,
             );
-            let r2 = x * x + y * y;
-            // The solver's margin: a node on the disc's edge is inside whatever its rounding.
-            // Code 0 there: behind the disc's usable edge, minus the node's depth; any other
-            // code is the value behind the rest of the edge (V one cell outside).
-            if r2 <= self.eps * self.eps * (1.0 + 1e-6) {
+            // In the disc, code 0 is behind its usable edge: minus the node's depth. Any other
+            // code is the value behind the rest of the edge (V two cells outside).
+            if self.captures(x, y) {
                 return match u16_at(self.codes, 2 * (row + i))? {
-                    0 => Some(libm::sqrtf(r2) - self.eps),
+                    0 => Some(libm::sqrtf(x * x + y * y) - self.eps),
                     NEVER => None,
                     code => Some(f32::from(code) * self.scale),
                 };
@@ -284,6 +282,12 @@ impl<'a> ValueTable<'a> {
     /// The byte length of this table in its source: header and codes.
     pub fn len_bytes(&self) -> usize {
         HEADER_LEN + self.codes.len()
+    }
+
+    /// Whether `(x, y)` (r_p) is in the capture disc; with the solver's margin, a point on its
+    /// edge is inside whatever its rounding.
+    pub(crate) fn captures(&self, x: f32, y: f32) -> bool {
+        x * x + y * y <= self.eps * self.eps * (1.0 + 1e-6)
     }
 
     /// Whether `(x, y)` (r_p) lies in the box.

@@ -75,9 +75,15 @@ impl<'a> ValueTables<'a> {
         self.finest(x, y)?.value(x, y, phi)
     }
 
-    /// V where a step lands: from the finest table whose box holds it, to its edge.
+    /// V where a step lands: from the finest table whose box holds it, to its edge. A landing
+    /// in the capture disc was captured within the step, as the solver counts it: at most 0.
     fn landing(&self, x: f32, y: f32, phi: f32) -> Option<f32> {
-        self.tables().find(|t| t.holds(x, y))?.value(x, y, phi)
+        let table = self.tables().find(|t| t.holds(x, y))?;
+        let v = table.value(x, y, phi);
+        if table.captures(x, y) {
+            return Some(v.map_or(0.0, |v| v.min(0.0)));
+        }
+        v
     }
 
     /// The pursuer's optimal turn at `(x, y, phi)`: -1, 0 or 1, the sign of its turn rate u
@@ -85,8 +91,9 @@ impl<'a> ValueTables<'a> {
     /// there: for each turn, the largest V over the evader's four controls one solver step
     /// ahead ([`crate::value_table::step_time`], exact arcs), each landing read from the
     /// finest table whose box holds it; the turn whose worst case is least, straight keeping
-    /// ties: the minimax the solver solved, read back (docs/near-field.md). A landing without a
-    /// value is that turn's worst case. `None` where no table plays or has a value, or no turn
+    /// ties: the minimax the solver solved, read back (docs/near-field.md). A landing in the
+    /// capture disc counts as captured (at most 0), one without a value as that turn's worst
+    /// case. `None` where no table plays or has a value, or no turn
     /// keeps the evader in the tables.
     pub fn pursuer_turn(&self, x: f32, y: f32, phi: f32) -> Option<f32> {
         let table = self.finest(x, y)?;

@@ -21,7 +21,9 @@
 //! [`usable`]) keep minus their depth, r - eps ([`disc_value`]), so that V's zero lies on the
 //! edge; behind the rest of the edge, where V jumps (an evader there slips past), each sweep
 //! sets them to V two cells outside on their ray, so that the jump is not smeared toward zero
-//! (on grids that resolve the disc, about five cells or more across its radius).
+//! (on grids that resolve the disc, about five cells or more across its radius). Those values
+//! are for interpolating outside the disc: a step whose path is in the disc at its end, or at
+//! a look within it, was captured, whatever part of the edge it crossed (V there at most 0).
 //! The pursuer turns fully either way or runs straight (u in {-1, 0, 1}); the evader turns
 //! fully either way or runs straight at full speed, or stands still
 //! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary
@@ -55,6 +57,13 @@ impl Game {
     pub fn evader_controls(&self) -> [(f64, f64); 4] {
         let (a, w) = (self.speed_ratio, self.evader_turn);
         [(a, -w), (a, 0.0), (a, w), (0.0, 0.0)]
+    }
+
+    /// Whether `(x, y)` (r_p) is in the capture disc. A point on its edge is inside whatever the
+    /// rounding of its coordinates (-6 + 33 x 0.2 is 0.6000000000000005): without the margin,
+    /// grids of equal spacing disagreed on a node there.
+    pub fn captures(&self, x: f64, y: f64) -> bool {
+        x * x + y * y <= self.eps * self.eps * (1.0 + 1e-9)
     }
 
     /// The paper's theorem's threshold 2 r_e + 2 pi r_e v_pm / v_em, r_p: beyond it the
@@ -194,7 +203,7 @@ impl Solution {
         for v in kept.map(|index| self.values[index]) {
             let code = if v <= cap {
                 // Nodes in the disc behind its usable edge (V = r - eps < 0): code 0, read
-                // as r - eps; behind the rest, their V one cell outside.
+                // as r - eps; behind the rest, their V two cells outside.
                 (v.max(0.0) / f64::from(scale as f32))
                     .round()
                     .min(f64::from(NEVER_CODE - 1)) as u16
@@ -347,13 +356,7 @@ pub fn solve_with_boundary(
     boundary: impl Fn(f64, f64, f64) -> f64 + Sync,
     mut progress: impl FnMut(usize, f64),
 ) -> Solution {
-    // A node on the disc's edge is inside it whatever the rounding of its coordinates (-6 + 33 x
-    // 0.2 is 0.6000000000000005): without the margin, grids of equal spacing disagreed on it.
-    let radius_squared = game.eps * game.eps * (1.0 + 1e-9);
-    let captured = |i: usize, j: usize| {
-        let (x, y) = (grid.position(i), grid.position(j));
-        x * x + y * y <= radius_squared
-    };
+    let captured = |i: usize, j: usize| game.captures(grid.position(i), grid.position(j));
     let mut values: Vec<f64> = (0..grid.len())
         .map(|index| {
             let i = index % grid.n;
@@ -450,12 +453,16 @@ pub fn solve_with_boundary(
                             .map(|(e, step)| {
                                 for (m, sub) in sub_steps.iter().enumerate() {
                                     let (sx, sy, _) = sub[p][e].from(at);
-                                    if sx * sx + sy * sy <= radius_squared {
+                                    if game.captures(sx, sy) {
                                         return tau * (m + 1) as f64 / subs as f64;
                                     }
                                 }
                                 let (nx, ny, nphi) = step.from(at);
-                                let next = if inside(nx, ny) {
+                                // A path that ends in the disc was captured within the step,
+                                // behind whatever part of its edge: at most tau.
+                                let next = if game.captures(nx, ny) {
+                                    interpolate(&grid, old, nx, ny, nphi).min(0.0)
+                                } else if inside(nx, ny) {
                                     interpolate(&grid, old, nx, ny, nphi)
                                 } else {
                                     exits.get(&(index, p, e)).copied().unwrap_or(NEVER)

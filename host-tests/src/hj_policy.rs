@@ -47,12 +47,21 @@ pub fn value(tables: &[Solution], at: (f64, f64, f64)) -> Option<f64> {
 }
 
 /// V at `(x, y, phi)` from the finest of `tables` whose box holds it, to its edge: where a
-/// step from a state lands ([`crate::hj::NEVER`] outside every box).
+/// step from a state lands ([`crate::hj::NEVER`] outside every box). A landing in the capture
+/// disc was captured within the step, as the solver counts it: at most 0.
 fn landing(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> f64 {
-    tables
+    let Some(table) = tables
         .iter()
         .find(|table| x.abs() <= table.grid.half && y.abs() <= table.grid.half)
-        .map_or(crate::hj::NEVER, |table| table.value(x, y, phi))
+    else {
+        return crate::hj::NEVER;
+    };
+    let v = table.value(x, y, phi);
+    if table.game.captures(x, y) {
+        v.min(0.0)
+    } else {
+        v
+    }
 }
 
 /// The pursuer's curvature (1/m) from `tables` solved for limits whose pursuer curvature is

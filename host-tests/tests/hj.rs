@@ -193,6 +193,58 @@ fn a_long_step_captures_a_path_through_the_disc() {
     assert!((v - 1.35).abs() < 0.01, "{v}");
 }
 
+/// A step whose path ends in the capture disc was captured, whatever part of the disc's edge it
+/// crossed: on a grid that resolves the disc (radius 1 r_p, ten cells), every node from which
+/// one of the pursuer's turns ends in the disc under each of the evader's controls has V at most
+/// tau. Without that rule such a landing behind the edge where the evader slips past reads the
+/// value the disc keeps there for interpolating outside it, and many of those are above 0.
+#[test]
+fn a_step_that_ends_in_the_disc_is_captured() {
+    use host_tests::hj::Step;
+    let game = Game::with_radius([2.0, 2.0, 1.2, 1.2], 1.0);
+    let grid = Grid {
+        n: 41,
+        half: 2.0,
+        headings: 36,
+    };
+    let tau = grid.step_time();
+    let solution = solve(game, grid, tau, 1e-6, 30, |_, _| {});
+    let h = grid.spacing();
+    let (mut ending_in_disc, mut read_above_zero) = (0, 0);
+    for k in 0..grid.headings {
+        let phi = -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / grid.headings as f64;
+        let (s, c) = phi.sin_cos();
+        for j in 0..grid.n {
+            for i in 0..grid.n {
+                let (x, y) = (-grid.half + i as f64 * h, -grid.half + j as f64 * h);
+                if game.captures(x, y) {
+                    continue;
+                }
+                for u in [-1.0, 0.0, 1.0] {
+                    let landings = game
+                        .evader_controls()
+                        .map(|(a, w)| Step::new(a, tau, u, w).from((x, y, phi, s, c)));
+                    if landings.iter().all(|&(lx, ly, _)| game.captures(lx, ly)) {
+                        ending_in_disc += 1;
+                        let v = solution.value(x, y, phi);
+                        assert!(v <= tau + 1e-9, "V {v} at ({x}, {y}, {phi}), turn {u}");
+                        if landings
+                            .iter()
+                            .any(|&(lx, ly, lphi)| solution.value(lx, ly, lphi) > 0.0)
+                        {
+                            read_above_zero += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        ending_in_disc > 100 && read_above_zero > 10,
+        "{ending_in_disc} {read_above_zero}"
+    );
+}
+
 /// The solver's step is the relative motion integrated exactly: it agrees with the equations
 /// of motion in the pursuer's frame integrated in 10,000 small Euler steps, far out too, where
 /// one Euler step of the whole tau is off by about a cell.

@@ -198,6 +198,25 @@ fn the_optimal_turn_is_the_solvers() {
     );
 }
 
+/// Around a capture disc the grid resolves (radius 1 r_p, ten cells), where steps end in the
+/// disc behind the part of its edge where the evader slips past (the nodes there keep V two
+/// cells outside, for interpolating outside the disc), the reader counts such a landing as
+/// captured, as the solver and the host's pursuer do, and takes the host's turn.
+#[test]
+fn around_the_disc_the_reader_turns_as_the_solver() {
+    let game = Game::with_radius([2.0, 2.0, 1.2, 1.2], 1.0);
+    let grid = Grid {
+        n: 41,
+        half: 2.0,
+        headings: 36,
+    };
+    let solution = solve(game, grid, grid.step_time(), 1e-4, 200, |_, _| {});
+    let bytes: &'static [u8] = Box::leak(solution.table_bytes().into_boxed_slice());
+    let set = ValueTables::parse(bytes).unwrap();
+    let (clear, _) = turns_agree(std::slice::from_ref(&solution), &set, 1.6, 20_000);
+    assert!(clear > 2_000, "{clear} clear states");
+}
+
 /// Two nested tables (+-2 r_p at 0.1 r_p inside the 41-node table, solved with its values as
 /// the boundary), written as one set: the reader's turn is the host's nested pursuer's, in the
 /// inner box, across its edge and outside it.
