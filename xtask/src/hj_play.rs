@@ -10,7 +10,7 @@
 //! ([`crate::hj_sets::NEAR_FIELD`]) whatever `--levels` the pursuer plays: a coarser table's V
 //! is off by its grid's error, and would judge its own captures by it.
 
-use host_tests::adversary::{EvaderKind, Opponent};
+use host_tests::adversary::{Adversary, EvaderKind, Opponent};
 use host_tests::hj::{table_set_bytes, Solution};
 use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative, value};
 use host_tests::rng::Rng;
@@ -32,6 +32,9 @@ struct Play {
     v0: f64,
     /// The start in the table's frame (r_p, radians).
     start: (f64, f64, f64),
+    /// The start: pursuer and evader (m, rad), and the seed of the suite's evader.
+    states: [[f64; 3]; 2],
+    adversary_seed: u64,
     flight: SimResult,
     table: SimResult,
     /// The firmware's `Guidance` with `Policy::Table` on the quantised tables (f32).
@@ -144,6 +147,8 @@ fn play(
             Play {
                 v0,
                 start: relative(w_pm, params.pursuer, params.evader),
+                states: [params.pursuer, params.evader],
+                adversary_seed,
                 flight: run(&no_turn, Policy::Flight, None),
                 table: run(
                     &|p, e| pursuer_curvature(tables, w_pm, p, e),
@@ -222,6 +227,7 @@ pub fn command(
         .into_iter()
         .map(Evader::Suite)
         .chain([Evader::Table]);
+    let mut late = Vec::new();
     for (k, evader) in evaders.enumerate() {
         let plays: Vec<(u64, Play)> = seeds
             .iter()
@@ -275,6 +281,66 @@ pub fn command(
             "| {} | {flight_never} / {table_never} / {firmware_never} | {flight} | {with_table} | {with_firmware} | {flight_mean:.2} / {table_mean:.2} / {firmware_mean:.2} | {worst} |",
             evader.name()
         );
+        late.extend(
+            plays
+                .iter()
+                .filter(|(_, p)| p.over(&p.table).is_finite() && p.over(&p.table) > 0.10)
+                .map(|(seed, p)| beside_best_plan(limits, &reference, evader, *seed, p)),
+        );
+    }
+    if !late.is_empty() {
+        println!(
+            "\nThe tables' pursuer's runs past 10 %, each beside the earliest capture of the same evader by the probe's {} open-loop plans (`--probe`; where no plan beats the pursuer, V(x0) is below what that evader allows):\n",
+            crate::hj_probe::PLANS
+        );
+        for line in late {
+            println!("- {line}");
+        }
     }
     0
+}
+
+/// A run past 10 % beside the earliest capture of the same evader (the same seed) by the
+/// probe's open-loop plans, each run as the play ran it, from the same start.
+fn beside_best_plan(
+    limits: [f64; 4],
+    reference: &[Solution],
+    evader: Evader,
+    seed: u64,
+    p: &Play,
+) -> String {
+    let [_, w_pm, v_em, w_em] = limits;
+    let eps = capture_radius(reference, limits);
+    let maker = || -> crate::hj_probe::EvaderRun<'_> {
+        match evader {
+            Evader::Suite(kind) => {
+                let opponent = Opponent::Evader(kind);
+                match Adversary::new(opponent, limits, DT, eps, p.adversary_seed) {
+                    Some(mut adversary) => Box::new(move |t, pu, ev| adversary.command(t, pu, ev)),
+                    None => Box::new(|_, _, _| (0.0, v_em)),
+                }
+            }
+            Evader::Table => Box::new(move |_, pu, ev| {
+                let w = evader_curvature(reference, [w_pm, w_em], pu, ev).unwrap_or(0.0);
+                (w, v_em)
+            }),
+        }
+    };
+    let capture = p.table.t_capture;
+    let (best, _) = crate::hj_probe::best_plan(limits, eps, p.states, capture + DT, &maker);
+    let (x, y, phi) = p.start;
+    let best = if best.is_finite() {
+        format!(
+            "the best plan {best:.2} s ({})",
+            percent((best - p.v0 - 5.0 * DT) / p.v0)
+        )
+    } else {
+        "no plan earlier".to_string()
+    };
+    format!(
+        "{} from ({x:.2}, {y:.2}, {phi:.2}) r_p, seed {seed}: V(x0) {:.2} s, captured at {capture:.2} s ({}); {best}",
+        evader.name(),
+        p.v0,
+        percent(p.over(&p.table)),
+    )
 }
