@@ -93,8 +93,8 @@ impl<'a> ValueTables<'a> {
     /// finest table whose box holds it; the turn whose worst case is least, straight keeping
     /// ties: the minimax the solver solved, read back (docs/near-field.md). A landing in the
     /// capture disc counts as captured (at most 0), one without a value as that turn's worst
-    /// case. `None` where no table plays or has a value, or no turn
-    /// keeps the evader in the tables.
+    /// case. `None` where no table plays or has a value, or no turn keeps the evader in the
+    /// tables.
     pub fn pursuer_turn(&self, x: f32, y: f32, phi: f32) -> Option<f32> {
         let table = self.finest(x, y)?;
         table.value(x, y, phi)?;

@@ -8,7 +8,9 @@
 //! capture at the tables' radius, and each capture is compared with V(x0), the time to capture
 //! under optimal play by both sides, read from the reference tables
 //! ([`crate::hj_sets::NEAR_FIELD`]) whatever `--levels` the pursuer plays: a coarser table's V
-//! is off by its grid's error, and would judge its own captures by it.
+//! is off by its grid's error, and would judge its own captures by it. Below the table, each
+//! run past 10 % is listed beside the earliest capture of its evader by the open-loop plans of
+//! `--probe` ([`crate::hj_probe::best_plan`]).
 
 use host_tests::adversary::{Adversary, EvaderKind, Opponent};
 use host_tests::hj::{table_set_bytes, Solution};
