@@ -32,8 +32,6 @@ pub(crate) const DT: f64 = 0.01;
 struct Play {
     /// The table's V(x0), s.
     v0: f64,
-    /// The start in the table's frame (r_p, radians).
-    start: (f64, f64, f64),
     /// The start: pursuer and evader (m, rad), and the seed of the suite's evader.
     states: [[f64; 3]; 2],
     adversary_seed: u64,
@@ -50,6 +48,12 @@ impl Play {
             return f64::INFINITY;
         }
         (r.t_capture - self.v0 - 5.0 * DT) / self.v0
+    }
+
+    /// The start in the tables' frame at `limits` (r_p, radians).
+    fn start(&self, limits: [f64; 4]) -> (f64, f64, f64) {
+        let [pursuer, evader] = self.states;
+        relative(limits[1], pursuer, evader)
     }
 }
 
@@ -148,7 +152,6 @@ fn play(
             };
             Play {
                 v0,
-                start: relative(w_pm, params.pursuer, params.evader),
                 states: [params.pursuer, params.evader],
                 adversary_seed,
                 flight: run(&no_turn, Policy::Flight, None),
@@ -258,7 +261,7 @@ pub fn command(
                 .iter()
                 .max_by(|(_, p), (_, q)| p.over(pick(p)).total_cmp(&q.over(pick(q))))
                 .map(|(seed, p)| {
-                    let (x, y, phi) = p.start;
+                    let (x, y, phi) = p.start(limits);
                     format!("({x:.2}, {y:.2}, {phi:.2}), {:.2} s, seed {seed}", p.v0)
                 })
                 .unwrap_or_default();
@@ -330,7 +333,7 @@ fn beside_best_plan(
     };
     let capture = p.table.t_capture;
     let (best, _) = crate::hj_probe::best_plan(limits, eps, p.states, capture + DT, &maker);
-    let (x, y, phi) = p.start;
+    let (x, y, phi) = p.start(limits);
     let best = if best.is_finite() {
         format!(
             "the best plan {best:.2} s ({})",
