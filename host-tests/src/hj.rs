@@ -15,7 +15,8 @@
 //!
 //! Capture is the disc x^2 + y^2 <= eps^2. One sweep sets, at every node outside it,
 //! V = max(0, min over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step
-//! ([`Step`]), V interpolated trilinearly (periodic in phi), starting from V = [`NEVER`]: after
+//! ([`Step`]), V interpolated trilinearly (periodic in phi) or, within two cells of the capture
+//! disc, read by one more step ([`Scheme::read`]), starting from V = [`NEVER`]: after
 //! k sweeps V is below it where capture within about k tau is guaranteed. Nodes in the disc
 //! behind the usable part of its edge (where the pursuer can force the distance down,
 //! [`usable`]) keep minus their depth, r - eps ([`disc_value`]), so that V's zero lies on the
@@ -157,9 +158,21 @@ impl Solution {
         interpolate(&self.grid, &self.values, x, y, phi)
     }
 
-    /// [`Solution::value`] of a state `(x, y, phi)`.
-    pub fn value_at(&self, (x, y, phi): (f64, f64, f64)) -> f64 {
-        self.value(x, y, phi)
+    /// V where a step of the scheme lands at `(x, y, phi)`, as the solver reads it
+    /// ([`Scheme::read`]: at most 0 in the disc, one more step near it); [`NEVER`] outside the
+    /// box.
+    pub fn landing(&self, at: (f64, f64, f64)) -> f64 {
+        if near_disc(&self.game, &self.grid, at.0, at.1) {
+            Scheme::new(self.game, self.grid, self.tau).read(&self.values, at, NEVER)
+        } else {
+            self.interpolated_landing(at)
+        }
+    }
+
+    /// V interpolated where a step lands at `(x, y, phi)`, at most 0 in the capture disc (the
+    /// path was captured within the step); [`NEVER`] outside the box: the players' read.
+    pub fn interpolated_landing(&self, at: (f64, f64, f64)) -> f64 {
+        interpolated_landing(&self.game, &self.grid, &self.values, at)
     }
 }
 
@@ -344,6 +357,127 @@ pub fn disc_value(game: &Game, x: f64, y: f64) -> f64 {
     x.hypot(y) - game.eps
 }
 
+/// One step of the scheme: the steps under each pair of controls held for `tau`, and the looks
+/// within a step longer than half a cell's time.
+pub struct Scheme {
+    game: Game,
+    grid: Grid,
+    tau: f64,
+    /// The steps under each pursuer turn (-1, 0, 1) and evader control.
+    steps: Vec<[Step; 4]>,
+    /// The looks within a step: the same steps cut short at `m / looks` of `tau`, m = 1 ..
+    sub_steps: Vec<Vec<[Step; 4]>>,
+    looks: usize,
+}
+
+impl Scheme {
+    /// The scheme of `game` on `grid` with time step `tau` (r_p / v_pm).
+    pub fn new(game: Game, grid: Grid, tau: f64) -> Self {
+        let steps_for = |t: f64| -> Vec<[Step; 4]> {
+            [-1.0, 0.0, 1.0]
+                .iter()
+                .map(|&u| {
+                    game.evader_controls()
+                        .map(|(speed, w)| Step::new(speed, t, u, w))
+                })
+                .collect()
+        };
+        // A step longer than half a cell's time is looked at every half a cell's time (or
+        // less): a path that enters the disc between them is captured there, not carried past.
+        let looks = ((tau / (0.5 * grid.spacing())) - 1e-9).ceil().max(1.0) as usize;
+        Scheme {
+            game,
+            grid,
+            tau,
+            steps: steps_for(tau),
+            sub_steps: (1..looks)
+                .map(|m| steps_for(tau * m as f64 / looks as f64))
+                .collect(),
+            looks,
+        }
+    }
+
+    /// The scheme's value at `at` (a state and its heading's sine and cosine): the least over
+    /// the pursuer's turns of the most over the evader's controls of the time to capture at a
+    /// look within the step, or tau plus `land(turn, control, where the step ends)`.
+    pub fn minimax(
+        &self,
+        at: (f64, f64, f64, f64, f64),
+        land: impl Fn(usize, usize, (f64, f64, f64)) -> f64,
+    ) -> f64 {
+        let (game, tau, looks) = (self.game, self.tau, self.looks);
+        self.steps
+            .iter()
+            .enumerate()
+            .map(|(p, row)| {
+                row.iter()
+                    .enumerate()
+                    .map(|(e, step)| {
+                        for (m, sub) in self.sub_steps.iter().enumerate() {
+                            let (sx, sy, _) = sub[p][e].from(at);
+                            if game.captures(sx, sy) {
+                                return tau * (m + 1) as f64 / looks as f64;
+                            }
+                        }
+                        (tau + land(p, e, step.from(at))).min(NEVER)
+                    })
+                    .fold(f64::NEG_INFINITY, f64::max)
+            })
+            .fold(f64::INFINITY, f64::min)
+            .max(0.0)
+    }
+
+    /// V where a step lands, from the node values `values`: in the capture disc at most 0 (it
+    /// was captured within the step); within two cells of the disc ([`near_disc`]) one
+    /// more step of the scheme, its landings interpolated; elsewhere in the box interpolated
+    /// trilinearly; `outside` beyond the box. Near the disc V jumps within a cell: by the
+    /// centres of the pursuer's turning circles an evader that passes a hundredth of r_p
+    /// outside the edge escapes for a loop, and its neighbour node a thousandth outside is
+    /// captured; interpolating the two read the pass as half captured.
+    pub fn read(&self, values: &[f64], (x, y, phi): (f64, f64, f64), outside: f64) -> f64 {
+        let (game, grid) = (&self.game, &self.grid);
+        let plain = |(x, y, phi): (f64, f64, f64)| {
+            if x.abs() <= grid.half && y.abs() <= grid.half {
+                interpolated_landing(game, grid, values, (x, y, phi))
+            } else {
+                outside
+            }
+        };
+        if near_disc(game, grid, x, y) {
+            let (s, c) = phi.sin_cos();
+            self.minimax((x, y, phi, s, c), |_, _, next| plain(next))
+        } else {
+            plain((x, y, phi))
+        }
+    }
+}
+
+/// V interpolated from the node `values` where a step lands at `(x, y, phi)`, at most 0 in the
+/// capture disc: a path that ends the step there was captured within it, whatever part of the
+/// disc's edge it crossed (behind the part where the evader slips past, the disc's nodes keep
+/// V from outside, for interpolating there). [`NEVER`] outside the box.
+fn interpolated_landing(
+    game: &Game,
+    grid: &Grid,
+    values: &[f64],
+    (x, y, phi): (f64, f64, f64),
+) -> f64 {
+    let v = interpolate(grid, values, x, y, phi);
+    if game.captures(x, y) {
+        v.min(0.0)
+    } else {
+        v
+    }
+}
+
+/// Whether a landing at `(x, y)` (r_p) is read by one more step of the scheme
+/// ([`Scheme::read`]): outside the disc and within two cells of its edge, on grids that resolve
+/// it (its radius more than 4.5 cells).
+pub fn near_disc(game: &Game, grid: &Grid, x: f64, y: f64) -> bool {
+    let (h, r) = (grid.spacing(), x.hypot(y));
+    game.eps > 4.5 * h && !game.captures(x, y) && r < game.eps + 2.0 * h
+}
+
 /// [`solve`] with `boundary(x, y, phi)` the value of a state outside the box (r_p / v_pm;
 /// [`NEVER`] for never captured): for example the paper's upper value beyond the theorem's
 /// threshold. It is called once per node and control pair whose step leaves the box.
@@ -368,8 +502,6 @@ pub fn solve_with_boundary(
             }
         })
         .collect();
-    let pursuer = [-1.0, 0.0, 1.0];
-    let evader = game.evader_controls();
     // A node's state and its heading's sine and cosine.
     let node = |index: usize| {
         let (i, j, k) = (
@@ -381,20 +513,8 @@ pub fn solve_with_boundary(
         let (s, c) = phi.sin_cos();
         (x, y, phi, s, c)
     };
-    // The steps under each pair of controls (u, w) held for `t`.
-    let steps_for = |t: f64| -> Vec<[Step; 4]> {
-        pursuer
-            .iter()
-            .map(|&u| evader.map(|(speed, w)| Step::new(speed, t, u, w)))
-            .collect()
-    };
-    let steps = steps_for(tau);
-    // A step longer than half a cell's time is looked at every half a cell's time (or less):
-    // a path that enters the disc between them is captured there, not carried past it.
-    let subs = ((tau / (0.5 * grid.spacing())) - 1e-9).ceil().max(1.0) as usize;
-    let sub_steps: Vec<Vec<[Step; 4]>> = (1..subs)
-        .map(|m| steps_for(tau * m as f64 / subs as f64))
-        .collect();
+    let scheme = Scheme::new(game, grid, tau);
+    let steps = &scheme.steps;
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
     // The jump behind the disc's non-usable edge is kept only where the grid resolves the disc
     // (its radius about five cells or more): on a 0.3 r_p grid with eps = 0.3 r_p the tail
@@ -444,35 +564,14 @@ pub fn solve_with_boundary(
                     return interpolate(&grid, old, x * out, y * out, phi).min(NEVER);
                 }
                 let at = node(index);
-                steps
-                    .iter()
-                    .enumerate()
-                    .map(|(p, row)| {
-                        row.iter()
-                            .enumerate()
-                            .map(|(e, step)| {
-                                for (m, sub) in sub_steps.iter().enumerate() {
-                                    let (sx, sy, _) = sub[p][e].from(at);
-                                    if game.captures(sx, sy) {
-                                        return tau * (m + 1) as f64 / subs as f64;
-                                    }
-                                }
-                                let (nx, ny, nphi) = step.from(at);
-                                // A path that ends in the disc was captured within the step,
-                                // behind whatever part of its edge: at most tau.
-                                let next = if game.captures(nx, ny) {
-                                    interpolate(&grid, old, nx, ny, nphi).min(0.0)
-                                } else if inside(nx, ny) {
-                                    interpolate(&grid, old, nx, ny, nphi)
-                                } else {
-                                    exits.get(&(index, p, e)).copied().unwrap_or(NEVER)
-                                };
-                                (tau + next).min(NEVER)
-                            })
-                            .fold(f64::NEG_INFINITY, f64::max)
-                    })
-                    .fold(f64::INFINITY, f64::min)
-                    .max(0.0)
+                scheme.minimax(at, |p, e, next| {
+                    let (nx, ny, _) = next;
+                    if game.captures(nx, ny) || inside(nx, ny) {
+                        scheme.read(old, next, NEVER)
+                    } else {
+                        exits.get(&(index, p, e)).copied().unwrap_or(NEVER)
+                    }
+                })
             })
             .collect();
         let (residual, newly_finite) = old

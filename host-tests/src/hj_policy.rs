@@ -41,14 +41,18 @@ pub fn holding(tables: &[Solution], x: f64, y: f64) -> Option<&Solution> {
     })
 }
 
-/// V at `(x, y, phi)` (r_p / v_pm) from the finest of `tables` that plays there ([`finest`]).
+/// V at `(x, y, phi)` (r_p / v_pm) from the finest of `tables` that plays there ([`finest`]),
+/// read as the solver reads where a step lands ([`Solution::landing`]: within two cells of the
+/// capture disc, one more step of the scheme).
 pub fn value(tables: &[Solution], at: (f64, f64, f64)) -> Option<f64> {
-    finest(tables, at).map(|table| table.value_at(at))
+    finest(tables, at).map(|table| table.landing(at))
 }
 
 /// V at `(x, y, phi)` from the finest of `tables` whose box holds it, to its edge: where a
-/// step from a state lands ([`crate::hj::NEVER`] outside every box). A landing in the capture
-/// disc was captured within the step, as the solver counts it: at most 0.
+/// step from a state lands ([`crate::hj::NEVER`] outside every box), interpolated as the
+/// firmware reads it ([`Solution::interpolated_landing`]: at most 0 in the capture disc). The
+/// solver reads a landing within two cells of the disc by one more step of the scheme
+/// ([`Solution::landing`]); the players reading it so played the same runs (session 47).
 fn landing(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> f64 {
     let Some(table) = tables
         .iter()
@@ -56,12 +60,7 @@ fn landing(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> f64 {
     else {
         return crate::hj::NEVER;
     };
-    let v = table.value(x, y, phi);
-    if table.game.captures(x, y) {
-        v.min(0.0)
-    } else {
-        v
-    }
+    table.interpolated_landing((x, y, phi))
 }
 
 /// The pursuer's curvature (1/m) from `tables` solved for limits whose pursuer curvature is

@@ -309,3 +309,30 @@ fn beyond_the_threshold_the_value_is_the_papers() {
         assert!(gap.abs() <= 0.05 * value, "V off by {gap} from {value}");
     }
 }
+
+/// By the centre of the pursuer's right turning circle, an evader running back past the
+/// pursuer 0.01 r_p outside the capture disc (eps = 1 r_p) is not captured by any turn: it
+/// passes by and leaves the box. Its cell's corner 0.001 r_p outside the disc is captured as
+/// the evader passes, so V interpolated there reads it captured; the solver reads a landing
+/// within two cells of the disc by one more step of the scheme, which sees the pass. A pass
+/// 0.03 r_p inside the edge is captured within the step either way.
+#[test]
+fn a_pass_just_outside_the_disc_is_read_by_one_more_step() {
+    let game = Game::with_radius([2.0, 2.0, 1.2, 1.2], 1.0);
+    let grid = Grid {
+        n: 41,
+        half: 2.0,
+        headings: 36,
+    };
+    let solution = solve(game, grid, grid.step_time(), 1e-6, 2_000, |_, _| {});
+    let pi = std::f64::consts::PI;
+    let pass = (0.1, -1.01, pi);
+    let (read, interpolated) = (solution.landing(pass), solution.value(pass.0, pass.1, pi));
+    assert!(
+        read >= REACHED && interpolated < REACHED,
+        "read {read}, interpolated {interpolated}"
+    );
+    // Enters the disc 0.036 r_p / v_pm into the step (straight on, closing at 1.6).
+    let caught = solution.landing((0.3, -0.97, pi));
+    assert!(caught < 0.15, "{caught}");
+}
