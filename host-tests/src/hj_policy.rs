@@ -52,7 +52,8 @@ pub fn value(tables: &[Solution], at: (f64, f64, f64)) -> Option<f64> {
 /// step from a state lands ([`crate::hj::NEVER`] outside every box), interpolated as the
 /// firmware reads it ([`Solution::interpolated_landing`]: at most 0 in the capture disc). The
 /// solver reads a landing within two cells of the disc by one more step of the scheme
-/// ([`Solution::landing`]); the players reading it so played the same runs (session 47).
+/// ([`Solution::landing`]); the players reading it so played the same rows of `--play`
+/// (session 47).
 fn landing(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> f64 {
     let Some(table) = tables
         .iter()
