@@ -470,12 +470,21 @@ fn interpolated_landing(
     }
 }
 
+/// Whether `grid` resolves the capture disc of `game`: its radius more than 4.5 cells. Only
+/// there does the solver keep V's jump behind the disc's non-usable edge and read landings
+/// near the disc by one more step: on a 0.3 r_p grid with eps = 0.3 r_p the tail chase's V at
+/// 1 r_p doubled, the disc's few nodes feeding each other's values.
+pub fn resolves_disc(game: &Game, grid: &Grid) -> bool {
+    game.eps > 4.5 * grid.spacing()
+}
+
 /// Whether a landing at `(x, y)` (r_p) is read by one more step of the scheme
 /// ([`Scheme::read`]): outside the disc and within two cells of its edge, on grids that resolve
-/// it (its radius more than 4.5 cells).
+/// it ([`resolves_disc`]).
 pub fn near_disc(game: &Game, grid: &Grid, x: f64, y: f64) -> bool {
-    let (h, r) = (grid.spacing(), x.hypot(y));
-    game.eps > 4.5 * h && !game.captures(x, y) && r < game.eps + 2.0 * h
+    resolves_disc(game, grid)
+        && !game.captures(x, y)
+        && x.hypot(y) < game.eps + 2.0 * grid.spacing()
 }
 
 /// [`solve`] with `boundary(x, y, phi)` the value of a state outside the box (r_p / v_pm;
@@ -516,10 +525,8 @@ pub fn solve_with_boundary(
     let scheme = Scheme::new(game, grid, tau);
     let steps = &scheme.steps;
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
-    // The jump behind the disc's non-usable edge is kept only where the grid resolves the disc
-    // (its radius about five cells or more): on a 0.3 r_p grid with eps = 0.3 r_p the tail
-    // chase's V at 1 r_p doubled, the disc's few nodes feeding each other's values.
-    let resolved = game.eps > 4.5 * grid.spacing();
+    // The jump behind the disc's non-usable edge is kept only where the grid resolves the disc.
+    let resolved = resolves_disc(&game, &grid);
     // The boundary's values, fixed: the steps that leave the box do not depend on V.
     let exits: std::collections::HashMap<(usize, usize, usize), f64> = (0..grid.len())
         .into_par_iter()
