@@ -43,7 +43,7 @@ pub fn holding(tables: &[Solution], x: f64, y: f64) -> Option<&Solution> {
 
 /// V at `(x, y, phi)` (r_p / v_pm) from the finest of `tables` that plays there ([`finest`]),
 /// read as the solver reads where a step lands ([`Solution::landing`]: within two cells of the
-/// capture disc, one more step of the scheme).
+/// capture disc, one step of three tau).
 pub fn value(tables: &[Solution], at: (f64, f64, f64)) -> Option<f64> {
     finest(tables, at).map(|table| table.landing(at))
 }
@@ -52,8 +52,8 @@ pub fn value(tables: &[Solution], at: (f64, f64, f64)) -> Option<f64> {
 /// step from a state lands ([`crate::hj::NEVER`] outside every box), interpolated as the
 /// firmware reads it ([`Solution::interpolated_landing`]: at most 0 in the capture disc). The
 /// solver reads a landing within two cells of the disc by one more step of the scheme
-/// ([`Solution::landing`]); the players reading it so played the same rows of `--play`
-/// (session 47).
+/// ([`Solution::landing`]); the players reading it so (with a step of tau, session 47) played
+/// the same rows of `--play`.
 fn landing(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> f64 {
     let Some(table) = tables
         .iter()
