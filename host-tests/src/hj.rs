@@ -17,8 +17,7 @@
 //! V = max(0, min over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step
 //! ([`Step`]), V interpolated trilinearly (periodic in phi) or, within two cells of the capture
 //! disc, read by one step of three tau ([`Scheme::near`], [`Scheme::read`]), starting from
-//! V = [`NEVER`]: after
-//! k sweeps V is below it where capture within about k tau is guaranteed. Nodes in the disc
+//! V = [`NEVER`]: after k sweeps V is below it where capture within about k tau is guaranteed. Nodes in the disc
 //! behind the usable part of its edge (where the pursuer can force the distance down,
 //! [`usable`]) keep minus their depth, r - eps ([`disc_value`]), so that V's zero lies on the
 //! edge; behind the rest of the edge, where V jumps (an evader there slips past), each sweep
@@ -400,8 +399,9 @@ impl Scheme {
 
     /// The scheme that reads landings near the disc ([`Scheme::read`]) for a solver stepping
     /// `tau`: one step of [`NEAR_STEPS`] times `tau`, with its looks. A pass that skims the
-    /// edge slowly (at 1.02 r_p, closing at 0.1 r_p per tau) is still within two cells of
-    /// the disc after one step of tau, where V jumps within a cell; three steps carry it out.
+    /// edge slowly can still be within two cells of the disc after one step of tau, where V
+    /// jumps within a cell (a run traced in session 47 passed at 1.018 r_p, and one step of
+    /// tau from 1.056 r_p landed still in that band).
     /// On seeds kept aside (130,000 to 139,000) every run past 10 % of `cargo xtask hj --play`
     /// was 1 to 8 points earlier than with one step of tau, and no other worst run rose by
     /// more than 0.1 point (session 48).
@@ -442,8 +442,7 @@ impl Scheme {
     /// V where a step lands, from the node values `values`: in the capture disc at most 0 (it
     /// was captured within the step); within two cells of the disc ([`near_disc`]) one
     /// step of this scheme (the solver reads with [`Scheme::near`]), its landings
-    /// interpolated; elsewhere in the box interpolated
-    /// trilinearly; `outside` beyond the box. Near the disc V jumps within a cell: by the
+    /// interpolated; elsewhere in the box interpolated trilinearly; `outside` beyond the box. Near the disc V jumps within a cell: by the
     /// centres of the pursuer's turning circles an evader that passes a hundredth of r_p
     /// outside the edge escapes for a loop, and its neighbour node a thousandth outside is
     /// captured; interpolating the two read the pass as half captured.
@@ -488,15 +487,15 @@ pub const NEAR_STEPS: f64 = 3.0;
 
 /// Whether `grid` resolves the capture disc of `game`: its radius more than 4.5 cells. Only
 /// there does the solver keep V's jump behind the disc's non-usable edge and read landings
-/// near the disc by one more step of the scheme: on a 0.3 r_p grid with eps = 0.3 r_p the tail chase's V at
-/// 1 r_p doubled, the disc's few nodes feeding each other's values.
+/// near the disc by one more step of the scheme: on a 0.3 r_p grid with eps = 0.3 r_p the
+/// tail chase's V at 1 r_p doubled, the disc's few nodes feeding each other's values.
 pub fn resolves_disc(game: &Game, grid: &Grid) -> bool {
     game.eps > 4.5 * grid.spacing()
 }
 
 /// Whether a landing at `(x, y)` (r_p) is read by one more step of the scheme
-/// ([`Scheme::near`], [`Scheme::read`]): outside the disc and within two cells of its edge, on grids that resolve
-/// it ([`resolves_disc`]).
+/// ([`Scheme::near`], [`Scheme::read`]): outside the disc and within two cells of its edge,
+/// on grids that resolve it ([`resolves_disc`]).
 pub fn near_disc(game: &Game, grid: &Grid, x: f64, y: f64) -> bool {
     resolves_disc(game, grid)
         && !game.captures(x, y)

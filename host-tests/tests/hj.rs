@@ -313,10 +313,10 @@ fn beyond_the_threshold_the_value_is_the_papers() {
 /// By the centre of the pursuer's right turning circle, an evader running back past the
 /// pursuer 0.01 r_p outside the capture disc (eps = 1 r_p) is not captured by any turn: it
 /// passes by and leaves the box. Its cell's corner (0.1, -1.0), 0.005 r_p outside the disc, is
-/// captured as its evader passes, so V interpolated there reads the pass captured; the solver reads a landing
-/// within two cells of the disc by one more step of the scheme (of three tau), which sees the
-/// pass. A pass
-/// 0.03 r_p inside the edge is captured within the step either way.
+/// captured as its evader passes, so V interpolated there reads the pass captured; the solver
+/// reads a landing within two cells of the disc by one more step of the scheme (of three tau),
+/// which sees the pass. A pass 0.03 r_p inside the edge is captured within the step either
+/// way.
 #[test]
 fn a_pass_just_outside_the_disc_is_read_by_one_more_step() {
     let game = Game::with_radius([2.0, 2.0, 1.2, 1.2], 1.0);
