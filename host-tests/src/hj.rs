@@ -13,22 +13,21 @@
 //! x' = a cos(phi) - 1 + u y,    y' = a sin(phi) - u x,    phi' = w - u,    a = v_em / v_pm
 //! ```
 //!
-//! Capture is the disc x^2 + y^2 <= eps^2. One sweep sets, at every node outside it,
-//! V = max(0, min over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step
-//! ([`Step`]), V interpolated trilinearly (periodic in phi) or, within two cells of the capture
-//! disc, read by one step of three tau ([`Scheme::near`], [`Scheme::read`]), starting from
-//! V = [`NEVER`]: after k sweeps V is below it where capture within about k tau is guaranteed. Nodes in the disc
-//! behind the usable part of its edge (where the pursuer can force the distance down,
-//! [`usable`]) keep minus their depth, r - eps ([`disc_value`]), so that V's zero lies on the
-//! edge; behind the rest of the edge, where V jumps (an evader there slips past), each sweep
-//! sets them to V two cells outside on their ray, so that the jump is not smeared toward zero
-//! (on grids that resolve the disc, about five cells or more across its radius). Those values
-//! are for interpolating outside the disc: a step whose path is in the disc at its end, or at
-//! a look within it, was captured, whatever part of the edge it crossed (V there at most 0).
-//! The pursuer turns fully either way or runs straight (u in {-1, 0, 1}); the evader turns
-//! fully either way or runs straight at full speed, or stands still
-//! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary
-//! value is given ([`solve_with_boundary`]).
+//! Capture is the disc x^2 + y^2 <= eps^2. One sweep sets, at every node outside it, V = max(0, min
+//! over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step ([`Step`]), V interpolated
+//! trilinearly (periodic in phi) or, within two cells of the capture disc, read by one step of
+//! three tau ([`Scheme::near`], [`Scheme::read`]), starting from V = [`NEVER`]: after k sweeps V is
+//! below it where capture within about k tau is guaranteed. Nodes in the disc behind the usable
+//! part of its edge (where the pursuer can force the distance down, [`usable`]) keep minus their
+//! depth, r - eps ([`disc_value`]), so that V's zero lies on the edge; behind the rest of the edge,
+//! where V jumps (an evader there slips past), each sweep sets them to V two cells outside on their
+//! ray, so that the jump is not smeared toward zero (on grids that resolve the disc, about five
+//! cells or more across its radius). Those values are for interpolating outside the disc: a step
+//! whose path is in the disc at its end, or at a look within it, was captured, whatever part of the
+//! edge it crossed (V there at most 0). The pursuer turns fully either way or runs straight (u in
+//! {-1, 0, 1}); the evader turns fully either way or runs straight at full speed, or stands still
+//! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary value is
+//! given ([`solve_with_boundary`]).
 
 use rayon::prelude::*;
 
@@ -186,8 +185,8 @@ impl Solution {
         2.0 * (std::f64::consts::TAU + diagonal) / (1.0 - self.game.speed_ratio)
     }
 
-    /// The table as the firmware reads it (`twocars::value_table`): the header, then the V of
-    /// each node with y >= 0 quantised to u16, [`Solution::longest_kept`] at code 65534 (time per code
+    /// The table as the firmware reads it (`twocars::value_table`): the header, then the V of each
+    /// node with y >= 0 quantised to u16, [`Solution::longest_kept`] at code 65534 (time per code
     /// `scale`), [`twocars::value_table::NEVER`] where capture was not found or takes longer.
     pub fn table_bytes(&self) -> Vec<u8> {
         assert!(
@@ -439,11 +438,11 @@ impl Scheme {
             .max(0.0)
     }
 
-    /// V where a step lands, from the node values `values`: in the capture disc at most 0 (it
-    /// was captured within the step); within two cells of the disc ([`near_disc`]) one
-    /// step of this scheme (the solver reads with [`Scheme::near`]), its landings
-    /// interpolated; elsewhere in the box interpolated trilinearly; `outside` beyond the box. Near the disc V jumps within a cell: by the
-    /// centres of the pursuer's turning circles an evader that passes a hundredth of r_p
+    /// V where a step lands, from the node values `values`: in the capture disc at most 0 (it was
+    /// captured within the step); within two cells of the disc ([`near_disc`]) one step of this
+    /// scheme (the solver reads with [`Scheme::near`]), its landings interpolated; elsewhere in the
+    /// box interpolated trilinearly; `outside` beyond the box. Near the disc V jumps within a cell:
+    /// by the centres of the pursuer's turning circles an evader that passes a hundredth of r_p
     /// outside the edge escapes for a loop, and its neighbour node a thousandth outside is
     /// captured; interpolating the two read the pass as half captured.
     pub fn read(&self, values: &[f64], (x, y, phi): (f64, f64, f64), outside: f64) -> f64 {
