@@ -224,7 +224,7 @@ pub fn command(
         grids(&tables),
         grids(&reference),
     );
-    println!("Over V: (capture - V(x0) - 5 dt) / V(x0); the issue's bar is 5 % at the 90th percentile and 10 % at worst, none never captured. In brackets: the runs past 10 %.\n");
+    println!("Over V: (capture - V(x0) - 5 dt) / V(x0); the issue's bar is 5 % at the 90th percentile and 10 % at worst, none never captured. In brackets: the runs past 10 % and past 5 %.\n");
     println!("The firmware column is `twocars::Guidance` with `Policy::Table` on the tables as the firmware reads them (u16, f32; {} B), the flight policy in the capture disc; the others are the host's pursuers (f64 tables).\n", bytes.len());
     println!("| evader | never (flight / table / firmware) | over V, flight: median, p90, worst | over V, table: median, p90, worst | over V, firmware: median, p90, worst | mean capture, flight / table / firmware (s) | the table's worst start: x, y (r_p), phi (rad), V(x0), seed |");
     println!("|---|---|---|---|---|---|---|");
@@ -233,6 +233,8 @@ pub fn command(
         .map(Evader::Suite)
         .chain([Evader::Table]);
     let mut late = Vec::new();
+    // Runs past 10 % and past 5 % over every evader: the host's pursuer, the firmware.
+    let mut tails = [[0; 2]; 2];
     for (k, evader) in evaders.enumerate() {
         let plays: Vec<(u64, Play)> = seeds
             .iter()
@@ -265,23 +267,33 @@ pub fn command(
                     format!("({x:.2}, {y:.2}, {phi:.2}), {:.2} s, seed {seed}", p.v0)
                 })
                 .unwrap_or_default();
-            // Runs past the bar for the worst run (10 %), never captured included.
-            let past_bar = over.iter().filter(|&&o| o > 0.10).count();
+            // Runs past the bar for the worst run (10 %), never captured included, and
+            // past 5 %: a few runs in thousands past 10 % is a tail that each seed set moves,
+            // and the count past 5 % tells more of it.
+            let past = [0.10, 0.05].map(|bar| over.iter().filter(|&&o| o > bar).count());
             (
                 never,
                 format!(
-                    "{}, {}, {} ({past_bar})",
+                    "{}, {}, {} ({}, {})",
                     percent(quantile(&over, 0.5)),
                     percent(quantile(&over, 0.9)),
-                    percent(quantile(&over, 1.0))
+                    percent(quantile(&over, 1.0)),
+                    past[0],
+                    past[1]
                 ),
                 mean,
                 worst,
+                past,
             )
         };
-        let (flight_never, flight, flight_mean, _) = summary(|p| &p.flight);
-        let (table_never, with_table, table_mean, worst) = summary(|p| &p.table);
-        let (firmware_never, with_firmware, firmware_mean, _) = summary(|p| &p.firmware);
+        let (flight_never, flight, flight_mean, ..) = summary(|p| &p.flight);
+        let (table_never, with_table, table_mean, worst, table_past) = summary(|p| &p.table);
+        let (firmware_never, with_firmware, firmware_mean, _, firmware_past) =
+            summary(|p| &p.firmware);
+        for (tail, past) in tails.iter_mut().zip([table_past, firmware_past]) {
+            tail[0] += past[0];
+            tail[1] += past[1];
+        }
         println!(
             "| {} | {flight_never} / {table_never} / {firmware_never} | {flight} | {with_table} | {with_firmware} | {flight_mean:.2} / {table_mean:.2} / {firmware_mean:.2} | {worst} |",
             evader.name()
@@ -293,6 +305,11 @@ pub fn command(
                 .map(|(seed, p)| beside_best_plan(limits, &reference, evader, *seed, p)),
         );
     }
+    let [table, firmware] = tails;
+    println!(
+        "\nRuns past 10 % and past 5 % over every evader: the tables' pursuer {} and {}, the firmware {} and {}.",
+        table[0], table[1], firmware[0], firmware[1]
+    );
     if !late.is_empty() {
         println!(
             "\nThe tables' pursuer's runs past 10 %, each beside the earliest capture of the same evader by the probe's {} open-loop plans (`--probe`; where no plan beats the pursuer, V(x0) is below what that evader allows):\n",
