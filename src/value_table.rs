@@ -37,7 +37,7 @@ pub(crate) const PURSUER_TURNS: [f32; 3] = [0.0, 1.0, -1.0];
 
 /// The shortest time step of the solver and of the reader's look-ahead, r_p / v_pm. Each
 /// step interpolates V once, and interpolation smears V's jumps: half a cell's time on a
-/// 0.05 r_p grid put V 30 % low where the evader grazes the capture disc (docs/near-field.md,
+/// 0.05 r_p grid put V 30 % low where the evader grazes the capture disc (docs/near-field-log.md,
 /// "A longer step").
 pub const MIN_STEP: f32 = 0.2;
 

@@ -11,7 +11,7 @@ use host_tests::hj::Grid;
 /// within two capture radii behind the pursuer; the inner one is as fine as the finest table a
 /// set flies, since it is the reference their plays are judged by. With 24 headings outside
 /// (until session 51) V(x0) 8.5 r_p out read 4.154 s at 2, 2, 1.2, 1.2, against 4.315 and
-/// 4.384 s with 48 and 72 (docs/near-field.md, "Finer tables, and the judge's own").
+/// 4.384 s with 48 and 72 (docs/near-field-log.md, "Finer tables, and the judge's own").
 pub(crate) const NEAR_FIELD: [Grid; 3] =
     [grid(121, 30.0, 72), grid(61, 6.0, 48), grid(121, 3.0, 72)];
 
