@@ -93,6 +93,34 @@ impl SimResult {
     }
 }
 
+/// The first time (s) within a step of `dt` at which `gap(t)`, the players' distance t into
+/// the step (m), falls to `eps`: the first of [`SUBSAMPLES`] sub-samples at or below it, the
+/// crossing bisected within it. `None` if every sub-sample is above; `d_min` keeps the least
+/// distance sampled.
+pub fn capture_within(dt: f64, eps: f64, gap: impl Fn(f64) -> f64, d_min: &mut f64) -> Option<f64> {
+    let h = dt / SUBSAMPLES as f64;
+    let mut before = 0.0;
+    for i in 1..=SUBSAMPLES {
+        let tau = h * i as f64;
+        let d = gap(tau);
+        *d_min = d_min.min(d);
+        if d <= eps {
+            let (mut lo, mut hi) = (before, tau);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if gap(mid) <= eps {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Some(hi);
+        }
+        before = tau;
+    }
+    None
+}
+
 /// Exact Dubins motion for `t` seconds at speed `v` (m/s) and curvature `w` (1/m).
 pub fn advance(state: [f64; 3], v: f64, w: f64, t: f64) -> [f64; 3] {
     let [x, y, theta] = state;
@@ -256,30 +284,13 @@ pub fn closed_loop<E>(
             let (a, b) = at(tau);
             distance(a, b)
         };
-        let h = dt / SUBSAMPLES as f64;
-        let mut before = 0.0;
-        for i in 1..=SUBSAMPLES {
-            let tau = h * i as f64;
-            let d = gap(tau);
-            result.d_min = result.d_min.min(d);
-            if d <= eps {
-                let (mut lo, mut hi) = (before, tau);
-                for _ in 0..60 {
-                    let mid = 0.5 * (lo + hi);
-                    if gap(mid) <= eps {
-                        hi = mid;
-                    } else {
-                        lo = mid;
-                    }
-                }
-                result.status = SimStatus::Captured;
-                result.t_capture = t0 + hi;
-                result.sign_flips = flips.count;
-                result.near_field_sign_flips = flips.near_field;
-                result.d_min = result.d_min.min(eps);
-                return Ok(result);
-            }
-            before = tau;
+        if let Some(tau) = capture_within(dt, eps, gap, &mut result.d_min) {
+            result.status = SimStatus::Captured;
+            result.t_capture = t0 + tau;
+            result.sign_flips = flips.count;
+            result.near_field_sign_flips = flips.near_field;
+            result.d_min = result.d_min.min(eps);
+            return Ok(result);
         }
         let (np, ne) = at(dt);
         p = [np[0], np[1], wrap_pi(np[2])];

@@ -13,7 +13,7 @@
 use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative};
 
 use crate::hj_play::{capture_radius, table_value, DT};
-use host_tests::sim::advance;
+use host_tests::sim::{advance, capture_within};
 use rayon::prelude::*;
 
 /// The longest run, s.
@@ -130,7 +130,9 @@ pub(crate) fn best_plan(
 /// The capture time (s) of the pursuer whose curvature (1/m) is `pursuer(t, pursuer, evader)`
 /// against the evader whose curvature and speed are `evader(t, pursuer, evader)`, from the
 /// start `[pursuer, evader]` (m, rad) at `limits`, both commands held for a control period,
-/// capture at `eps` m; infinite where it does not come before `t_max`.
+/// capture at `eps` m found within a period as the closed loop finds it
+/// ([`capture_within`]; checked only at the periods' ends, passes that dip into the disc
+/// between them were missed); infinite where it does not come before `t_max`.
 fn chase(
     [v_pm, ..]: [f64; 4],
     eps: f64,
@@ -145,7 +147,16 @@ fn chase(
             return t;
         }
         let (w_e, v_e) = evader(t, p, e);
-        p = advance(p, v_pm, pursuer(t, p, e), DT);
+        let w_p = pursuer(t, p, e);
+        let gap = |s: f64| {
+            let (a, b) = (advance(p, v_pm, w_p, s), advance(e, v_e, w_e, s));
+            (a[0] - b[0]).hypot(a[1] - b[1])
+        };
+        let mut closest = f64::INFINITY;
+        if let Some(s) = capture_within(DT, eps, gap, &mut closest) {
+            return t + s;
+        }
+        p = advance(p, v_pm, w_p, DT);
         e = advance(e, v_e, w_e, DT);
         t += DT;
     }
