@@ -154,7 +154,8 @@ pub fn wrap_pi(theta: f64) -> f64 {
     }
 }
 
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+/// The distance (m) between two states' positions.
+pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 

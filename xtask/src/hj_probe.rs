@@ -13,7 +13,7 @@
 use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative};
 
 use crate::hj_play::{capture_radius, table_value, DT};
-use host_tests::sim::{advance, capture_within};
+use host_tests::sim::{advance, capture_within, distance};
 use rayon::prelude::*;
 
 /// The longest run, s.
@@ -131,8 +131,7 @@ pub(crate) fn best_plan(
 /// against the evader whose curvature and speed are `evader(t, pursuer, evader)`, from the
 /// start `[pursuer, evader]` (m, rad) at `limits`, both commands held for a control period,
 /// capture at `eps` m found within a period as the closed loop finds it
-/// ([`capture_within`]; checked only at the periods' ends, passes that dip into the disc
-/// between them were missed); infinite where it does not come before `t_max`.
+/// ([`capture_within`]); infinite where it does not come before `t_max`.
 fn chase(
     [v_pm, ..]: [f64; 4],
     eps: f64,
@@ -143,15 +142,12 @@ fn chase(
 ) -> f64 {
     let mut t = 0.0;
     while t < t_max {
-        if (p[0] - e[0]).hypot(p[1] - e[1]) <= eps {
+        if distance(p, e) <= eps {
             return t;
         }
         let (w_e, v_e) = evader(t, p, e);
         let w_p = pursuer(t, p, e);
-        let gap = |s: f64| {
-            let (a, b) = (advance(p, v_pm, w_p, s), advance(e, v_e, w_e, s));
-            (a[0] - b[0]).hypot(a[1] - b[1])
-        };
+        let gap = |s: f64| distance(advance(p, v_pm, w_p, s), advance(e, v_e, w_e, s));
         let mut closest = f64::INFINITY;
         if let Some(s) = capture_within(DT, eps, gap, &mut closest) {
             return t + s;
