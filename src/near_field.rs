@@ -21,15 +21,30 @@
 //!   the pursuer can turn with the line of sight, against any evader (a circling evader
 //!   included: behind it on its circle the line of sight turns at v_em / (2 r_e));
 //! - and once the law has lost its prediction (its upper value rose beyond the tie floor, or it
-//!   has none), until the players are beyond the threshold again: augmented proportional
-//!   navigation (the evader's observed turn fed forward) while the evader is ahead and the
-//!   distance closes (`navigation`), else pure pursuit;
-//!   where the evader is inside the pursuer's turning circle on its side (turning cannot bring
-//!   it ahead) the pursuer runs straight to open the distance. An evader can ride that circle's
+//!   has none), until the players are beyond the threshold again: first a lead turn, the
+//!   pursuer turning (at most what a period needs, on the side it began) until its nose is
+//!   within 0.2 rad (`LEAD_ALIGNED`) of the point where it meets the evader going on along its
+//!   observed arc (the collision triangle's point, `lead`), while the players are more than
+//!   3 r_p (`LEAD_RADII`) apart: a Dubins car reaches a point soonest by turning fully and then
+//!   running straight, where proportional navigation alone would curve slowly onto the
+//!   collision course and give away most of a turn against an evader that plays well;
+//!   then augmented proportional navigation (the evader's observed turn fed forward) while
+//!   the evader is ahead and the distance closes (`navigation`), else pure pursuit;
+//!   where the evader is inside the pursuer's turning circle on its side by more than the
+//!   capture radius (turning cannot bring it ahead, nor within reach) the pursuer runs
+//!   straight to open the distance. An evader can ride that circle's
 //!   edge behind the beam, where pure pursuit alternates between turning toward it and running
 //!   straight (a sliding mode on the boundary); after a full turn's time 2 pi / (v_pm w_pm) of
 //!   pure pursuit with the evader inside the circle, the pursuer breaks away: a full turn to the
 //!   other side until the evader is ahead of its beam.
+//!
+//! On the first period below the threshold the law's prediction is trusted where its chosen
+//! pair is not Algorithm 2's overshoot and it has a saddle, or promises no more than homing
+//! would take (the turn onto the line of sight at the full rate, then the distance closed at
+//! v_pm - v_em): a law that promises more than that is far from the game's value there. With a
+//! capture radius ([`crate::Guidance::with_capture_radius`]; 0, point capture, by default) the
+//! pursuer also leaves the law, on any period, where homing to the radius is sooner than the
+//! law's promise (`NearFieldTerms::outrun`): the law plays for the evader's position.
 //!
 //! Units: metres, seconds, radians anticlockwise from +x; curvature in 1/m.
 
@@ -71,9 +86,39 @@ pub(crate) struct NearFieldTerms<S> {
     /// A full turn of the pursuer, 2 pi / (v_pm w_pm), seconds: how long pure pursuit may
     /// hold the evader inside its turning circle before it breaks away.
     turn_time: S,
+    /// v_pm w_pm, rad/s: the pursuer's full turn rate.
+    turn_rate: S,
+    /// v_pm - v_em, m/s: the slowest closing of pure pursuit once on course.
+    closing_speed: S,
+    /// The capture radius, metres (0 unless the caller gives one,
+    /// [`crate::Guidance::with_capture_radius`]): an evader within it of the pursuer's
+    /// turning circle is in reach of a turn.
+    pub capture: S,
 }
 
 impl<S: Scalar> NearFieldTerms<S> {
+    /// What homing would take from here, seconds: the turn onto the line of sight `to_go`
+    /// (radians) at the full rate, then `gap` (metres) closed at v_pm - v_em.
+    fn homing_time(&self, to_go: S, gap: S) -> S {
+        to_go.abs() / self.turn_rate + gap / self.closing_speed
+    }
+
+    /// Whether, with a capture radius, homing reaches it sooner than the law promises: the
+    /// law plays for the evader's position (point capture), and its upper value less the
+    /// radius's share, capture / (v_pm - v_em), is then compared with [`Self::homing_time`]
+    /// to the radius.
+    /// Never without a capture radius: there the law's path is the quick one more often than
+    /// this estimate says (measured on seeded starts against the law's evader).
+    fn outrun(&self, report: &GameReport<S>, to_go: S, distance: S) -> bool {
+        match report.solution.upper {
+            Some(upper) if self.capture > S::zero() => {
+                let gap = (distance - self.capture).max(S::zero());
+                upper - self.capture / self.closing_speed > self.homing_time(to_go, gap)
+            }
+            _ => false,
+        }
+    }
+
     /// The terms of `limits` with control period `dt` (the law's units).
     pub fn new(limits: &Limits<S>, dt: S) -> Self {
         let p = &limits.pursuer;
@@ -90,6 +135,9 @@ impl<S: Scalar> NearFieldTerms<S> {
             augment_gain: S::from_f32(NAVIGATION_GAIN / 2.0) * limits.evader.v_max()
                 / (p.v_max() * p.v_max()),
             turn_time: S::from_f32(2.0) * S::pi() / p.max_turn_rate(),
+            turn_rate: p.max_turn_rate(),
+            closing_speed: p.v_max() - limits.evader.v_max(),
+            capture: S::zero(),
         }
     }
 }
@@ -105,6 +153,17 @@ pub(crate) struct NearFieldMemory<S> {
     last_evader_heading: Option<S>,
     homing_time: Option<S>,
     breaking: Option<S>,
+    lead: LeadTurn,
+}
+
+/// The lead turn's progress (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum LeadTurn {
+    /// Not yet aligned with the lead point; the side of the turn once begun (anticlockwise
+    /// if `true`).
+    Pending(Option<bool>),
+    /// The nose came within [`LEAD_ALIGNED`] of the lead point: navigation holds the course.
+    Done,
 }
 
 impl<S: Scalar> NearFieldMemory<S> {
@@ -115,6 +174,7 @@ impl<S: Scalar> NearFieldMemory<S> {
         last_evader_heading: None,
         homing_time: None,
         breaking: None,
+        lead: LeadTurn::Pending(None),
     };
 
     /// The pursuer's curvature (1/m) below the threshold: `law` (the paper's sampled command)
@@ -133,7 +193,10 @@ impl<S: Scalar> NearFieldMemory<S> {
         (dt, tie_floor, per_radian): (S, S, S),
         law: S,
     ) -> S {
-        if self.lost(report, distance, terms, dt, tie_floor) {
+        let to_go = bearing(pursuer, evader.x, evader.y);
+        if self.lost(report, distance, terms, dt, tie_floor, to_go)
+            || terms.outrun(report, to_go, distance)
+        {
             self.pursuing = true;
         }
         let close = distance < terms.close;
@@ -153,6 +216,10 @@ impl<S: Scalar> NearFieldMemory<S> {
             return sight.terminal(limits, terms, tail);
         }
         if !tail {
+            if let Some(w) = self.lead_turn(&sight, pursuer, limits, terms, per_radian) {
+                self.end_pure_pursuit();
+                return w;
+            }
             if let Some(w) = sight.navigation(limits, terms) {
                 self.end_pure_pursuit();
                 return w;
@@ -161,7 +228,6 @@ impl<S: Scalar> NearFieldMemory<S> {
         // Pure pursuit; where the evader is inside the turning circle on its side, straight on
         // to open the distance, and a break-away turn once pure pursuit has held for a full
         // turn's time (module docs). The time saturates there (fixed point's range).
-        let to_go = bearing(pursuer, evader.x, evader.y);
         // A bearing below the arc resolution is on course, as the law reads a tangent's arc.
         let on_course = to_go.abs() <= S::from_f32(S::ARC_RESOLUTION);
         let homed = (self.homing_time.unwrap_or(S::zero()) + dt).min(terms.turn_time);
@@ -169,7 +235,7 @@ impl<S: Scalar> NearFieldMemory<S> {
         if sight.ahead > S::zero() {
             self.breaking = None;
         }
-        let inside = inside_turn(pursuer, evader, limits, to_go);
+        let inside = inside_turn(pursuer, evader, limits, to_go, terms.capture);
         if inside && homed >= terms.turn_time && self.breaking.is_none() {
             // Away from the evader: anticlockwise when it is on the right.
             let away = if to_go < S::zero() {
@@ -187,6 +253,41 @@ impl<S: Scalar> NearFieldMemory<S> {
         } else {
             steer(to_go, limits, Some(per_radian))
         }
+    }
+
+    /// The lead turn's curvature (1/m) while it lasts (module docs): toward the collision
+    /// triangle's point at most what one period needs (`per_radian`, 1 / (v_pm dt)), on the
+    /// side the turn began, so that a point straight behind does not flip it every period;
+    /// `None` once the nose has come within [`LEAD_ALIGNED`] of the point, or within
+    /// [`LEAD_RADII`] r_p of the evader (a turn there passes it).
+    fn lead_turn(
+        &mut self,
+        sight: &Sight<S>,
+        pursuer: &VehicleState<S>,
+        limits: &VehicleLimits<S>,
+        terms: &NearFieldTerms<S>,
+        per_radian: S,
+    ) -> Option<S> {
+        let LeadTurn::Pending(side) = self.lead else {
+            return None;
+        };
+        let (ax, ay) = sight.lead(terms);
+        let to_aim = bearing(pursuer, pursuer.x + ax, pursuer.y + ay);
+        if to_aim.abs() <= S::from_f32(LEAD_ALIGNED) {
+            self.lead = LeadTurn::Done;
+            return None;
+        }
+        if sight.distance * limits.w_max() <= S::from_f32(LEAD_RADII) {
+            return None;
+        }
+        let left = to_aim >= S::zero();
+        let side = side.unwrap_or(left);
+        self.lead = LeadTurn::Pending(Some(side));
+        Some(if side == left {
+            steer(to_aim, limits, Some(per_radian))
+        } else {
+            full_turn(if side { S::one() } else { S::zero() - S::one() }, limits)
+        })
     }
 
     /// Navigation or the terminal arc steers: pure pursuit's timer and break-away end.
@@ -212,7 +313,8 @@ impl<S: Scalar> NearFieldMemory<S> {
     }
 
     /// Whether the law has lost its own prediction: on the first near-field period its game is
-    /// not trusted ([`crate::GameReport::trusted`]); later, its upper value rose instead of
+    /// not trusted ([`crate::GameReport::trusted`]), or has no saddle and promises more than
+    /// homing would take (`to_go` the bearing to the evader, radians); later, its upper value rose instead of
     /// falling by dt (beyond the tie floor), or it has no finite value while the players are
     /// more than four periods' travel apart. Records the upper value.
     fn lost(
@@ -222,11 +324,15 @@ impl<S: Scalar> NearFieldMemory<S> {
         terms: &NearFieldTerms<S>,
         dt: S,
         tie_floor: S,
+        to_go: S,
     ) -> bool {
         let upper = report.solution.upper;
         let lost = match (self.last_upper, upper) {
             (_, None) => distance >= terms.close,
-            (None, Some(_)) => !report.trusted(),
+            (None, Some(now)) => {
+                let saddle = report.solution.saddle_within(tie_floor);
+                !(report.trusted() && (saddle || now <= terms.homing_time(to_go, distance)))
+            }
             (Some(last), Some(now)) => now > last - dt + tie_floor,
         };
         self.last_upper = upper;
@@ -301,10 +407,7 @@ impl<S: Scalar> Sight<S> {
         if self.distance <= S::zero() {
             return S::zero();
         }
-        let (sin_e, cos_e) = self.evader;
-        let c = terms.evader_speed * (self.rx * cos_e + self.ry * sin_e) / self.distance;
-        let a = terms.closing_squares;
-        let time = self.distance * (c + (c * c + a).sqrt()) / a;
+        let time = self.collision_time(terms);
         let time = if tail { time.min(terms.period) } else { time };
         let (ax, ay) = self.evader_after(time, terms);
         let (sin_p, cos_p) = self.pursuer;
@@ -319,6 +422,21 @@ impl<S: Scalar> Sight<S> {
         // 2 sin b / |aim| within +-w_max, compared before dividing.
         let two_sin = S::from_f32(2.0) * cross / reach;
         within_turn(two_sin, reach, limits)
+    }
+
+    /// The collision time T of the straight-line triangle |r + u T| = v_pm T (u the evader's
+    /// velocity), seconds, for a distance > 0 (see [`Self::terminal`] for its range).
+    fn collision_time(&self, terms: &NearFieldTerms<S>) -> S {
+        let (sin_e, cos_e) = self.evader;
+        let c = terms.evader_speed * (self.rx * cos_e + self.ry * sin_e) / self.distance;
+        let a = terms.closing_squares;
+        self.distance * (c + (c * c + a).sqrt()) / a
+    }
+
+    /// The lead turn's aim relative to the pursuer (metres): where the evader will be at the
+    /// collision time, on the arc of its observed turn.
+    fn lead(&self, terms: &NearFieldTerms<S>) -> (S, S) {
+        self.evader_after(self.collision_time(terms), terms)
     }
 
     /// Where the evader will be after `time` seconds relative to the pursuer now (metres): on
@@ -398,15 +516,27 @@ fn within_turn<S: Scalar>(numerator: S, length: S, limits: &VehicleLimits<S>) ->
 /// which the pursuer has wherever v_pm^2 w_pm >= 3 v_em^2 w_em.
 const NAVIGATION_GAIN: f32 = 3.0;
 
+/// How close to the lead point the pursuer's nose must come to end the lead turn, radians:
+/// five periods' full turn at 10 ms and the paper's limits; navigation takes the rest.
+const LEAD_ALIGNED: f32 = 0.2;
+
+/// The distance, in pursuer radii r_p, within which there is no lead turn: closer, a full turn
+/// toward the lead point orbits an evader that circles inside it (meshing circles were passed
+/// a few centimetres off once a lap), and navigation and the terminal arc steer.
+const LEAD_RADII: f32 = 3.0;
+
 /// Whether the evader is inside the pursuer's turning circle on the side of its bearing
-/// `to_go` (radians): turning cannot bring it ahead.
+/// `to_go` (radians) by more than the capture radius `capture` (metres): turning cannot bring
+/// it ahead, nor within reach.
 fn inside_turn<S: Scalar>(
     pursuer: &VehicleState<S>,
     evader: &VehicleState<S>,
     limits: &VehicleLimits<S>,
     to_go: S,
+    capture: S,
 ) -> bool {
     let [a, c] = TurningCircle::both(pursuer, limits);
     let side = if to_go >= S::zero() { a } else { c };
-    side.centre().distance_squared(evader.position()) < side.radius * side.radius
+    let reach = side.radius - capture;
+    reach > S::zero() && side.centre().distance_squared(evader.position()) < reach * reach
 }

@@ -144,6 +144,26 @@ impl<S: Scalar> Guidance<S> {
         }
     }
 
+    /// The same guidance told the capture radius, `metres` from the pursuer: the flight
+    /// policy's pursuer then turns onto an evader within that radius of its turning circle
+    /// rather than opening the distance to meet it exactly, and leaves the law where homing to
+    /// the radius is sooner than the law's promise. The default, 0, asks for the evader's
+    /// position itself (the paper's point capture).
+    ///
+    /// # Errors
+    /// `Status::InvalidLimits` unless 0 <= `metres` < the pursuer's turning radius times the
+    /// backend's coordinate range, finite.
+    pub fn with_capture_radius(mut self, metres: f32) -> Result<Self, Status> {
+        let units = self.law.limits.units;
+        let radius = S::from_f32(metres / units.metres);
+        let bound = S::from_f32(S::MAX_COORDINATE);
+        if !(metres.is_finite() && metres >= 0.0 && radius.is_valid() && radius < bound) {
+            return Err(Status::InvalidLimits);
+        }
+        self.near_field_terms.capture = radius;
+        Ok(self)
+    }
+
     /// The value tables [`Policy::Table`] plays, if any.
     pub fn tables(&self) -> Option<&'static ValueTables<'static>> {
         self.tables
@@ -167,6 +187,7 @@ impl<S: Scalar> Guidance<S> {
     /// As [`Guidance::new`].
     pub fn with_period(&self, dt: f32) -> Result<Self, InvalidPeriod> {
         let mut next = Guidance::new(self.law, dt)?.with_policy(self.policy);
+        next.near_field_terms.capture = self.near_field_terms.capture;
         next.sampling.previous = self.sampling.previous;
         next.near_field = self.near_field;
         next.tables = self.tables;

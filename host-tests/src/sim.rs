@@ -330,18 +330,26 @@ pub fn simulate_against<S: Scalar>(
         opponent,
         record,
         [&none, &none],
-        None,
+        Setup::default(),
     )
 }
 
 /// A player's curvature (1/m) from both states (metres and radians), where it has one.
 pub type Turn<'a> = &'a (dyn Fn([f64; 3], [f64; 3]) -> Option<f64> + Sync);
 
+/// What the simulated guidance is given beyond its law and policy.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Setup {
+    /// Value tables it plays ([`Guidance::with_tables`]; ignored if they do not fit the limits).
+    pub tables: Option<&'static twocars::value_tables::ValueTables<'static>>,
+    /// Whether it is told the run's capture radius ([`Guidance::with_capture_radius`]).
+    pub capture_radius: bool,
+}
+
 /// [`simulate_against`] with the pursuer's and the evader's curvatures (1/m) from `turns`
 /// wherever they give one, the guidance's (or the opponent's) elsewhere; the guidance still
-/// steps every period (a host experiment: the value table's players, issue 30). With
-/// `tables`, the guidance plays them ([`Guidance::with_tables`]; ignored if they do not fit
-/// the limits).
+/// steps every period (a host experiment: the value table's players). The guidance has what
+/// `setup` gives it.
 pub fn simulate_with_turns<S: Scalar>(
     params: &SimParams,
     variant: Variant,
@@ -349,7 +357,7 @@ pub fn simulate_with_turns<S: Scalar>(
     opponent: Option<(Opponent, u64)>,
     record: bool,
     [pursuer_turn, evader_turn]: [Turn<'_>; 2],
-    tables: Option<&'static twocars::value_tables::ValueTables<'static>>,
+    setup: Setup,
 ) -> SimResult {
     let idle = SimResult::empty(
         SimStatus::InvalidSimParams,
@@ -396,8 +404,13 @@ pub fn simulate_with_turns<S: Scalar>(
         return idle;
     };
     let mut guidance = guidance.with_policy(policy);
-    if let Some(tables) = tables {
+    if let Some(tables) = setup.tables {
         guidance = guidance.with_tables(tables).unwrap_or(guidance);
+    }
+    if setup.capture_radius {
+        guidance = guidance
+            .with_capture_radius(params.eps as f32)
+            .unwrap_or(guidance);
     }
     // The vehicles move with the limits the law was given (f32), so both see the same car.
     let params = SimParams {

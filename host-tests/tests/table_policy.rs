@@ -8,7 +8,7 @@ use host_tests::adversary::{EvaderKind, Opponent};
 use host_tests::hj::{solve, table_set_bytes, Game, Grid, Solution};
 use host_tests::hj_policy::{pursuer_curvature, relative};
 use host_tests::rng::Rng;
-use host_tests::sim::{simulate_with_turns, SimParams, SimStatus};
+use host_tests::sim::{simulate_with_turns, Setup, SimParams, SimStatus};
 use twocars::value_tables::ValueTables;
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
@@ -154,7 +154,10 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
                 opponent,
                 false,
                 [&none, &none],
-                Some(set),
+                Setup {
+                    tables: Some(set),
+                    ..Setup::default()
+                },
             );
             let on_host = simulate_with_turns::<f32>(
                 &params,
@@ -163,7 +166,7 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
                 opponent,
                 false,
                 [&host, &none],
-                None,
+                Setup::default(),
             );
             assert_eq!(firmware.status, SimStatus::Captured, "{kind:?} {params:?}");
             assert_eq!(on_host.status, SimStatus::Captured, "{kind:?} {params:?}");

@@ -51,6 +51,10 @@ pub struct HjArgs {
     /// beside the flight policy (`--eps`, `--half`, `--nodes` do not apply).
     #[arg(long)]
     play: Option<usize>,
+    /// `--play`'s pursuers: the flight policy beside the tables' (`all`), or the flight
+    /// policy alone (`flight`: no tables but the reference, the quick tier).
+    #[arg(long, value_enum, default_value_t = PlayPursuers::All)]
+    pursuers: PlayPursuers,
     /// Instead of the validation: solve the near field of `--limits` on `--levels`, capture
     /// radius one r_p, and write its nested tables to this file as the firmware reads them
     /// (`twocars::value_tables`); an image includes it with feature `tables-in-flash` and
@@ -75,6 +79,15 @@ pub struct HjArgs {
     /// box in r_p, relative headings); default the near field's three.
     #[arg(long, value_parser = level, value_delimiter = ',')]
     levels: Vec<Grid>,
+}
+
+/// Who chases in `--play`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlayPursuers {
+    /// The flight policy, the tables' pursuer on the host and the firmware's.
+    All,
+    /// The flight policy alone.
+    Flight,
 }
 
 /// The game of `limits` (v_pm, w_pm, v_em, w_em) over its near field as nested tables
@@ -370,7 +383,8 @@ pub fn command(args: &HjArgs) -> i32 {
         let seeds: Vec<u64> = (0..args.seeds.max(1))
             .map(|i| args.seed.wrapping_add(1000 * i))
             .collect();
-        return crate::hj_play::command(runs, &seeds, &levels, args.limits);
+        let tables_play = args.pursuers == PlayPursuers::All;
+        return crate::hj_play::command(runs, &seeds, &levels, args.limits, tables_play);
     }
     if let Some(path) = &args.set {
         return write_set(path, args.limits, &levels);

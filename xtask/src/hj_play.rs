@@ -17,7 +17,7 @@ use host_tests::hj::{table_set_bytes, Solution};
 use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative, value};
 use host_tests::rng::Rng;
 use host_tests::sim::{
-    simulate_with_turns, theorem_threshold, SimParams, SimResult, SimStatus, Turn,
+    simulate_with_turns, theorem_threshold, Setup, SimParams, SimResult, SimStatus, Turn,
 };
 use rayon::prelude::*;
 use twocars::value_tables::ValueTables;
@@ -36,9 +36,10 @@ struct Play {
     states: [[f64; 3]; 2],
     adversary_seed: u64,
     flight: SimResult,
-    table: SimResult,
-    /// The firmware's `Guidance` with `Policy::Table` on the quantised tables (f32).
-    firmware: SimResult,
+    /// The host's pursuer on the tables (f64), unless only the flight policy plays.
+    table: Option<SimResult>,
+    /// The firmware's `Guidance` with `Policy::Table` on the quantised tables (f32), likewise.
+    firmware: Option<SimResult>,
 }
 
 impl Play {
@@ -98,8 +99,8 @@ fn play(
     tables: &[Solution],
     firmware: &'static ValueTables<'static>,
     evader: Evader,
-    runs: usize,
-    seed: u64,
+    (runs, seed): (usize, u64),
+    tables_play: bool,
 ) -> Vec<Play> {
     let mut rng = Rng::new(seed);
     let mut starts = Vec::new();
@@ -139,7 +140,7 @@ fn play(
                 Evader::Suite(kind) => (Some((Opponent::Evader(kind), adversary_seed)), &no_turn),
                 Evader::Table => (None, &table_evader),
             };
-            let run = |pursuer_turn: Turn<'_>, policy, tables| {
+            let run = |pursuer_turn: Turn<'_>, policy, setup| {
                 simulate_with_turns::<f32>(
                     &params,
                     Variant::Paper,
@@ -147,20 +148,27 @@ fn play(
                     opponent,
                     false,
                     [pursuer_turn, evader_turn],
-                    tables,
+                    setup,
                 )
             };
+            // The flight policy is told the capture radius V(x0) is solved for, as a user
+            // whose vehicle captures at a radius tells it.
+            let told = Setup {
+                capture_radius: true,
+                ..Setup::default()
+            };
+            let in_flash = Setup {
+                tables: Some(firmware),
+                ..Setup::default()
+            };
+            let host_tables = |p, e| pursuer_curvature(tables, w_pm, p, e);
             Play {
                 v0,
                 states: [params.pursuer, params.evader],
                 adversary_seed,
-                flight: run(&no_turn, Policy::Flight, None),
-                table: run(
-                    &|p, e| pursuer_curvature(tables, w_pm, p, e),
-                    Policy::Flight,
-                    None,
-                ),
-                firmware: run(&no_turn, Policy::Table, Some(firmware)),
+                flight: run(&no_turn, Policy::Flight, told),
+                table: tables_play.then(|| run(&host_tables, Policy::Flight, Setup::default())),
+                firmware: tables_play.then(|| run(&no_turn, Policy::Table, in_flash)),
             }
         })
         .collect()
@@ -180,17 +188,55 @@ fn percent(v: f64) -> String {
     }
 }
 
+/// One pursuer's captures over V(x0) from a set of runs (infinity where never captured).
+#[derive(Default)]
+struct Over(Vec<f64>);
+
+impl Over {
+    fn of(plays: &[&Play], pick: fn(&Play) -> Option<&SimResult>) -> Self {
+        let mut over: Vec<f64> = plays
+            .iter()
+            .filter_map(|p| pick(p).map(|r| p.over(r)))
+            .collect();
+        over.sort_by(f64::total_cmp);
+        Over(over)
+    }
+
+    fn past(&self, bar: f64) -> usize {
+        self.0.iter().filter(|&&o| o > bar).count()
+    }
+
+    /// `p50, p90, p99, past 10 % (share), past 5 %, never` as a table's cells.
+    fn cells(&self) -> String {
+        let Over(over) = self;
+        if over.is_empty() {
+            return "-".to_string();
+        }
+        let never = over.iter().filter(|o| o.is_infinite()).count();
+        let share = |n: usize| 100.0 * n as f64 / over.len() as f64;
+        let (p10, p5) = (self.past(0.10), self.past(0.05));
+        format!(
+            "{}, {}, {} | {p10} ({:.2} %), {p5} | {never}",
+            percent(quantile(over, 0.5)),
+            percent(quantile(over, 0.9)),
+            percent(quantile(over, 0.99)),
+            share(p10),
+        )
+    }
+}
+
 /// Solves the near field of `limits`, plays `runs` starts per evader from each of `seeds`,
 /// prints the table over all of them; the exit code is 0 (the figures are a measurement, not a
-/// test).
+/// test). With `tables_play` the tables' pursuers play beside the flight policy.
 pub fn command(
     runs: usize,
     seeds: &[u64],
     levels: &[host_tests::hj::Grid],
     limits: [f64; 4],
+    tables_play: bool,
 ) -> i32 {
     let (reference, reference_how) = crate::hj::near_field(limits, &crate::hj_sets::NEAR_FIELD);
-    let (tables, how) = if levels == crate::hj_sets::NEAR_FIELD {
+    let (tables, how) = if levels == crate::hj_sets::NEAR_FIELD || !tables_play {
         (reference.clone(), reference_how.clone())
     } else {
         crate::hj::near_field(limits, levels)
@@ -219,107 +265,135 @@ pub fn command(
         grids.join(" in ")
     };
     println!(
-        "Limits {limits:?}, dt = {DT} s, eps = {} m (the tables'); the pursuer's tables {} ({how}); V(x0) and the tables' evader from {} ({reference_how}). {runs} seeded starts per evader and seed below the threshold (seeds {seeds:?}), those the tables capture from.\n",
+        "Limits {limits:?}, dt = {DT} s, eps = {} m (the tables'); V(x0) and the tables' evader from {} ({reference_how}). {runs} seeded starts per evader and seed below the threshold (seeds {seeds:?}), those the tables capture from.\n",
         capture_radius(&tables, limits),
-        grids(&tables),
         grids(&reference),
     );
-    println!("Over V: (capture - V(x0) - 5 dt) / V(x0); the issue's bar is 5 % at the 90th percentile and 10 % at worst, none never captured. In brackets: the runs past 10 % and past 5 %.\n");
-    println!("The firmware column is `twocars::Guidance` with `Policy::Table` on the tables as the firmware reads them (u16, f32; {} B), the flight policy in the capture disc; the others are the host's pursuers (f64 tables).\n", bytes.len());
-    println!("| evader | never (flight / table / firmware) | over V, flight: median, p90, worst | over V, table: median, p90, worst | over V, firmware: median, p90, worst | mean capture, flight / table / firmware (s) | the table's worst start: x, y (r_p), phi (rad), V(x0), seed |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("Over V: (capture - V(x0) - 5 dt) / V(x0), as p50, p90, p99 | runs past +10 % (their share), past +5 % | never captured. The flight policy is `Policy::Flight`, the pursuer to fly, told the capture radius (`Guidance::with_capture_radius`).");
+    if tables_play {
+        println!("Beside it, the tables' pursuer ({}; {how}) on the host (f64) and in the firmware (`Policy::Table` on the tables as the firmware reads them: u16, f32, {} B).", grids(&tables), bytes.len());
+    }
+    println!();
+    let header = if tables_play {
+        "| evader | flight: p50, p90, p99 | past 10 %, 5 % | never | tables: p50, p90, p99 | past 10 %, 5 % | never | firmware: p50, p90, p99 | past 10 %, 5 % | never | the tables' worst start: x, y (r_p), phi (rad), V(x0), seed |\n|---|---|---|---|---|---|---|---|---|---|---|"
+    } else {
+        "| evader | flight: p50, p90, p99 | past 10 %, 5 % | never | the flight policy's worst start: x, y (r_p), phi (rad), V(x0), seed |\n|---|---|---|---|---|"
+    };
+    println!("{header}");
     let evaders = EvaderKind::ALL
         .into_iter()
         .map(Evader::Suite)
         .chain([Evader::Table]);
     let mut late = Vec::new();
-    // Runs past 10 % and past 5 % over every evader: the host's pursuer, the firmware.
-    let mut tails = [[0; 2]; 2];
+    let mut every: Vec<(u64, Play)> = Vec::new();
     for (k, evader) in evaders.enumerate() {
         let plays: Vec<(u64, Play)> = seeds
             .iter()
             .flat_map(|&seed| {
                 let starts = seed.wrapping_add(k as u64);
-                play(limits, &reference, &tables, firmware, evader, runs, starts)
-                    .into_iter()
-                    .map(move |p| (seed, p))
+                play(
+                    limits,
+                    &reference,
+                    &tables,
+                    firmware,
+                    evader,
+                    (runs, starts),
+                    tables_play,
+                )
+                .into_iter()
+                .map(move |p| (seed, p))
             })
             .collect();
-        let summary = |pick: fn(&Play) -> &SimResult| {
-            let mut over: Vec<f64> = plays.iter().map(|(_, p)| p.over(pick(p))).collect();
-            over.sort_by(f64::total_cmp);
-            let never = plays
-                .iter()
-                .filter(|(_, p)| pick(p).status != SimStatus::Captured)
-                .count();
-            let captured: Vec<f64> = plays
-                .iter()
-                .map(|(_, p)| pick(p))
-                .filter(|r| r.status == SimStatus::Captured)
-                .map(|r| r.t_capture)
-                .collect();
-            let mean = captured.iter().sum::<f64>() / captured.len().max(1) as f64;
-            let worst = plays
-                .iter()
-                .max_by(|(_, p), (_, q)| p.over(pick(p)).total_cmp(&q.over(pick(q))))
-                .map(|(seed, p)| {
-                    let (x, y, phi) = p.start(limits);
-                    format!("({x:.2}, {y:.2}, {phi:.2}), {:.2} s, seed {seed}", p.v0)
-                })
-                .unwrap_or_default();
-            // Runs past the bar for the worst run (10 %), never captured included, and
-            // past 5 %: a few runs in thousands past 10 % is a tail that each seed set moves,
-            // and the count past 5 % tells more of it.
-            let past = [0.10, 0.05].map(|bar| over.iter().filter(|&&o| o > bar).count());
-            (
-                never,
-                format!(
-                    "{}, {}, {} ({}, {})",
-                    percent(quantile(&over, 0.5)),
-                    percent(quantile(&over, 0.9)),
-                    percent(quantile(&over, 1.0)),
-                    past[0],
-                    past[1]
-                ),
-                mean,
-                worst,
-                past,
-            )
-        };
-        let (flight_never, flight, flight_mean, ..) = summary(|p| &p.flight);
-        let (table_never, with_table, table_mean, worst, table_past) = summary(|p| &p.table);
-        let (firmware_never, with_firmware, firmware_mean, _, firmware_past) =
-            summary(|p| &p.firmware);
-        for (tail, past) in tails.iter_mut().zip([table_past, firmware_past]) {
-            tail[0] += past[0];
-            tail[1] += past[1];
-        }
         println!(
-            "| {} | {flight_never} / {table_never} / {firmware_never} | {flight} | {with_table} | {with_firmware} | {flight_mean:.2} / {table_mean:.2} / {firmware_mean:.2} | {worst} |",
-            evader.name()
+            "| {} | {} |",
+            evader.name(),
+            row(&plays, limits, tables_play)
         );
+        let judged = |p: &Play| {
+            if tables_play {
+                p.table.as_ref().map_or(0.0, |r| p.over(r))
+            } else {
+                p.over(&p.flight)
+            }
+        };
         late.extend(
             plays
                 .iter()
-                .filter(|(_, p)| p.over(&p.table).is_finite() && p.over(&p.table) > 0.10)
-                .map(|(seed, p)| beside_best_plan(limits, &reference, evader, *seed, p)),
+                .filter(|(_, p)| judged(p).is_finite() && judged(p) > 0.10)
+                .map(|(seed, p)| {
+                    if tables_play {
+                        beside_best_plan(limits, &reference, evader, *seed, p, judged(p))
+                    } else {
+                        late_run(limits, evader, *seed, p, judged(p))
+                    }
+                }),
         );
+        every.extend(plays);
     }
-    let [table, firmware] = tails;
-    println!(
-        "\nRuns past 10 % and past 5 % over every evader: the tables' pursuer {} and {}, the firmware {} and {}.",
-        table[0], table[1], firmware[0], firmware[1]
-    );
+    println!("| every evader | {} |", row(&every, limits, tables_play));
     if !late.is_empty() {
         println!(
-            "\nThe tables' pursuer's runs past 10 %, each beside the earliest capture of the same evader by the probe's {} open-loop plans (`--probe`; where no plan beats the pursuer, V(x0) is below what that evader allows):\n",
-            crate::hj_probe::PLANS
+            "\nThe {} runs past 10 %{}:\n",
+            if tables_play {
+                "tables' pursuer's"
+            } else {
+                "flight policy's"
+            },
+            if tables_play {
+                format!(", each beside the earliest capture of the same evader by the probe's {} open-loop plans (`--probe`; where no plan beats the pursuer, V(x0) is below what that evader allows)", crate::hj_probe::PLANS)
+            } else {
+                String::new()
+            }
         );
         for line in late {
             println!("- {line}");
         }
     }
     0
+}
+
+/// A table row's cells after the evader's name: each pursuer's figures over `plays`, then the
+/// judged pursuer's worst start.
+fn row(plays: &[(u64, Play)], limits: [f64; 4], tables_play: bool) -> String {
+    let all: Vec<&Play> = plays.iter().map(|(_, p)| p).collect();
+    let flight = Over::of(&all, |p| Some(&p.flight));
+    let worst_of = |pick: fn(&Play) -> Option<&SimResult>| {
+        plays
+            .iter()
+            .filter_map(|(seed, p)| pick(p).map(|r| (seed, p, p.over(r))))
+            .max_by(|a, b| a.2.total_cmp(&b.2))
+            .map(|(seed, p, _)| {
+                let (x, y, phi) = p.start(limits);
+                format!("({x:.2}, {y:.2}, {phi:.2}), {:.2} s, seed {seed}", p.v0)
+            })
+            .unwrap_or_default()
+    };
+    if tables_play {
+        let table = Over::of(&all, |p| p.table.as_ref());
+        let firmware = Over::of(&all, |p| p.firmware.as_ref());
+        format!(
+            "{} | {} | {} | {}",
+            flight.cells(),
+            table.cells(),
+            firmware.cells(),
+            worst_of(|p| p.table.as_ref())
+        )
+    } else {
+        format!("{} | {}", flight.cells(), worst_of(|p| Some(&p.flight)))
+    }
+}
+
+/// A run past 10 %: its evader, start, V(x0) and capture.
+fn late_run(limits: [f64; 4], evader: Evader, seed: u64, p: &Play, over: f64) -> String {
+    let (x, y, phi) = p.start(limits);
+    format!(
+        "{} from ({x:.2}, {y:.2}, {phi:.2}) r_p, seed {seed}, adversary seed {}: V(x0) {:.2} s, captured at {:.2} s ({})",
+        evader.name(),
+        p.adversary_seed,
+        p.v0,
+        p.flight.t_capture,
+        percent(over),
+    )
 }
 
 /// A run past 10 % beside the earliest capture of the same evader (the same seed) by the
@@ -330,6 +404,7 @@ fn beside_best_plan(
     evader: Evader,
     seed: u64,
     p: &Play,
+    over: f64,
 ) -> String {
     let [_, w_pm, v_em, w_em] = limits;
     let eps = capture_radius(reference, limits);
@@ -348,7 +423,7 @@ fn beside_best_plan(
             }),
         }
     };
-    let capture = p.table.t_capture;
+    let capture = p.v0 * (1.0 + over) + 5.0 * DT;
     let (best, _) = crate::hj_probe::best_plan(limits, eps, p.states, capture + DT, &maker);
     let (x, y, phi) = p.start(limits);
     let best = if best.is_finite() {
@@ -363,6 +438,6 @@ fn beside_best_plan(
         "{} from ({x:.2}, {y:.2}, {phi:.2}) r_p, seed {seed}: V(x0) {:.2} s, captured at {capture:.2} s ({}); {best}",
         evader.name(),
         p.v0,
-        percent(p.over(&p.table)),
+        percent(over),
     )
 }

@@ -392,7 +392,10 @@ pub fn run(args: &RunArgs) -> i32 {
                     None,
                     false,
                     [&|_, _| None, &|_, _| None],
-                    Some(set),
+                    host_tests::sim::Setup {
+                        tables: Some(set),
+                        ..Default::default()
+                    },
                 )
             }
             None => crate::sim::run_one(&params(&o, case), options, None, false),
