@@ -1,4 +1,4 @@
-//! An autopilot's fixes and headings in the law's frame (the MAVLink endpoint, issue 29).
+//! An autopilot's fixes and headings in the law's frame (the MAVLink endpoint).
 //!
 //! MAVLink gives positions as latitude and longitude in degE7 (1e-7 degree) and headings in
 //! centidegrees clockwise from north. Here they become metres in a local north-east plane about

@@ -32,7 +32,7 @@ pub enum Policy {
     Flight,
     /// The flight policy, and below the threshold, where the game's value tables play
     /// ([`Guidance::with_tables`], [`crate::value_tables`]), both players' optimal turns from
-    /// the tables (issue 30; docs/near-field.md). Without tables, or built without the
+    /// the tables (docs/near-field.md). Without tables, or built without the
     /// `value-tables` feature, the flight policy.
     Table,
 }

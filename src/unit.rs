@@ -178,7 +178,7 @@ impl<S: Scalar> Unit<S> {
     }
 
     /// Gives the unit the game's value tables its image carries, one set per pair of ratios: a
-    /// Configure with policy 2 plays the first set that fits its limits' ratios (issue 30). In
+    /// Configure with policy 2 plays the first set that fits its limits' ratios. In
     /// place: a builder moving the unit by value raised the M4F loop's peak stack by 64 B.
     pub fn set_tables(&mut self, tables: &'static [ValueTables<'static>]) {
         self.session.tables = tables;

@@ -1,4 +1,4 @@
-//! The game's value V as a table the firmware reads (issue 30): the Hamilton-Jacobi-Isaacs
+//! The game's value V as a table the firmware reads: the Hamilton-Jacobi-Isaacs
 //! solution of `cargo xtask hj`, quantised to u16 per node, and the pursuer's optimal turn read
 //! from it by the solver's own one-step minimax.
 //!

@@ -1,4 +1,4 @@
-//! Nested value tables (issue 30): the near field's V as a few [`ValueTable`]s of one game, the
+//! Nested value tables: the near field's V as a few [`ValueTable`]s of one game, the
 //! finest over the smallest box, each solved with the next coarser one's values where its steps
 //! leave its box (`cargo xtask hj --set FILE`, docs/near-field.md). A state is read from the
 //! finest table whose box holds it less two cells; the tables play inside the theorem's

@@ -1,6 +1,6 @@
 //! The game of two cars' value function V (the time to capture under optimal play by both
 //! sides) by semi-Lagrangian value iteration on a grid: the discrete form of the
-//! Hamilton-Jacobi-Isaacs equation, a monotone and consistent scheme (issue 30, first slice).
+//! Hamilton-Jacobi-Isaacs equation, a monotone and consistent scheme.
 //!
 //! The reduced game, in the pursuer's frame: `(x, y)` is the evader's position relative to the
 //! pursuer (x along the pursuer's heading, y to its left) and `phi` the evader's heading relative
@@ -399,11 +399,11 @@ impl Scheme {
     /// The scheme that reads landings near the disc ([`Scheme::read`]) for a solver stepping
     /// `tau`: one step of [`NEAR_STEPS`] times `tau`, with its looks. A pass that skims the
     /// edge slowly can still be within two cells of the disc after one step of tau, where V
-    /// jumps within a cell (a run traced in session 47 passed at 1.018 r_p, and one step of
+    /// jumps within a cell (a traced run passed at 1.018 r_p, and one step of
     /// tau from 1.056 r_p landed still in that band).
     /// On seeds kept aside (130,000 to 139,000) every run past 10 % of `cargo xtask hj --play`
     /// was 1 to 8 points earlier than with one step of tau, and no other worst run rose by
-    /// more than 0.1 point (session 48).
+    /// more than 0.1 point.
     pub fn near(game: Game, grid: Grid, tau: f64) -> Self {
         Scheme::new(game, grid, NEAR_STEPS * tau)
     }

@@ -1,7 +1,7 @@
 //! The players that play the Hamilton-Jacobi-Isaacs value tables ([`crate::hj`]) on the host:
 //! inside the theorem's threshold, in a table's box and outside its capture disc, the pursuer
 //! takes the turn that makes V least against the evader's best reply one solver step ahead;
-//! elsewhere the flight policy, the paper's law beyond the threshold (issue 30's policy, as a
+//! elsewhere the flight policy, the paper's law beyond the threshold (`Policy::Table`, as a
 //! host experiment; the firmware does not play a table yet).
 //!
 //! The tables are nested: a list, finest first, each solved with the next one's values where
@@ -52,7 +52,7 @@ pub fn value(tables: &[Solution], at: (f64, f64, f64)) -> Option<f64> {
 /// step from a state lands ([`crate::hj::NEVER`] outside every box), interpolated as the
 /// firmware reads it ([`Solution::interpolated_landing`]: at most 0 in the capture disc). The
 /// solver reads a landing within two cells of the disc by one more step of the scheme
-/// ([`Solution::landing`]); the players reading it so (with a step of tau, session 47) played
+/// ([`Solution::landing`]); the players reading it so (with a step of tau) played
 /// the same rows of `--play`.
 fn landing(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> f64 {
     let Some(table) = tables

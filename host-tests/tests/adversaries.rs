@@ -340,7 +340,7 @@ fn assert_the_flight_pursuer_captures_a_circler(
 }
 
 /// Circling evaders that the tail chase's pure pursuit passed 1 to 3 cm off once a lap, never
-/// capturing (docs/closed-loop.md, session 34; random limits, v_pm / v_em = 2.2 to 2.8): the
+/// capturing (docs/closed-loop.md; random limits, v_pm / v_em = 2.2 to 2.8): the
 /// terminal arc, led by a period, captures each, the one from beyond the threshold before its
 /// guarantee.
 #[test]

@@ -233,9 +233,8 @@ fn fixed_point_at_random_limits_inside_its_envelope() {
     // Random limits: states beyond 200 r_p or ratios outside the envelope are `out_of_range` and
     // not compared, nor are states beside a tangent's existence limit (`near_existence`). Every
     // state within the error its function bounds allow (`fixed_point_budget`: under seeds 0 to
-    // 85 at most 0.44 of it since session 21; up to 2.95 before the evader's radius and turn time
-    // were rounded once). Until session 21 this test asked for 1e-3 of the value instead, a bound
-    // no analysis gave: the slopes reach v_pm / (v_pm - v_em) = 16 and r_e / v_em = 256 r_p / v_pm
+    // 85 at most 0.44 of it). A relative bound of 1e-3 of the value would be one no analysis
+    // gives: the slopes reach v_pm / (v_pm - v_em) = 16 and r_e / v_em = 256 r_p / v_pm
     // in the envelope, and `TWOCARS_SEED=66` finds a state 1.2e-3 off within 0.41 of its budget.
     let e = measure::<Fixed>(scene(20.0), 1e-3, 2e-3, 2.0);
     report("fixed (random limits)", &e, 1e-3);

@@ -361,7 +361,7 @@ fn last_reply_bytes(unit: &mut Unit, bytes: &[u8], now_ms: u32) -> Option<Vec<u8
     reply
 }
 
-/// Golden bytes (issue 27, item 1): a State of protocol version 2, sequence 0x0278, valid CRC.
+/// Golden bytes: a State of protocol version 2, sequence 0x0278, valid CRC.
 /// Its header is readable, so the Error (code 6, bad_version) echoes its sequence: reply body
 /// `01 8f 78 02 06 01` with CRC 0x1fc8, COBS-framed. Before, the reply carried sequence 0 and
 /// echo 0 (`03 01 8f 01 02 06 03 3f a6 00`).
@@ -382,7 +382,7 @@ fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
     );
 }
 
-/// Golden bytes (issue 27, item 2): the contract checks non-finite fields before the envelope,
+/// Golden bytes: the contract checks non-finite fields before the envelope,
 /// across the whole State. A State (sequence 0x0102) whose pursuer heading is out of the envelope
 /// (2e4 rad) and whose evader y is NaN gets Error 7 (non_finite_field) with its sequence echoed,
 /// `01 8f 02 01 07 01` with CRC 0x5f77; before, the pursuer's fields were checked first and the
@@ -402,7 +402,7 @@ fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_stat
     );
 }
 
-/// Issue 27, item 3: under the fallback (status 5, no valid tangent) the Command's circle bytes
+/// Under the fallback (status 5, no valid tangent) the Command's circle bytes
 /// name the circle each player actually turns on, 0xFF where it goes straight (the shared
 /// contract), not the game's row and column. Over a scan of states within 2 m at the paper's
 /// limits, every status-5 Command's bytes agree with the signs of its rates.

@@ -1,4 +1,4 @@
-//! The value tables an image carries in flash (feature `tables-in-flash`, issue 30): the sets
+//! The value tables an image carries in flash (feature `tables-in-flash`): the sets
 //! `build.rs` includes from the files `TWOCARS_VALUE_TABLES` names, one per pair of ratios,
 //! each parsed once at start-up (docs/near-field.md).
 

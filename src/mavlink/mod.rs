@@ -1,4 +1,4 @@
-//! The MAVLink 2 guidance endpoint's pure core (issue 29; `../shared/CONTRACTS.md`, "MAVLink
+//! The MAVLink 2 guidance endpoint's pure core (docs/mavlink.md; the shared contract's "MAVLink
 //! endpoint"; docs/mavlink.md): frames found in the byte stream ([`frame`]), the messages we
 //! use decoded from them ([`messages`]) with the `mavlink` crate's common dialect, one message
 //! type at a time (its whole dialect costs 51 KB of flash; docs/mavlink.md), the parameters

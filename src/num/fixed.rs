@@ -323,8 +323,7 @@ const RSQRT_Q14: [u16; 49] = [
 /// cost a hundred-odd instructions on a Cortex-M0), then the root m y / 2^32 and one Newton step
 /// on the root. Over every m in [2^30, 2^32) (a throwaway exhaustive run) it is the largest root
 /// whose square is at most m but for 2,576,063 values, one below, and 5, one above; never further.
-/// (Until session 20, y from the table's middle values and a Newton step on it: 1,688,046 below,
-/// 6 above. An exact correction by integer squares cost 24 instructions a root.)
+/// (An exact correction by integer squares would cost 24 instructions a root.)
 fn isqrt_normalised(m: u32) -> u32 {
     // X = m / 2^32 in Q16; y within 3.7e-4 relative (the interpolation's h^2 / 8 max |y''| at
     // X = 1/4, 7.3e-4 of y = 2), so the root below is within about a dozen units.

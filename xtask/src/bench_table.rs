@@ -1,4 +1,4 @@
-//! The value table's row of `cargo xtask bench` (issue 30): the firmware's reader of a
+//! The value table's row of `cargo xtask bench`: the firmware's reader of a
 //! Hamilton-Jacobi-Isaacs table (`twocars::value_table`) on the Cortex-M4F (`bench-table`
 //! image, the table `src/bench/table.tcv`), checked against the same reads on the host.
 
@@ -74,7 +74,7 @@ pub fn measure() -> Result<TableMeasured, String> {
 pub fn paragraph(m: &TableMeasured) -> String {
     let (n, headings) = ValueTable::parse(TABLE).map_or((0, 0), |t| t.grid());
     format!(
-        "Value table (issue 30; Cortex-M4F, f32; `bench-table` image: `twocars::value_table` \
+        "Value table (Cortex-M4F, f32; `bench-table` image: `twocars::value_table` \
          reading `src/bench/table.tcv`, the paper's game on a {n} x {n} x {headings} grid, \
          {} B, u16 per node; each read is V by trilinear interpolation and the pursuer's \
          optimal turn by the solver's one-step minimax, twelve exact steps and twelve more \

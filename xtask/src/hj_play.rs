@@ -1,4 +1,4 @@
-//! `cargo xtask hj --play RUNS`: the value tables' pursuer (issue 30, on the host) against
+//! `cargo xtask hj --play RUNS`: the value tables' pursuer (on the host) against
 //! every evader of the adversary suite, from seeded starts below the theorem's threshold at the
 //! paper's limits (or `--limits`), beside the flight policy. The tables are the limits' near
 //! field ([`crate::hj::near_field`], `--levels`); their pursuer takes the turn whose worst case

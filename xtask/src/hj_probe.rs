@@ -1,4 +1,4 @@
-//! `cargo xtask hj --probe X,Y,PHI`: one near-field start looked at closely (issue 30). It
+//! `cargo xtask hj --probe X,Y,PHI`: one near-field start looked at closely. It
 //! prints V(x0) from the reference tables and from `--levels`, the capture when the pursuer
 //! plays `--levels` and the evader plays the reference tables (the `--play` row "the table's
 //! evader"), and the best pursuer of a family of open-loop plans against that same evader: a

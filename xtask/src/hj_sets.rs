@@ -9,9 +9,9 @@ use host_tests::hj::Grid;
 /// threshold of 14.57 m on the diagonals) at 0.5 r_p with 72 relative headings; +-6 r_p at
 /// 0.2 r_p with 48; +-3 r_p at 0.05 r_p with 72. The outer grid alone puts V 10 to 40 % low
 /// within two capture radii behind the pursuer; the inner one is as fine as the finest table a
-/// set flies, since it is the reference their plays are judged by. With 24 headings outside
-/// (until session 51) V(x0) 8.5 r_p out read 4.154 s at 2, 2, 1.2, 1.2, against 4.315 and
-/// 4.384 s with 48 and 72 (docs/near-field-log.md, "Finer tables, and the judge's own").
+/// set flies, since it is the reference their plays are judged by. With 24 headings outside,
+/// V(x0) 8.5 r_p out reads 4.154 s at 2, 2, 1.2, 1.2, against 4.315 and 4.384 s with 48 and
+/// 72 (docs/near-field-log.md, "Finer tables, and the judge's own").
 pub(crate) const NEAR_FIELD: [Grid; 3] =
     [grid(121, 30.0, 72), grid(61, 6.0, 48), grid(121, 3.0, 72)];
 

@@ -30,7 +30,7 @@ const EPS: f64 = 0.01 * SCALE;
 /// A capture within this many periods of the reference counts as on time.
 const ON_TIME_PERIODS: f64 = 5.0;
 /// The paper's four cases' captures in `cargo xtask run` under the paper's law (plus
-/// eps / (v_pm - v_em)), seconds: issue 29's reference. Case 3's upper value at t = 0 is 5.1641.
+/// eps / (v_pm - v_em)), seconds: the reference. Case 3's upper value at t = 0 is 5.1641.
 const REFERENCE: [f64; 4] = [5.6575, 6.6072, 5.1265, 5.9778];
 
 /// The virtual environment's Python with pymavlink, created on first use.

@@ -66,7 +66,7 @@ pub enum PolicyArg {
     /// The paper's law everywhere: the reference for research.
     Paper,
     /// The paper's law beyond the theorem's threshold, our pursuer below it: the one to fly.
-    /// `near-field`: its name before issue 25.
+    /// `near-field` is an alias.
     #[value(alias = "near-field")]
     Flight,
 }

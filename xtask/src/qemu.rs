@@ -29,7 +29,7 @@ pub enum Board {
     /// Raspberry Pi Pico (RP2040, Cortex-M0+, the fixed-point law): build, size and link check
     /// only (no emulator models it).
     Rp2040,
-    /// QEMU mps2-an386 carrying the value tables of two pairs of ratios (issue 30).
+    /// QEMU mps2-an386 carrying the value tables of two pairs of ratios.
     QemuTables,
     /// STM32F405 carrying the value tables of the paper's ratios: build and size only.
     Stm32f405Tables,
@@ -196,7 +196,7 @@ fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
 /// Builds the core's binary `bin` for `target` with `features` (release), cargo's own output
 /// to `stdout`; returns the ELF's path. Only the core's own features: a workspace build would
 /// unify in those the host crates enable (`value-tables`), and their code with them
-/// (docs/optimisation.md, session 41).
+/// (docs/optimisation.md).
 pub fn build_image(
     target: &str,
     features: &str,

@@ -1,4 +1,4 @@
-//! The value tables in flash, tested in QEMU (issue 30; part of `cargo xtask test`): the
+//! The value tables in flash, tested in QEMU (part of `cargo xtask test`): the
 //! `qemu-tables` image carries a set per pair of ratios ([`crate::hj_sets::FLASH_SETS`]); its
 //! Configure selects the set of the limits' ratios and says so; and below the theorem's
 //! threshold it captures every evader of the adversary suite, and the tables' own evader, as

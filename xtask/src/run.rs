@@ -96,7 +96,7 @@ pub enum RunBoard {
     Qemu,
     /// QEMU microbit (nRF51822, Cortex-M0, fixed-point law).
     Microbit,
-    /// QEMU mps2-an386 with the value tables in flash (issue 30): the policy defaults to the
+    /// QEMU mps2-an386 with the value tables in flash: the policy defaults to the
     /// tables' (Configure's policy byte 2), and the host simulation plays the same tables.
     QemuTables,
 }

@@ -1,4 +1,4 @@
-//! `cargo xtask plot`'s near-field figures (issue 30): the game's value V, solved on the
+//! `cargo xtask plot`'s near-field figures: the game's value V, solved on the
 //! Hamilton-Jacobi-Isaacs grid (`host_tests::hj`), beside the paper's upper value on the same
 //! axes; and the pursuer's optimal turn from V (`host_tests::hj_policy`) beside the
 //! paper law's pursuer circle. The paper's limits; pursuer at the origin heading +y, evader
