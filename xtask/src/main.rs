@@ -50,7 +50,7 @@ enum Cmd {
     Run(run::RunArgs),
     /// Every check: fmt, clippy (host and thumb), builds, host tests, docs, QEMU, on-target
     /// tests, fuzz smoke runs; the last line is `N passed, N failed`.
-    Test,
+    Test(test::TestArgs),
     /// Build the firmware images and print their flash and RAM.
     Build(qemu::BuildArgs),
     /// Instructions per law evaluation (M4F, M0), flash, stack, host throughput ->
@@ -84,7 +84,7 @@ impl Cmd {
             qemu: true,
         };
         match self {
-            Cmd::Test | Cmd::Bench | Cmd::Profile => Some(all),
+            Cmd::Test(_) | Cmd::Bench | Cmd::Profile => Some(all),
             Cmd::Run(args) if !args.host_only => Some(all),
             Cmd::Build(_) => Some(setup::Needs {
                 toolchain: true,
@@ -110,7 +110,7 @@ fn main() -> ExitCode {
         Cmd::Eval { law } => eval::run(&law.options(Policy::Paper)),
         Cmd::Sim(args) => sim::run(&args.law.options(Policy::Paper), args.opponent()),
         Cmd::Run(args) => run::run(args),
-        Cmd::Test => test::run(),
+        Cmd::Test(args) => test::run(args),
         Cmd::Bench => bench::run(),
         Cmd::Fuzz(args) => fuzz::command(args),
         Cmd::Report(args) => report::command(args),

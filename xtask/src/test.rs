@@ -1,4 +1,5 @@
-//! `cargo xtask test`: every check the project has, in order; stops at the first failure.
+//! `cargo xtask test`: every check the project has, as a list of named steps run in order;
+//! stops at the first failure. `--quick` is the edit loop's tier, `--only` and `--skip` pick steps.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -144,29 +145,170 @@ fn on_target(cargo: &str) -> (u64, u64) {
     (passed, failed)
 }
 
-/// Runs every step; returns the exit code.
-pub fn run() -> i32 {
+/// `cargo xtask test`'s options: the full run by default (README's command, CI's).
+#[derive(Debug, Clone, clap::Args)]
+pub struct TestArgs {
+    /// The edit loop's tier: format, clippy on the host and the host tests (a few minutes).
+    #[arg(long, conflicts_with = "only")]
+    quick: bool,
+    /// Only these steps, in the suite's order (comma-separated or repeated).
+    #[arg(long, value_delimiter = ',', value_parser = step_name)]
+    only: Vec<&'static str>,
+    /// Every step but these (comma-separated or repeated).
+    #[arg(long, value_delimiter = ',', value_parser = step_name)]
+    skip: Vec<&'static str>,
+}
+
+/// A step's name as `--only` and `--skip` take it, refused by name if the suite has none such.
+fn step_name(name: &str) -> Result<&'static str, String> {
+    STEPS
+        .iter()
+        .find(|s| s.name == name)
+        .map(|s| s.name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = STEPS.iter().map(|s| s.name).collect();
+            format!("no step `{name}`; the steps: {}", names.join(", "))
+        })
+}
+
+/// What the steps share: cargo, the value tables' files once solved, and the counts of the
+/// steps that count tests.
+struct Suite {
+    cargo: String,
+    tables: Option<String>,
+    passed: u64,
+    failed: u64,
+}
+
+impl Suite {
+    /// The value tables the tables images carry, solved the first time a step needs them
+    /// (about two minutes on two cores, then read from target/hj-cache), as `PATH`-joined files.
+    fn tables(&mut self) -> Option<String> {
+        if self.tables.is_none() {
+            println!("== xtask test: the value tables of the tables images");
+            let sets = timed("the value tables", || {
+                crate::hj::flash_sets(crate::qemu::Board::QemuTables.table_sets())
+            });
+            match sets.map(|paths| std::env::join_paths(paths).map_err(|e| e.to_string())) {
+                Ok(Ok(joined)) => self.tables = Some(joined.to_string_lossy().into_owned()),
+                Ok(Err(e)) | Err(e) => eprintln!("== xtask test: the value tables: {e}"),
+            }
+        }
+        self.tables.clone()
+    }
+
+    /// Adds a step's test counts; true if none failed.
+    fn count(&mut self, (passed, failed): (u64, u64)) -> bool {
+        self.passed += passed;
+        self.failed += failed;
+        failed == 0
+    }
+}
+
+/// A step of the suite: its name for `--only` and `--skip`, whether `--quick` runs it, and
+/// what it does (true if it passed).
+struct Step {
+    name: &'static str,
+    quick: bool,
+    run: fn(&mut Suite) -> bool,
+}
+
+impl Step {
+    /// A step of the full run and of `--quick`.
+    const fn quick(name: &'static str, run: fn(&mut Suite) -> bool) -> Self {
+        Step {
+            name,
+            quick: true,
+            run,
+        }
+    }
+
+    /// A step of the full run only.
+    const fn full(name: &'static str, run: fn(&mut Suite) -> bool) -> Self {
+        Step {
+            name,
+            quick: false,
+            run,
+        }
+    }
+}
+
+/// The suite, in order; the full run stops at the first step that fails.
+const STEPS: [Step; 13] = [
+    Step::quick("format", format),
+    Step::quick("clippy-host", clippy_host),
+    Step::full("clippy-core", clippy_core),
+    Step::full("tables", |suite| suite.tables().is_some()),
+    Step::full("clippy-firmware", clippy_firmware),
+    Step::full("clippy-on-target", clippy_on_target),
+    Step::full("images", images),
+    Step::full("panic-free", panic_free),
+    Step::quick("host-tests", host),
+    Step::full("docs", docs),
+    Step::full("qemu", qemu),
+    Step::full("on-target", on_target_tests),
+    Step::full("fuzz", fuzz),
+];
+
+/// Runs the steps `args` selects; returns the exit code. The last line is `N passed, N failed`.
+pub fn run(args: &TestArgs) -> i32 {
     let started = Instant::now();
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
-    let mut ok = step("format", &cargo, &["fmt", "--all", "--", "--check"], &[])
-        && step(
-            "clippy (host)",
-            &cargo,
-            &[
-                "clippy",
-                "--workspace",
-                "--all-targets",
-                "--",
-                "-D",
-                "warnings",
-            ],
-            &[],
+    let mut suite = Suite {
+        cargo: std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string()),
+        tables: None,
+        passed: 0,
+        failed: 0,
+    };
+    let chosen = |step: &&Step| {
+        let asked = if args.quick {
+            step.quick
+        } else {
+            args.only.is_empty() || args.only.contains(&step.name)
+        };
+        asked && !args.skip.contains(&step.name)
+    };
+    let ok = STEPS
+        .iter()
+        .filter(chosen)
+        .all(|step| (step.run)(&mut suite));
+    if ok {
+        println!(
+            "== xtask test: all steps passed in {:.0} s",
+            started.elapsed().as_secs_f64()
         );
-    for target in THUMB_TARGETS {
-        // The MAVLink endpoint's core too: it must compile without `std` on every target. Clippy
-        // type-checks it there; code generation for the M4F and the M0 is the images' build
-        // below (a release build of the bare library here cost ~32 s per target on a clean
-        // clone and proved nothing more).
+    }
+    // The closing line CI reads.
+    println!("{} passed, {} failed", suite.passed, suite.failed);
+    i32::from(!ok)
+}
+
+fn format(suite: &mut Suite) -> bool {
+    step(
+        "format",
+        &suite.cargo,
+        &["fmt", "--all", "--", "--check"],
+        &[],
+    )
+}
+
+fn clippy_host(suite: &mut Suite) -> bool {
+    let args = [
+        "clippy",
+        "--workspace",
+        "--all-targets",
+        "--",
+        "-D",
+        "warnings",
+    ];
+    step("clippy (host)", &suite.cargo, &args, &[])
+}
+
+/// The no_std core with the MAVLink endpoint's core on every Cortex-M target: it must compile
+/// without `std` there. Clippy type-checks it; code generation for the M4F and the M0 is the
+/// images' build (a release build of the bare library here cost ~32 s per target on a clean
+/// clone and proved nothing more).
+fn clippy_core(suite: &mut Suite) -> bool {
+    THUMB_TARGETS.iter().all(|target| {
         let clippy = [
             "clippy",
             "-p",
@@ -180,52 +322,39 @@ pub fn run() -> i32 {
             "-D",
             "warnings",
         ];
-        ok = ok
-            && step(
-                &format!("clippy of the no_std core for {target}"),
-                &cargo,
-                &clippy,
-                &[],
-            );
-    }
-    const M4F: &str = "thumbv7em-none-eabihf";
-    // The value tables the tables images carry: solved here (about two minutes on two cores,
-    // then read from target/hj-cache), before their images' clippy and builds.
-    let tables = if ok {
-        println!("== xtask test: the value tables of the tables images");
-        let sets = timed("the value tables", || {
-            crate::hj::flash_sets(crate::qemu::Board::QemuTables.table_sets())
-        });
-        match sets.map(|paths| std::env::join_paths(paths).map_err(|e| e.to_string())) {
-            Ok(Ok(joined)) => joined.to_string_lossy().into_owned(),
-            Ok(Err(e)) | Err(e) => {
-                eprintln!("== xtask test: the value tables: {e}");
-                ok = false;
-                String::new()
-            }
-        }
-    } else {
-        String::new()
+        let title = format!("clippy of the no_std core for {target}");
+        step(&title, &suite.cargo, &clippy, &[])
+    })
+}
+
+const M4F: &str = "thumbv7em-none-eabihf";
+
+/// Every firmware and bench image's features, its name, its target.
+const FIRMWARE: [(&str, &str, &str); 16] = [
+    ("qemu-log", "QEMU", M4F),
+    ("board-stm32f405", "STM32F405", M4F),
+    ("board-qemu,mavlink", "QEMU MAVLink", M4F),
+    ("board-stm32f405,mavlink", "STM32F405 MAVLink", M4F),
+    ("firmware-microbit", "micro:bit", "thumbv6m-none-eabi"),
+    ("firmware-rp2040", "RP2040", "thumbv6m-none-eabi"),
+    ("bench-firmware", "bench", M4F),
+    ("bench-empty", "empty bench", M4F),
+    ("bench-fixed", "fixed-point bench", M4F),
+    ("bench-micromath", "micromath bench", M4F),
+    ("bench-report", "report bench", M4F),
+    ("bench-loop", "serial loop bench", M4F),
+    ("bench-mavlink", "MAVLink bench", M4F),
+    ("bench-table", "value table bench", M4F),
+    ("qemu-log,tables-in-flash", "QEMU tables", M4F),
+    ("board-stm32f405,tables-in-flash", "STM32F405 tables", M4F),
+];
+
+fn clippy_firmware(suite: &mut Suite) -> bool {
+    let Some(tables) = suite.tables() else {
+        return false;
     };
-    for (feature, name, target) in [
-        ("qemu-log", "QEMU", M4F),
-        ("board-stm32f405", "STM32F405", M4F),
-        ("board-qemu,mavlink", "QEMU MAVLink", M4F),
-        ("board-stm32f405,mavlink", "STM32F405 MAVLink", M4F),
-        ("firmware-microbit", "micro:bit", "thumbv6m-none-eabi"),
-        ("firmware-rp2040", "RP2040", "thumbv6m-none-eabi"),
-        ("bench-firmware", "bench", M4F),
-        ("bench-empty", "empty bench", M4F),
-        ("bench-fixed", "fixed-point bench", M4F),
-        ("bench-micromath", "micromath bench", M4F),
-        ("bench-report", "report bench", M4F),
-        ("bench-loop", "serial loop bench", M4F),
-        ("bench-mavlink", "MAVLink bench", M4F),
-        ("bench-table", "value table bench", M4F),
-        ("qemu-log,tables-in-flash", "QEMU tables", M4F),
-        ("board-stm32f405,tables-in-flash", "STM32F405 tables", M4F),
-    ] {
-        let firmware_clippy = [
+    FIRMWARE.iter().all(|(feature, name, target)| {
+        let clippy = [
             "clippy",
             "-p",
             "twocars",
@@ -239,129 +368,128 @@ pub fn run() -> i32 {
             "-D",
             "warnings",
         ];
-        ok = ok
-            && step(
-                &format!("clippy of the {name} firmware"),
-                &cargo,
-                &firmware_clippy,
-                &[("TWOCARS_VALUE_TABLES", tables.as_str())],
-            );
-    }
-    for (target, features) in ON_TARGET {
+        let title = format!("clippy of the {name} firmware");
+        step(
+            &title,
+            &suite.cargo,
+            &clippy,
+            &[("TWOCARS_VALUE_TABLES", tables.as_str())],
+        )
+    })
+}
+
+fn clippy_on_target(suite: &mut Suite) -> bool {
+    ON_TARGET.iter().all(|(target, features)| {
         let mut clippy = on_target_args("clippy", target, features).to_vec();
         clippy.extend(["--", "-D", "warnings"]);
-        ok = ok
-            && step(
-                &format!("clippy of the on-target tests for {target}"),
-                &cargo,
-                &clippy,
-                &[],
-            );
+        let title = format!("clippy of the on-target tests for {target}");
+        step(&title, &suite.cargo, &clippy, &[])
+    })
+}
+
+fn images(_: &mut Suite) -> bool {
+    println!("== xtask test: firmware images build, vector tables at their boards' flash origins");
+    timed("the firmware images", || {
+        let results: Vec<_> = crate::qemu::Board::ALL
+            .into_iter()
+            .map(crate::qemu::build_checked)
+            .collect();
+        report_errors(results)
+    })
+}
+
+fn panic_free(_: &mut Suite) -> bool {
+    println!("== xtask test: panic freedom of the flight images, proven at link time");
+    timed("the panic-freedom links", || {
+        let results: Vec<_> = crate::qemu::Board::ALL
+            .into_iter()
+            .map(crate::qemu::prove_panic_free)
+            .collect();
+        report_errors(results)
+    })
+}
+
+/// Prints each error; true if there was none.
+fn report_errors<T>(results: Vec<Result<T, String>>) -> bool {
+    let mut ok = true;
+    for e in results.into_iter().filter_map(Result::err) {
+        eprintln!("== xtask test: {e}");
+        ok = false;
     }
-    if ok {
-        println!(
-            "== xtask test: firmware images build, vector tables at their boards' flash origins"
-        );
-        timed("the firmware images", || {
-            for board in crate::qemu::Board::ALL {
-                if let Err(e) = crate::qemu::build_checked(board) {
-                    eprintln!("== xtask test: {e}");
-                    ok = false;
-                }
+    ok
+}
+
+fn host(suite: &mut Suite) -> bool {
+    match timed("the host tests", || host_tests(&suite.cargo)) {
+        Some(counts) => suite.count(counts),
+        None => false,
+    }
+}
+
+fn docs(suite: &mut Suite) -> bool {
+    let args = [
+        "doc",
+        "--no-deps",
+        "-p",
+        "twocars",
+        "--features",
+        "mavlink,firmware,bench",
+    ];
+    step(
+        "docs",
+        &suite.cargo,
+        &args,
+        &[("RUSTDOCFLAGS", "-D warnings")],
+    )
+}
+
+fn on_target_tests(suite: &mut Suite) -> bool {
+    let counts = timed("the on-target tests", || on_target(&suite.cargo));
+    suite.count(counts)
+}
+
+fn qemu(suite: &mut Suite) -> bool {
+    let counts = timed("the QEMU tests", crate::qemu_tests::run);
+    suite.count(counts)
+}
+
+/// Each libFuzzer target for 10 s from its seed corpus (`cargo-fuzz` installed the first time).
+fn fuzz(suite: &mut Suite) -> bool {
+    println!("== xtask test: fuzz smoke run, 10 s per target from the seed corpora");
+    let fuzzing = Instant::now();
+    if !crate::fuzz::ensure_cargo_fuzz() {
+        eprintln!("== xtask test: cargo-fuzz is not available");
+        suite.failed += 1;
+        return false;
+    }
+    let ok = crate::fuzz::TARGETS.iter().all(|target| {
+        match crate::fuzz::run_target(target, crate::fuzz::Budget::Seconds(10)) {
+            Ok(r) if !r.failed && r.executions > 0 => {
+                println!(
+                    "test fuzz::{target} ... ok ({} executions, corpus {})",
+                    r.executions, r.corpus
+                );
+                suite.passed += 1;
+                true
             }
-        });
-    }
-    if ok {
-        println!("== xtask test: panic freedom of the flight images, proven at link time");
-        timed("the panic-freedom links", || {
-            for board in crate::qemu::Board::ALL {
-                if let Err(e) = crate::qemu::prove_panic_free(board) {
-                    eprintln!("== xtask test: {e}");
-                    ok = false;
-                }
+            Ok(r) => {
+                println!(
+                    "test fuzz::{target} ... FAILED ({} executions)",
+                    r.executions
+                );
+                suite.failed += 1;
+                false
             }
-        });
-    }
-    let counts = if ok {
-        timed("the host tests", || host_tests(&cargo))
-    } else {
-        None
-    };
-    ok = ok
-        && counts.is_some()
-        && step(
-            "docs",
-            &cargo,
-            &[
-                "doc",
-                "--no-deps",
-                "-p",
-                "twocars",
-                "--features",
-                "mavlink,firmware,bench",
-            ],
-            &[("RUSTDOCFLAGS", "-D warnings")],
-        );
-    let (mut passed, mut failed) = counts.unwrap_or((0, 0));
-    if ok {
-        let (p, f) = timed("the QEMU tests", crate::qemu_tests::run);
-        passed += p;
-        failed += f;
-        ok = f == 0;
-    }
-    if ok {
-        let (p, f) = timed("the on-target tests", || on_target(&cargo));
-        passed += p;
-        failed += f;
-        ok = f == 0;
-    }
-    if ok {
-        println!("== xtask test: fuzz smoke run, 10 s per target from the seed corpora");
-        let fuzzing = Instant::now();
-        if !crate::fuzz::ensure_cargo_fuzz() {
-            eprintln!("== xtask test: cargo-fuzz is not available");
-            failed += 1;
-            ok = false;
+            Err(e) => {
+                println!("test fuzz::{target} ... FAILED: {e}");
+                suite.failed += 1;
+                false
+            }
         }
-        for target in crate::fuzz::TARGETS {
-            if !ok {
-                break;
-            }
-            match crate::fuzz::run_target(target, crate::fuzz::Budget::Seconds(10)) {
-                Ok(r) if !r.failed && r.executions > 0 => {
-                    println!(
-                        "test fuzz::{target} ... ok ({} executions, corpus {})",
-                        r.executions, r.corpus
-                    );
-                    passed += 1;
-                }
-                Ok(r) => {
-                    println!(
-                        "test fuzz::{target} ... FAILED ({} executions)",
-                        r.executions
-                    );
-                    failed += 1;
-                    ok = false;
-                }
-                Err(e) => {
-                    println!("test fuzz::{target} ... FAILED: {e}");
-                    failed += 1;
-                    ok = false;
-                }
-            }
-        }
-        println!(
-            "== xtask test: the fuzz smoke run took {:.1} s",
-            fuzzing.elapsed().as_secs_f64()
-        );
-    }
-    if ok {
-        println!(
-            "== xtask test: all steps passed in {:.0} s",
-            started.elapsed().as_secs_f64()
-        );
-    }
-    // The closing line CI reads.
-    println!("{passed} passed, {failed} failed");
-    i32::from(!ok)
+    });
+    println!(
+        "== xtask test: the fuzz smoke run took {:.1} s",
+        fuzzing.elapsed().as_secs_f64()
+    );
+    ok
 }
