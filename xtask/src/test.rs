@@ -388,35 +388,37 @@ fn clippy_on_target(suite: &mut Suite) -> bool {
 }
 
 fn images(_: &mut Suite) -> bool {
-    println!("== xtask test: firmware images build, vector tables at their boards' flash origins");
-    timed("the firmware images", || {
-        let results: Vec<_> = crate::qemu::Board::ALL
-            .into_iter()
-            .map(crate::qemu::build_checked)
-            .collect();
-        report_errors(results)
-    })
+    let what = "firmware images build, vector tables at their boards' flash origins";
+    every_board(what, "the firmware images", crate::qemu::build_checked)
 }
 
 fn panic_free(_: &mut Suite) -> bool {
-    println!("== xtask test: panic freedom of the flight images, proven at link time");
-    timed("the panic-freedom links", || {
-        let results: Vec<_> = crate::qemu::Board::ALL
-            .into_iter()
-            .map(crate::qemu::prove_panic_free)
-            .collect();
-        report_errors(results)
-    })
+    let what = "panic freedom of the flight images, proven at link time";
+    every_board(
+        what,
+        "the panic-freedom links",
+        crate::qemu::prove_panic_free,
+    )
 }
 
-/// Prints each error; true if there was none.
-fn report_errors<T>(results: Vec<Result<T, String>>) -> bool {
-    let mut ok = true;
-    for e in results.into_iter().filter_map(Result::err) {
-        eprintln!("== xtask test: {e}");
-        ok = false;
-    }
-    ok
+/// `check` on every board, each error printed (every board is checked even after one fails);
+/// true if none failed.
+fn every_board<T>(
+    what: &str,
+    title: &str,
+    check: fn(crate::qemu::Board) -> Result<T, String>,
+) -> bool {
+    println!("== xtask test: {what}");
+    timed(title, || {
+        let mut ok = true;
+        for board in crate::qemu::Board::ALL {
+            if let Err(e) = check(board) {
+                eprintln!("== xtask test: {e}");
+                ok = false;
+            }
+        }
+        ok
+    })
 }
 
 fn host(suite: &mut Suite) -> bool {
