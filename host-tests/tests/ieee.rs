@@ -151,6 +151,38 @@ fn offsets_in_units_of_length_match_the_exact_quotient_to_a_raw_unit() {
     assert!(worst <= 1, "worst {worst} raw units");
 }
 
+/// Near the range's edge (2^31 raw units) the relative errors of the kept difference (2^-32)
+/// and of the reciprocal (2^-31) reach a raw unit: the offset is within half a unit plus
+/// 3 2^-32 of the exact quotient; the fuzzer's case is two units off the rounded quotient.
+#[test]
+fn offsets_at_the_range_edge_stay_within_the_relative_bound() {
+    let mut rng = Rng::new(12);
+    let mut worst_excess = 0.0f64;
+    for _ in 0..400_000 {
+        let metres = rng.uniform(1.0, 10.0) as f32;
+        let per_metre = Reciprocal::of(metres);
+        let base = rng.uniform(-1e6, 1e6) as f32;
+        let reach = f64::from(metres) * 2f64.powi(17) * rng.uniform(0.5, 0.999);
+        let to = (f64::from(base) + reach * rng.uniform(-1.0, 1.0).signum()) as f32;
+        if to.abs() > 1e6 {
+            continue;
+        }
+        let got = f64::from(fixed_wire::offset(base, to, &per_metre).raw());
+        let exact = (f64::from(to) - f64::from(base)) / f64::from(metres) * 16384.0;
+        if exact.abs() >= 2f64.powi(31) - 2.0 {
+            continue;
+        }
+        let bound = 0.5 + 3.0 * exact.abs() / 2f64.powi(32);
+        worst_excess = worst_excess.max((got - exact).abs() - bound);
+    }
+    assert!(worst_excess <= 0.0, "past the bound by {worst_excess}");
+    let (base, to, metres) = (5.136_999_4e5_f32, 1.108_832_8e1_f32, 3.958_547_8_f32);
+    let got = f64::from(fixed_wire::offset(base, to, &Reciprocal::of(metres)).raw());
+    let exact = (f64::from(to) - f64::from(base)) / f64::from(metres) * 16384.0;
+    assert_eq!((got - exact.round()).abs(), 2.0, "{got} against {exact}");
+    assert!((got - exact).abs() <= 0.5 + 3.0 * exact.abs() / 2f64.powi(32));
+}
+
 #[test]
 fn fixed_point_states_refuse_what_f32_states_refuse() {
     let limits = Limits::<Fixed>::new(2.0, 2.0, 1.0, 1.0).unwrap();

@@ -3,8 +3,10 @@
 //! on a core without an FPU.
 //!
 //! - Positions: each coordinate exactly as an integer of 2^-40 m (|x| <= 1e6 m < 2^20 m), their
-//!   difference exact (its top 32 bits kept), times the reciprocal of the unit of length
-//!   ([`Reciprocal`], to 2^-30 relative), rounded once to Q17.14.
+//!   difference exact (its top 32 bits kept, to 2^-32 relative), times the reciprocal of the unit
+//!   of length ([`Reciprocal`], to 2^-31 relative), rounded once to Q17.14: within half a raw unit
+//!   of the offset plus 3 2^-32 of it plus 2^-40 m, so one raw unit up to 2^29 raw units (2^15
+//!   lengths) and two at the range's edge.
 //! - Headings: reduced to [-pi, pi] as a binary angle (one turn = 2^32, the product of the exact
 //!   `f32` by 2^32 / (2 pi) to 2^-38 relative), then to Q17.14 radians.
 //! - Back to `f32`: a Q17.14 value times an `f32` scale, the exact product rounded once.
@@ -20,7 +22,7 @@ const BINARY_ANGLE_PER_RADIAN_Q8: u64 = 174_992_710_548;
 const PI_Q29: i64 = 1_686_629_713;
 
 /// The reciprocal of a length (metres): `mantissa * 2^-shift` per metre, the mantissa in
-/// (2^30, 2^31] (to 2^-30 relative); computed once per Configure.
+/// (2^30, 2^31] (rounded to nearest: to 2^-31 relative); computed once per Configure.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Reciprocal {
     mantissa: u32,
@@ -66,7 +68,7 @@ fn scaled_offset(
     let to = to_fixed(to.to_bits(), POSITION_BITS, 61)?;
     let difference = to - from;
     // The difference's top 32 significant bits (to 2^-32 relative, below the reciprocal's
-    // 2^-30), so that the product by the 31-bit reciprocal fits 64 bits.
+    // 2^-31), so that the product by the 31-bit reciprocal fits 64 bits.
     let exact = difference.unsigned_abs();
     let dropped = 32u32.saturating_sub(exact.leading_zeros());
     let product = shift_round(exact, dropped) * u64::from(per_metre.mantissa);

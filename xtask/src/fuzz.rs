@@ -215,8 +215,7 @@ pub fn run_target(target: &'static str, budget: Budget) -> Result<FuzzRun, Strin
     let executions = stat("stat::number_of_executed_units");
     let failed = !output.status.success();
     if failed {
-        let tail: Vec<&str> = log.lines().rev().take(30).collect();
-        eprintln!("{}", tail.into_iter().rev().collect::<Vec<_>>().join("\n"));
+        eprintln!("{}", failure_summary(&log));
     }
     Ok(FuzzRun {
         target,
@@ -224,6 +223,32 @@ pub fn run_target(target: &'static str, budget: Budget) -> Result<FuzzRun, Strin
         corpus: count_files(&corpus),
         failed,
     })
+}
+
+/// The lines of libFuzzer's log that say how to reproduce a failure.
+const REPRODUCE: [&str; 4] = [
+    "INFO: Seed:",
+    "Test unit written to",
+    "Base64:",
+    "cargo fuzz run",
+];
+
+/// What reproduces a failure from libFuzzer's log: its seed, the panic message, the crashing
+/// input (path and Base64) and the reproduction command; the whole tail when none is found.
+fn failure_summary(log: &str) -> String {
+    let lines: Vec<&str> = log.lines().collect();
+    let mut keep: Vec<&str> = Vec::new();
+    for (i, &line) in lines.iter().enumerate() {
+        if line.contains("panicked at") {
+            keep.extend(&lines[i..(i + 2).min(lines.len())]);
+        } else if REPRODUCE.iter().any(|key| line.contains(key)) {
+            keep.push(line);
+        }
+    }
+    if keep.is_empty() {
+        keep = lines[lines.len().saturating_sub(30)..].to_vec();
+    }
+    keep.join("\n")
 }
 
 fn count_files(dir: &Path) -> u64 {
