@@ -22,7 +22,9 @@
 //!   included: behind it on its circle the line of sight turns at v_em / (2 r_e));
 //! - and once the law has lost its prediction (its upper value rose beyond the tie floor, or it
 //!   has none), until the players are beyond the threshold again: first a lead turn, the
-//!   pursuer turning (at most what a period needs, on the side it began) until its nose is
+//!   pursuer turning (at most what a period needs, on the side it began: the nearer, or, on
+//!   the first near-field period with the point within 0.3 rad of straight behind, the law's)
+//!   until its nose is
 //!   within 0.2 rad (`LEAD_ALIGNED`) of the point where it meets the evader going on along its
 //!   observed arc (the collision triangle's point, `lead`), while the players are more than
 //!   3 r_p (`LEAD_RADII`) apart: a Dubins car reaches a point soonest by turning fully and then
@@ -194,6 +196,14 @@ impl<S: Scalar> NearFieldMemory<S> {
         law: S,
     ) -> S {
         let to_go = bearing(pursuer, evader.x, evader.y);
+        // The law's turn is the lead turn's tie-break only where the pursuer has not followed
+        // it yet: later the law's circles have been played and the point behind is the
+        // evader's doing.
+        let untried_law = if self.last_evader_heading.is_none() {
+            law
+        } else {
+            S::zero()
+        };
         if self.lost(report, distance, terms, dt, tie_floor, to_go)
             || terms.outrun(report, to_go, distance)
         {
@@ -216,7 +226,8 @@ impl<S: Scalar> NearFieldMemory<S> {
             return sight.terminal(limits, terms, tail);
         }
         if !tail {
-            if let Some(w) = self.lead_turn(&sight, pursuer, limits, terms, per_radian) {
+            if let Some(w) = self.lead_turn(&sight, pursuer, limits, terms, per_radian, untried_law)
+            {
                 self.end_pure_pursuit();
                 return w;
             }
@@ -257,7 +268,9 @@ impl<S: Scalar> NearFieldMemory<S> {
 
     /// The lead turn's curvature (1/m) while it lasts (module docs): toward the collision
     /// triangle's point at most what one period needs (`per_radian`, 1 / (v_pm dt)), on the
-    /// side the turn began, so that a point straight behind does not flip it every period;
+    /// side the turn began ([`first_side`], `law` the law's curvature on the first near-field
+    /// period, else 0), so that a point
+    /// straight behind does not flip it every period;
     /// `None` once the nose has come within [`LEAD_ALIGNED`] of the point, or within
     /// [`LEAD_RADII`] r_p of the evader (a turn there passes it).
     fn lead_turn(
@@ -267,6 +280,7 @@ impl<S: Scalar> NearFieldMemory<S> {
         limits: &VehicleLimits<S>,
         terms: &NearFieldTerms<S>,
         per_radian: S,
+        law: S,
     ) -> Option<S> {
         let LeadTurn::Pending(side) = self.lead else {
             return None;
@@ -281,7 +295,7 @@ impl<S: Scalar> NearFieldMemory<S> {
             return None;
         }
         let left = to_aim >= S::zero();
-        let side = side.unwrap_or(left);
+        let side = side.unwrap_or_else(|| first_side(to_aim, law));
         self.lead = LeadTurn::Pending(Some(side));
         Some(if side == left {
             steer(to_aim, limits, Some(per_radian))
@@ -519,6 +533,23 @@ const NAVIGATION_GAIN: f32 = 3.0;
 /// How close to the lead point the pursuer's nose must come to end the lead turn, radians:
 /// five periods' full turn at 10 ms and the paper's limits; navigation takes the rest.
 const LEAD_ALIGNED: f32 = 0.2;
+
+/// How near straight behind the lead point must be for the law's side to start the lead turn,
+/// radians: there the two sides differ by less than 0.6 rad of turn (0.15 s at the paper's
+/// pursuer), less than the evader's turn moves the point while the pursuer turns.
+const LEAD_BEHIND: f32 = 0.3;
+
+/// The side of a lead turn that begins with the lead point at bearing `to_aim` (radians),
+/// anticlockwise if `true`: the nearer one, but with the point within [`LEAD_BEHIND`] of
+/// straight behind, the side of the law's turn `law` (curvature, 1/m), whose circles weigh
+/// the evader's best turn, when it turns (0: no preference).
+fn first_side<S: Scalar>(to_aim: S, law: S) -> bool {
+    if to_aim.abs() > S::pi() - S::from_f32(LEAD_BEHIND) && law != S::zero() {
+        law > S::zero()
+    } else {
+        to_aim >= S::zero()
+    }
+}
 
 /// The distance, in pursuer radii r_p, within which there is no lead turn: closer, a full turn
 /// toward the lead point orbits an evader that circles inside it (meshing circles were passed

@@ -143,6 +143,54 @@ fn told_the_capture_radius_the_pursuer_turns_onto_an_evader_in_reach() {
     assert!(exact.t_capture > told.t_capture + 1.0, "{exact:?}");
 }
 
+/// At 2, 2, 1.2, 1.2 the evader 7.1 m behind on the left, heading away: the law's upper value
+/// (9.72 s) is above homing's estimate (9.51 s), so the pursuer homes from the start, and the
+/// collision point is within 0.03 rad of straight behind. The nearer side by a hair
+/// (clockwise) took the pursuer the long way round against the greedy evader (captured at
+/// 10.32 s; V(x0) = 9.21 s from the reference tables, `cargo xtask hj --play` seed 205,000);
+/// the law's side (anticlockwise) captures with the paper's law, at dt = 10 ms and 1 ms.
+#[test]
+fn a_lead_point_behind_turns_the_law_s_way_on_the_first_period() {
+    for dt in [0.01, 0.001] {
+        let p = SimParams {
+            limits: [2.0, 2.0, 1.2, 1.2],
+            pursuer: [0.0, 0.0, 0.0],
+            evader: [-5.81, 4.09, -2.14],
+            dt,
+            t_max: 30.0,
+            eps: 0.5,
+        };
+        let greedy = Some((Opponent::Evader(EvaderKind::Greedy { periods: 1 }), 1));
+        let none = |_: [f64; 3], _: [f64; 3]| None;
+        let setup = Setup {
+            capture_radius: true,
+            ..Setup::default()
+        };
+        let run = |policy| {
+            simulate_with_turns::<f32>(
+                &p,
+                Variant::Paper,
+                policy,
+                greedy,
+                false,
+                [&none, &none],
+                setup,
+            )
+        };
+        let (flight, paper) = (run(Policy::Flight), run(Policy::Paper));
+        println!(
+            "dt {dt}: flight {:.3} s, paper {:.3} s",
+            flight.t_capture, paper.t_capture
+        );
+        assert_eq!(flight.status, SimStatus::Captured, "dt {dt}");
+        assert!(
+            flight.t_capture <= 1.05 * paper.t_capture,
+            "dt {dt}: {flight:?}"
+        );
+        assert!(flight.t_capture <= 1.05 * 9.21, "dt {dt}: {flight:?}");
+    }
+}
+
 /// The capture radius is a length in metres, at least 0 and within the backend's range.
 #[test]
 fn a_capture_radius_that_is_not_a_length_is_refused() {
