@@ -17,8 +17,8 @@
 //! not found there. A node inside the capture disc with code 0 is not read: its value is
 //! r - eps, minus its depth (as the solver keeps it behind the usable part of the disc's edge),
 //! so that V's zero lies on the edge; one with another code is read as any node (behind the
-//! rest of the edge, where V jumps, the solver keeps V two cells outside). Tables of session
-//! 41, with code 0 at every node in the disc, read as they did.
+//! rest of the edge, where V jumps, the solver keeps V two cells outside). A table with code 0
+//! at every node in the disc reads as the depth everywhere there.
 //!
 //! Reads are bounds-checked and allocation-free; a malformed table is refused by
 //! [`ValueTable::parse`], never read.
@@ -37,8 +37,8 @@ pub(crate) const PURSUER_TURNS: [f32; 3] = [0.0, 1.0, -1.0];
 
 /// The shortest time step of the solver and of the reader's look-ahead, r_p / v_pm. Each
 /// step interpolates V once, and interpolation smears V's jumps: half a cell's time on a
-/// 0.05 r_p grid put V 30 % low where the evader grazes the capture disc (docs/near-field-log.md,
-/// "A longer step").
+/// 0.05 r_p grid put V 30 % low where the evader grazes the capture disc (docs/near-field.md,
+/// "The solver").
 pub const MIN_STEP: f32 = 0.2;
 
 /// The time step (r_p / v_pm) on a grid whose cells are `spacing` (r_p) across: half a cell's

@@ -258,9 +258,8 @@ impl Scalar for f32 {
         f32::abs(self)
     }
     fn wrap_positive(self) -> Self {
-        // The signed reduction (2 pi in three parts) and a turn added below zero (until session
-        // 21 one f32 2 pi times the turns, the formula that put fixed point's headings 7.5e-4 rad
-        // off at 1e4 rad).
+        // The signed reduction (2 pi in three parts) and a turn added below zero: one f32 2 pi
+        // times the turns puts fixed point's headings 7.5e-4 rad off at 1e4 rad.
         let tau = core::f32::consts::TAU;
         let signed = f32_math::wrap_signed(self);
         let wrapped = if signed < 0.0 { signed + tau } else { signed };

@@ -11,7 +11,7 @@ use host_tests::hj::Grid;
 /// within two capture radii behind the pursuer; the inner one is as fine as the finest table a
 /// set flies, since it is the reference their plays are judged by. With 24 headings outside,
 /// V(x0) 8.5 r_p out reads 4.154 s at 2, 2, 1.2, 1.2, against 4.315 and 4.384 s with 48 and
-/// 72 (docs/near-field-log.md, "Finer tables, and the judge's own").
+/// 72.
 pub(crate) const NEAR_FIELD: [Grid; 3] =
     [grid(121, 30.0, 72), grid(61, 6.0, 48), grid(121, 3.0, 72)];
 
@@ -26,9 +26,9 @@ const fn grid(n: usize, half: f64, headings: usize) -> Grid {
     Grid { n, half, headings }
 }
 
-/// The sets the tables images carry (docs/near-field.md, "The tables in flash"): the paper's
+/// The sets the tables images carry (docs/near-field.md, "Playing the tables"): the paper's
 /// ratios (v_em / v_pm = 0.5, r_e / r_p = 2) on the levels chosen to fit the STM32F405
-/// (499,308 B; "Tables that fit in flash"), and a faster, tighter-turning evader's (0.6 and
+/// (499,308 B), and a faster, tighter-turning evader's (0.6 and
 /// 5 / 3, threshold 20.8 r_p), whose outer table needs 0.75 r_p per cell (567,948 B). An
 /// inner table at 0.05 r_p (121:3:72) removes a bang-bang evader's graze near the disc, but
 /// costs 790 KB and 4 min of solve in every `cargo xtask test`, and the pair's worst runs stay
