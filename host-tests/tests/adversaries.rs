@@ -162,10 +162,10 @@ fn beyond_the_threshold_our_evader_keeps_its_lower_value_against_every_pursuer()
     }
 }
 
-/// The issue's two traces (paper limits, dt = 10 ms, capture to 5 mm). A tail chase against
+/// Two traced losses (paper limits, dt = 10 ms, capture to 5 mm). A tail chase against
 /// the law's evader without tie memory, where a pursuer had flown a full loop in the last
 /// centimetres: captured within 5 dt of the upper value. A full-rate circling evader the
-/// near-field policy before this one orbited for 60 s: captured, and before the upper value.
+/// earlier near-field policy orbited for 60 s: captured, and before the upper value.
 #[test]
 fn the_issues_tail_chase_and_circling_traces_are_captured() {
     let limits = PAPER_LIMITS;
@@ -244,7 +244,7 @@ fn a_crossing_chase_below_twice_the_speed_is_captured_on_the_first_pass() {
     assert!(lateness(&r, p.limits) <= FEW_DT, "{r:?}");
 }
 
-/// The tail chase's last centimetres (the loop the issue traced): 3.3 cm behind an evader
+/// The tail chase's last centimetres (a traced loop): 3.3 cm behind an evader
 /// running straight, 5 mm to its right, the crossing pair (A, C) has no valid tangent, so row
 /// A's maximum is infinite and the paper's law predicts, and flies, a full loop (3.17 s). The
 /// flight policy pursues and captures within the time the last 3.3 cm take to close.

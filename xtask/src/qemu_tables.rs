@@ -2,7 +2,7 @@
 //! `qemu-tables` image carries a set per pair of ratios ([`crate::hj_sets::FLASH_SETS`]); its
 //! Configure selects the set of the limits' ratios and says so; and below the theorem's
 //! threshold it captures every evader of the adversary suite, and the tables' own evader, as
-//! the same unit on the host does, within the bar over V(x0).
+//! the same unit on the host does, within the bar over V(x0) ([`BAR`]).
 
 use host_tests::adversary::EvaderKind;
 use host_tests::hj_policy::relative;
@@ -23,7 +23,7 @@ const DT: f64 = 0.01;
 /// Seeded starts per evader and pair of ratios.
 const STARTS: usize = 2;
 
-/// The bar on (capture - V(x0) - 5 dt) / V(x0): at the 90th percentile, and at worst.
+/// The bar on (capture - V(x0) - 5 dt) / V(x0): at the 90th percentile, and at worst.
 const BAR: (f64, f64) = (0.05, 0.10);
 
 /// The sets the image carries, read from the files it was built with.
