@@ -54,33 +54,26 @@ pub mod bench;
     feature = "firmware-rp2040"
 ))]
 pub mod board;
-pub mod capture;
-pub mod game;
 pub mod geodetic;
-pub mod geometry;
+pub mod guidance;
 pub mod law;
 mod log;
 #[cfg(feature = "mavlink")]
 pub mod mavlink;
-pub mod message;
-pub mod near_field;
 pub mod num;
-pub mod sampled;
+pub mod protocol;
 #[cfg(feature = "firmware")]
 pub mod serial;
 pub mod status;
-pub mod unit;
-pub mod value_table;
 pub mod value_tables;
-pub mod wire;
 
-pub use capture::{CaptureTime, Variant};
-pub use game::{GameSolution, MatrixGame};
-pub use geometry::{
+pub use guidance::{Guidance, Policy};
+pub use law::capture::{CaptureTime, Variant};
+pub use law::game::{GameSolution, MatrixGame};
+pub use law::geometry::{
     CirclePairs, Direction, Limits, Point, TurningCircle, Units, ValidTangent, VehicleLimits,
     VehicleState,
 };
 pub use law::{evaluate_observation, Command, Decision, Evaluation, GameReport, Law, Observation};
 pub use num::Scalar;
-pub use sampled::{Guidance, Policy};
 pub use status::Status;

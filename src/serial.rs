@@ -11,9 +11,9 @@ use core::sync::atomic::{AtomicU32, Ordering};
 
 use heapless::spsc::{Consumer, Producer, Queue};
 
-use crate::message::LineCounts;
 use crate::num::Scalar;
-use crate::unit::Unit;
+use crate::protocol::endpoint::Unit;
+use crate::protocol::message::LineCounts;
 
 /// Receive queue slots (it holds one byte fewer): 14 State frames, 5.5 ms of input at 921600
 /// baud. A power of two, so the queue's index wrap is a mask.

@@ -8,7 +8,7 @@
 
 use libfuzzer_sys::fuzz_target;
 use twocars::num::fixed::Fixed;
-use twocars::num::fixed_wire::{self, Reciprocal};
+use twocars::num::fixed::wire::{self, Reciprocal};
 use twocars::Scalar;
 
 fn word(data: &[u8], i: usize) -> u32 {
@@ -43,7 +43,7 @@ fuzz_target!(|data: &[u8]| {
     );
     // Headings.
     if a.is_finite() && a.abs() <= 1.0e4 {
-        let h = i64::from(fixed_wire::heading(a).raw());
+        let h = i64::from(wire::heading(a).raw());
         let pi = i64::from(Fixed::pi().raw());
         assert!((-pi..=pi).contains(&h));
         let tau = 2.0 * std::f64::consts::PI;
@@ -54,7 +54,7 @@ fuzz_target!(|data: &[u8]| {
     // Offsets in a unit of length c.
     let envelope = |v: f32| v.is_finite() && v.abs() <= 1.0e6;
     if envelope(a) && envelope(b) && c.is_normal() && c > 1.0e-4 && c < 1.0e4 {
-        let got = fixed_wire::offset(a, b, &Reciprocal::of(c));
+        let got = wire::offset(a, b, &Reciprocal::of(c));
         let exact = (f64::from(b) - f64::from(a)) / f64::from(c) * 16384.0;
         if exact.abs() < 2f64.powi(31) - 2.0 {
             let quantum = 2f64.powi(-40) / f64::from(c) * 16384.0;

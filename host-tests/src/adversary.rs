@@ -5,8 +5,8 @@
 //! Every adversary sees the true states each control period and answers a curvature (1/m) and a
 //! speed (m/s) within its limits, held for the period like the law's sampled command.
 
+use crate::kinematics::advance;
 use crate::rng::Rng;
-use crate::sim::advance;
 use twocars::{Guidance, Law, Limits, Scalar, Status, Variant, VehicleState};
 
 /// An evader of the suite.
@@ -258,7 +258,7 @@ impl Adversary {
                     PursuerKind::Straight => 0.0,
                     PursuerKind::Circle => w_pm,
                     PursuerKind::PurePursuit => {
-                        let bearing = crate::sim::wrap_pi(
+                        let bearing = crate::kinematics::wrap_pi(
                             (evader[1] - pursuer[1]).atan2(evader[0] - pursuer[0]) - pursuer[2],
                         );
                         bearing.signum() * w_pm.min(bearing.abs() / (v_pm * self.dt))

@@ -112,10 +112,10 @@ impl Grid {
     }
 
     /// The solver's time step on this grid, r_p / v_pm: half a cell's time, or
-    /// [`twocars::value_table::MIN_STEP`] where that is shorter, as the firmware's reader
-    /// looks ahead ([`twocars::value_table::step_time`], in f32).
+    /// [`twocars::value_tables::table::MIN_STEP`] where that is shorter, as the firmware's reader
+    /// looks ahead ([`twocars::value_tables::table::step_time`], in f32).
     pub fn step_time(&self) -> f64 {
-        (0.5 * self.spacing()).max(f64::from(twocars::value_table::MIN_STEP))
+        (0.5 * self.spacing()).max(f64::from(twocars::value_tables::table::MIN_STEP))
     }
     fn len(&self) -> usize {
         self.n * self.n * self.headings
@@ -185,15 +185,15 @@ impl Solution {
         2.0 * (std::f64::consts::TAU + diagonal) / (1.0 - self.game.speed_ratio)
     }
 
-    /// The table as the firmware reads it (`twocars::value_table`): the header, then the V of each
+    /// The table as the firmware reads it (`twocars::value_tables::table`): the header, then the V of each
     /// node with y >= 0 quantised to u16, [`Solution::longest_kept`] at code 65534 (time per code
-    /// `scale`), [`twocars::value_table::NEVER`] where capture was not found or takes longer.
+    /// `scale`), [`twocars::value_tables::table::NEVER`] where capture was not found or takes longer.
     pub fn table_bytes(&self) -> Vec<u8> {
         assert!(
             self.grid.n % 2 == 1,
             "the firmware's tables have an odd number of nodes"
         );
-        use twocars::value_table::{MAGIC, NEVER as NEVER_CODE};
+        use twocars::value_tables::table::{MAGIC, NEVER as NEVER_CODE};
         let cap = self.longest_kept().min(REACHED);
         let scale = cap / f64::from(NEVER_CODE - 1);
         let mut bytes = MAGIC.to_vec();

@@ -6,6 +6,7 @@ pub mod autopilot;
 pub mod hj;
 pub mod hj_paper;
 pub mod hj_policy;
+pub mod kinematics;
 pub mod link;
 pub mod mavlink_spec;
 pub mod reference;

@@ -1,8 +1,10 @@
 //! The host's end of the serial link: builds frames for the unit and decodes its replies, with
 //! the same wire code the firmware uses.
 
-use twocars::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
-use twocars::wire::{encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME};
+use twocars::protocol::frame::{
+    encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
+};
+use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
 
 /// A decoded reply of the unit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,7 +27,7 @@ pub enum Reply {
 fn frame(
     message_type: u8,
     sequence: u16,
-    emit: impl FnOnce(&mut twocars::wire::Writer<'_>) -> Option<()>,
+    emit: impl FnOnce(&mut twocars::protocol::frame::Writer<'_>) -> Option<()>,
 ) -> Vec<u8> {
     let mut out = [0u8; MAX_ENCODED];
     let n = encode_frame(message_type, sequence, emit, &mut out).expect("message fits a frame");

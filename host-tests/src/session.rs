@@ -1,10 +1,10 @@
 //! A scripted session for the guidance unit: every kind of bad input, then valid states. The host
-//! tests run it through `twocars::unit::Unit`; `cargo xtask test` runs it through the firmware in
+//! tests run it through `twocars::protocol::endpoint::Unit`; `cargo xtask test` runs it through the firmware in
 //! QEMU and compares the replies byte for byte.
 
 use crate::link;
-use twocars::message::{Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
-use twocars::wire::{cobs_encode, crc16, WireError};
+use twocars::protocol::frame::{cobs_encode, crc16, WireError};
+use twocars::protocol::message::{Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 
 /// What a step must get back.
 #[derive(Clone, Copy, Debug, PartialEq)]

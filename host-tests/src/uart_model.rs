@@ -12,8 +12,8 @@
 use std::cell::RefCell;
 use std::collections::VecDeque;
 
+use twocars::protocol::endpoint::Unit;
 use twocars::serial::{service, Board, Line, RxFlags, UartRegisters};
-use twocars::unit::Unit;
 
 /// A byte the peer puts on the line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -194,7 +194,7 @@ pub struct Served {
     /// Bytes on the line from the unit.
     pub sent: Vec<(u64, u8)>,
     /// The unit's counters at the end (line faults included where the loop records them).
-    pub counters: twocars::message::Counters,
+    pub counters: twocars::protocol::message::Counters,
     /// Times the unit reset (the polled loop resets on a line fault).
     pub resets: u32,
 }

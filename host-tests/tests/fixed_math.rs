@@ -1,5 +1,5 @@
 //! The fixed-point backend's functions against f64 on exactly representable inputs, with the
-//! bounds stated in `src/num/fixed.rs`; its products exact; its invalid value from conversions and
+//! bounds stated in `src/num/fixed/mod.rs`; its products exact; its invalid value from conversions and
 //! divisions; overflow of `+`, `-` and `*` a panic in debug builds, as for Rust's integers.
 
 use host_tests::sim::angle_error;

@@ -125,8 +125,8 @@ fn case_three_has_no_pure_saddle_and_an_exact_double_tie() {
         .matrix()
         .entries
         .map(|row| row.map(|v| v.expect("finite")));
-    assert!(twocars::game::ties(aa, cc), "t_aa {aa} vs t_cc {cc}");
-    assert!(twocars::game::ties(ac, ca), "t_ac {ac} vs t_ca {ca}");
+    assert!(twocars::law::game::ties(aa, cc), "t_aa {aa} vs t_cc {cc}");
+    assert!(twocars::law::game::ties(ac, ca), "t_ac {ac} vs t_ca {ca}");
     // Both rows and both columns tie: both choices go to A.
     assert_eq!(
         (s.row, s.col),

@@ -5,7 +5,7 @@ mod common;
 use common::{relative_error, scene, seeded_runner, Scene};
 use host_tests::reference;
 use proptest::prelude::*;
-use twocars::{game::ties, Direction, Law, Scalar, Status, VehicleState};
+use twocars::{law::game::ties, Direction, Law, Scalar, Status, VehicleState};
 
 const CASES: u32 = 2000;
 
@@ -323,7 +323,7 @@ fn game_by_definition<S: Scalar>(
     previous: Option<(Direction, Direction)>,
     floor: S,
 ) -> (twocars::GameSolution<S>, bool) {
-    use twocars::game::ties_within;
+    use twocars::law::game::ties_within;
     let choose = |options: [Option<S>; 2], smaller: bool, previous: Option<Direction>| {
         let a_wins = match options {
             [None, None] => None,

@@ -192,8 +192,8 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
 fn configure_selects_the_tables_of_its_ratios_and_says_so() {
     use host_tests::link::{self, Reply, ReplyDecoder};
     use host_tests::session::paper_configure;
-    use twocars::message::{Configure, StateMsg};
-    use twocars::unit::Unit;
+    use twocars::protocol::endpoint::Unit;
+    use twocars::protocol::message::{Configure, StateMsg};
 
     let (_, set) = tables();
     let set: &'static ValueTables<'static> = set;
@@ -273,7 +273,7 @@ fn the_bench_session_with_the_tables_commands_their_turns() {
     use host_tests::link::{Reply, ReplyDecoder};
     use twocars::bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
     use twocars::bench::TABLE_POINTS;
-    use twocars::unit::Unit;
+    use twocars::protocol::endpoint::Unit;
 
     let bytes: &'static [u8] = include_bytes!("../../src/bench/table.tcv");
     let set: &'static [ValueTables<'static>] =

@@ -9,8 +9,8 @@ use std::collections::{BTreeSet, VecDeque};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::session::{paper_configure, paper_state};
 use host_tests::uart_model::{run_interrupt_driven, run_polled, LineByte, UartModel, STM32F405};
+use twocars::protocol::endpoint::Unit;
 use twocars::serial::{service, Board, Line, RxFlags, UartRegisters};
-use twocars::unit::Unit;
 
 /// States sent, over 2 s.
 const STATES: u16 = 200;

@@ -3,10 +3,10 @@
 
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::session::{paper_configure, paper_state, script, Expect};
-use twocars::message::ROLE_PURSUER;
 use twocars::num::fixed::Fixed;
-use twocars::unit::{Unit, STATUS_STALE_INPUT};
-use twocars::wire::WireError;
+use twocars::protocol::endpoint::{Unit, STATUS_STALE_INPUT};
+use twocars::protocol::frame::WireError;
+use twocars::protocol::message::ROLE_PURSUER;
 use twocars::{Guidance, Law, Limits, Scalar, Variant, VehicleState};
 
 fn send<S: Scalar>(unit: &mut Unit<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
@@ -123,7 +123,7 @@ fn the_fixed_point_unit_answers_with_the_fixed_point_law_in_wire_units() {
 #[test]
 fn a_role_not_computed_gets_zero_rate() {
     let mut unit = Unit::<f32>::new();
-    let config = twocars::message::Configure {
+    let config = twocars::protocol::message::Configure {
         roles: ROLE_PURSUER,
         ..paper_configure()
     };
@@ -136,7 +136,7 @@ fn a_role_not_computed_gets_zero_rate() {
     assert_eq!(c.pursuer_rate, 4.0);
 }
 
-fn command(replies: &[Reply]) -> twocars::message::CommandMsg {
+fn command(replies: &[Reply]) -> twocars::protocol::message::CommandMsg {
     match replies {
         [Reply::Command(_, c)] => *c,
         other => panic!("expected one Command, got {other:?}"),
@@ -229,7 +229,7 @@ fn the_configure_message_selects_the_policy() {
     let state = (0..360)
         .map(|k| {
             let theta_e = k as f32 * core::f32::consts::TAU / 360.0;
-            twocars::message::StateMsg {
+            twocars::protocol::message::StateMsg {
                 time_ms: 0,
                 pursuer: [0.0, 0.0, 0.0],
                 evader: [0.6, 0.8, theta_e],
@@ -247,7 +247,7 @@ fn the_configure_message_selects_the_policy() {
     let e = VehicleState::new(state.evader[0], state.evader[1], state.evader[2]).unwrap();
     for (byte, policy) in [(0, twocars::Policy::Paper), (1, twocars::Policy::Flight)] {
         let mut unit = Unit::<f32>::new();
-        let config = twocars::message::Configure {
+        let config = twocars::protocol::message::Configure {
             policy: byte,
             ..paper_configure()
         };
@@ -260,7 +260,7 @@ fn the_configure_message_selects_the_policy() {
     // Policy 2 (the value tables) on a unit without tables: the flight policy, said in the ack
     // (tests/table_policy.rs has a unit with tables).
     let mut unit = Unit::<f32>::new();
-    let config = twocars::message::Configure {
+    let config = twocars::protocol::message::Configure {
         policy: 2,
         ..paper_configure()
     };
@@ -270,7 +270,7 @@ fn the_configure_message_selects_the_policy() {
         "{replies:?}"
     );
     let mut unit = Unit::<f32>::new();
-    let config = twocars::message::Configure {
+    let config = twocars::protocol::message::Configure {
         policy: 3,
         ..paper_configure()
     };
@@ -369,10 +369,10 @@ fn last_reply_bytes(unit: &mut Unit, bytes: &[u8], now_ms: u32) -> Option<Vec<u8
 fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
     let mut body = vec![0x02, 0x02, 0x78, 0x02];
     body.extend([0x5a; 44]);
-    let crc = twocars::wire::crc16(&body);
+    let crc = twocars::protocol::frame::crc16(&body);
     body.extend(crc.to_le_bytes());
     let mut encoded = [0u8; 80];
-    let n = twocars::wire::cobs_encode(&body, &mut encoded).expect("fits");
+    let n = twocars::protocol::frame::cobs_encode(&body, &mut encoded).expect("fits");
     let mut frame = encoded[..n].to_vec();
     frame.push(0);
     let reply = last_reply_bytes(&mut Unit::<f32>::new(), &frame, 0);
@@ -427,7 +427,7 @@ fn fallback_commands_name_the_circle_actually_turned() {
                     -2.0 + 0.2 * j as f32,
                     -3.0 + 0.75 * k as f32,
                 ];
-                let state = twocars::message::StateMsg {
+                let state = twocars::protocol::message::StateMsg {
                     time_ms: t_ms,
                     pursuer: [0.0, 0.0, 0.0],
                     evader,

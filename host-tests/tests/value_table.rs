@@ -1,4 +1,4 @@
-//! The value table as the firmware reads it (`twocars::value_table`, no_std, f32, u16 codes)
+//! The value table as the firmware reads it (`twocars::value_tables::table`, no_std, f32, u16 codes)
 //! against the solver's f64 table it was written from (`host_tests::hj`): values within half a
 //! code, the same optimal pursuer turn wherever the host's minimax says so clearly (one table
 //! and a nested set, `twocars::value_tables`), the tail chase, and malformed tables refused
@@ -9,7 +9,7 @@ use std::sync::OnceLock;
 use host_tests::hj::{solve, solve_with_boundary, table_set_bytes, Game, Grid, Solution, Step};
 use host_tests::hj_policy::{evader_turn, finest, turn};
 use host_tests::rng::Rng;
-use twocars::value_table::{TableError, ValueTable, HEADER_LEN, MAGIC, NEVER};
+use twocars::value_tables::table::{TableError, ValueTable, HEADER_LEN, MAGIC, NEVER};
 use twocars::value_tables::ValueTables;
 
 /// The paper's game (v_em / v_pm = 1/2, r_e = 2 r_p) on the 41 x 41 x 24 grid, capture radius

@@ -1,10 +1,10 @@
 //! The wire format: golden bytes, round trips, and every refusal.
 
-use twocars::message::{CommandMsg, Configure, StateMsg};
-use twocars::wire::{
+use twocars::protocol::frame::{
     cobs_encode, crc16, encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
     VERSION,
 };
+use twocars::protocol::message::{CommandMsg, Configure, StateMsg};
 
 /// The one frame a deframer of `N` decoded bytes makes of `encoded` (delimiter included), or its
 /// refusal; panics unless exactly the last byte ends it.
@@ -154,7 +154,7 @@ fn messages_round_trip() {
         policy: 0,
     };
     let mut buf = [0u8; 64];
-    let mut w = twocars::wire::Writer::new(&mut buf);
+    let mut w = twocars::protocol::frame::Writer::new(&mut buf);
     c.emit(&mut w).unwrap();
     let n = w.len();
     assert_eq!(n, Configure::LEN);
@@ -172,7 +172,7 @@ fn messages_round_trip() {
         lower: f32::INFINITY,
     };
     let mut buf = [0u8; 64];
-    let mut w = twocars::wire::Writer::new(&mut buf);
+    let mut w = twocars::protocol::frame::Writer::new(&mut buf);
     cmd.emit(&mut w).unwrap();
     let n = w.len();
     assert_eq!(CommandMsg::parse(&buf[..n]).unwrap(), cmd);
@@ -273,7 +273,7 @@ fn deframing_slices_gives_what_deframing_bytes_gives() {
 /// are the old layout, and any other length is refused.
 #[test]
 fn counters_append_the_line_faults_and_still_read_the_old_length() {
-    use twocars::message::{Counters, LineCounts};
+    use twocars::protocol::message::{Counters, LineCounts};
     let mut c = Counters {
         accepted: 7,
         stale: 1,
@@ -289,7 +289,7 @@ fn counters_append_the_line_faults_and_still_read_the_old_length() {
         tx_full: 8,
     };
     let mut buf = [0u8; Counters::LEN];
-    let mut w = twocars::wire::Writer::new(&mut buf);
+    let mut w = twocars::protocol::frame::Writer::new(&mut buf);
     c.emit(&mut w).unwrap();
     assert_eq!(w.len(), 76);
     assert_eq!(Counters::parse(&buf), Ok(c));

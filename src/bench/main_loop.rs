@@ -12,11 +12,13 @@
 //! With the tables, one Configure selects the value tables (policy 2) and the states are the
 //! points where the bench reads them ([`TABLE_POINTS`], the pursuer at the origin heading +x).
 
-use crate::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 use crate::num::Scalar;
+use crate::protocol::endpoint::Unit;
+use crate::protocol::frame::{
+    cobs_encode, encode_frame, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME,
+};
+use crate::protocol::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 use crate::serial::{service, Board, Line, RxFlags, UartRegisters};
-use crate::unit::Unit;
-use crate::wire::{cobs_encode, encode_frame, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME};
 
 use crate::value_tables::ValueTables;
 

@@ -9,8 +9,8 @@ use cortex_m_semihosting::debug::{EXIT_FAILURE, EXIT_SUCCESS};
 use twocars::board::exit_qemu as halt;
 use twocars::board::microbit::{take_uart, Microbit};
 use twocars::num::fixed::Fixed;
+use twocars::protocol::endpoint::Unit;
 use twocars::serial::serve_to_shutdown;
-use twocars::unit::Unit;
 
 #[cortex_m_rt::entry]
 fn main() -> ! {

@@ -9,8 +9,8 @@ use cortex_m_semihosting::debug::{EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
 use twocars::board::exit_qemu as halt;
 use twocars::board::qemu_mps2::{take_uart, Mps2};
+use twocars::protocol::endpoint::Unit;
 use twocars::serial::serve_to_shutdown;
-use twocars::unit::Unit;
 
 #[cortex_m_rt::entry]
 fn main() -> ! {

@@ -7,8 +7,8 @@
 
 use twocars::board::rp2040::Pico;
 use twocars::num::fixed::Fixed;
+use twocars::protocol::endpoint::Unit;
 use twocars::serial::serve_to_shutdown;
-use twocars::unit::Unit;
 
 /// The second-stage bootloader for the Pico's W25Q080 flash, first in flash (src/board/rp2040.x).
 #[link_section = ".boot2"]

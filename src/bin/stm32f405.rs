@@ -5,8 +5,8 @@
 #![no_main]
 
 use twocars::board::stm32f405::bring_up;
+use twocars::protocol::endpoint::Unit;
 use twocars::serial::serve;
-use twocars::unit::Unit;
 
 #[cortex_m_rt::entry]
 fn main() -> ! {

@@ -29,12 +29,12 @@ use super::frame::{Frame, FrameReader};
 use super::messages::{decode, extra_crc, Message};
 use super::outgoing::{Outbox, COMPONENT};
 use super::params::{index, Params, Refusal, SPECS};
-use crate::capture::Variant;
 use crate::geodetic::{
     bank_angle, course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
 };
+use crate::guidance::{Guidance, Policy};
+use crate::law::capture::Variant;
 use crate::law::{Decision, Law};
-use crate::sampled::{Guidance, Policy};
 use crate::status::Status;
 
 /// The autopilot's component id (MAV_COMP_ID_AUTOPILOT1): own state comes from it, setpoints go

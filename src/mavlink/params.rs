@@ -1,7 +1,7 @@
 //! The endpoint's parameters (`../shared/CONTRACTS.md`, "MAVLink endpoint"): nine REAL32 values
 //! read and set by name or index, each checked against its range, the limits also as a whole.
 
-use crate::geometry::Limits;
+use crate::law::geometry::Limits;
 
 /// One parameter's name, default and admissible range (inclusive); `integer` ones take whole
 /// numbers only (ids and enumerations, carried as REAL32 like every parameter here).
@@ -62,7 +62,7 @@ pub mod index {
 }
 
 /// Every parameter, in index order. Speeds and curvatures span the law's envelope
-/// ([`crate::geometry::MAX_SPEED`] and its kin); the limits are also checked together.
+/// ([`crate::law::geometry::MAX_SPEED`] and its kin); the limits are also checked together.
 pub const SPECS: [Spec; 9] = [
     real("TC_V_PM", 2.0, 1.0e-3, 1.0e4),
     real("TC_W_PM", 2.0, 1.0e-4, 1.0e4),

@@ -1,6 +1,6 @@
 //! The number types the law is written over.
 //!
-//! The law in [`crate::geometry`], [`crate::capture`], [`crate::game`] and [`crate::law`] is written
+//! The law in [`crate::law::geometry`], [`crate::law::capture`], [`crate::law::game`] and [`crate::law`] is written
 //! once, over [`Scalar`]. A backend supplies arithmetic, the few transcendental functions the law
 //! needs (square root, sine and cosine, two-argument arctangent) and its envelope: the inputs it
 //! represents faithfully. Implemented here: `f32` (the accurate default: our own polynomials and
@@ -10,7 +10,6 @@
 
 pub mod f32_math;
 pub mod fixed;
-pub mod fixed_wire;
 pub mod ieee;
 #[cfg(feature = "micromath")]
 pub mod micro;
@@ -19,7 +18,7 @@ use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::status::Status;
-use fixed_wire::Reciprocal;
+use fixed::wire::Reciprocal;
 
 /// A real number as one numeric backend represents it.
 ///
@@ -86,7 +85,7 @@ pub trait Scalar:
     /// (pursuer, evader) in metres (finite, within the f32 envelope), in units of `metres`
     /// (`per_metre` its reciprocal); `OutOfRange` where the players are apart by more than
     /// `radius` units yet both offsets round to zero (the backend would read one point).
-    /// Fixed point converts with integers only ([`fixed_wire`]).
+    /// Fixed point converts with integers only ([`fixed::wire`]).
     fn relative_position(
         x: (f32, f32),
         y: (f32, f32),
@@ -155,7 +154,7 @@ pub trait Scalar:
     }
 
     /// The tie band around a magnitude `self` >= 0 (seconds): `self * TIE_BAND`, never more than
-    /// that on fixed point (the game's ties, [`crate::game::ties_within`]). On fixed point a
+    /// that on fixed point (the game's ties, [`crate::law::game::ties_within`]). On fixed point a
     /// shift; a product elsewhere.
     #[inline(always)]
     fn tie_band(self) -> Self {

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 
 use crate::progress::Progress;
-use crate::qemu::root;
+use crate::workspace::root;
 
 /// The fuzz targets.
 pub const TARGETS: [&str; 6] = [

@@ -2,32 +2,19 @@
 //! <command> --help` gives each one's options and units.
 
 mod bench;
-mod bench_mavlink;
-mod bench_table;
-mod csv;
-mod eval;
-mod firmware_loop;
+mod firmware;
 mod fuzz;
 mod hj;
-mod hj_play;
-mod hj_probe;
-mod hj_sets;
-mod mavlink_run;
-mod options;
-mod plot;
-mod profile;
+mod host;
 mod progress;
-mod qemu;
-mod qemu_tables;
-mod qemu_tests;
-mod report;
-mod run;
 mod setup;
-mod sim;
-mod size;
 mod test;
+mod workspace;
 
+use bench::profile;
 use clap::{Parser, Subcommand};
+use firmware::run;
+use host::{eval, options, plot, report, sim};
 use std::process::ExitCode;
 use twocars::Policy;
 
@@ -52,7 +39,7 @@ enum Cmd {
     /// tests, fuzz smoke runs; the last line is `N passed, N failed`.
     Test(test::TestArgs),
     /// Build the firmware images and print their flash and RAM.
-    Build(qemu::BuildArgs),
+    Build(firmware::build::BuildArgs),
     /// Instructions per law evaluation (M4F, M0), flash, stack, host throughput ->
     /// docs/bench.md.
     Bench,
@@ -117,7 +104,7 @@ fn main() -> ExitCode {
         Cmd::Hj(args) => hj::command(args),
         Cmd::Plot => plot::command(),
         Cmd::Profile => profile::command(),
-        Cmd::Build(args) => qemu::build_command(args),
+        Cmd::Build(args) => firmware::build::build_command(args),
     };
     ExitCode::from(u8::try_from(code).unwrap_or(1))
 }

@@ -4,7 +4,7 @@
 //! line; where it cannot be done here (not root, or no apt-get), the exact command is printed and
 //! the command stops.
 
-use crate::qemu;
+use crate::firmware::qemu;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

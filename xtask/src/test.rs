@@ -187,7 +187,7 @@ impl Suite {
         if self.tables.is_none() {
             println!("== xtask test: the value tables of the tables images");
             let sets = timed("the value tables", || {
-                crate::hj::flash_sets(crate::qemu::Board::QemuTables.table_sets())
+                crate::hj::solve::flash_sets(crate::firmware::build::Board::QemuTables.table_sets())
             });
             match sets.map(|paths| std::env::join_paths(paths).map_err(|e| e.to_string())) {
                 Ok(Ok(joined)) => self.tables = Some(joined.to_string_lossy().into_owned()),
@@ -389,7 +389,11 @@ fn clippy_on_target(suite: &mut Suite) -> bool {
 
 fn images(_: &mut Suite) -> bool {
     let what = "firmware images build, vector tables at their boards' flash origins";
-    every_board(what, "the firmware images", crate::qemu::build_checked)
+    every_board(
+        what,
+        "the firmware images",
+        crate::firmware::build::build_checked,
+    )
 }
 
 fn panic_free(_: &mut Suite) -> bool {
@@ -397,7 +401,7 @@ fn panic_free(_: &mut Suite) -> bool {
     every_board(
         what,
         "the panic-freedom links",
-        crate::qemu::prove_panic_free,
+        crate::firmware::build::prove_panic_free,
     )
 }
 
@@ -406,12 +410,12 @@ fn panic_free(_: &mut Suite) -> bool {
 fn every_board<T>(
     what: &str,
     title: &str,
-    check: fn(crate::qemu::Board) -> Result<T, String>,
+    check: fn(crate::firmware::build::Board) -> Result<T, String>,
 ) -> bool {
     println!("== xtask test: {what}");
     timed(title, || {
         let mut ok = true;
-        for board in crate::qemu::Board::ALL {
+        for board in crate::firmware::build::Board::ALL {
             if let Err(e) = check(board) {
                 eprintln!("== xtask test: {e}");
                 ok = false;
@@ -451,7 +455,7 @@ fn on_target_tests(suite: &mut Suite) -> bool {
 }
 
 fn qemu(suite: &mut Suite) -> bool {
-    let counts = timed("the QEMU tests", crate::qemu_tests::run);
+    let counts = timed("the QEMU tests", crate::firmware::tests::run);
     suite.count(counts)
 }
 

@@ -1,0 +1,356 @@
+//! The sampled, non-chattering command a controller applies every control period dt.
+//!
+//! The paper's F(x) turns at +-w_max until the tangent point, then goes straight. Held for a whole
+//! period, +-w_max overshoots the tangent and flips between circles every period. The sampled
+//! command turns each player by the heading angle alpha it still has to go, at most its full rate
+//! over one period: w = sigma min(w_max, alpha / (v_max dt)); w = 0 once on the tangent. An alpha
+//! within one period's turn of 2 pi (alpha > 2 pi - v_max w_max dt) counts as 0. Where options tie,
+//! the previous choice is kept, so a tail chase on a common line stays straight. Options count as
+//! tied within the law's relative band or within the capture-time equivalent of one period's
+//! travel, dt v_pm / (v_pm - v_em): a sampled controller knows where the pursuer is along its path
+//! only to within v_pm dt, which on a chase closing at v_pm - v_em is that much capture time.
+
+mod homing;
+
+use crate::law::geometry::{VehicleLimits, VehicleState};
+use crate::law::{
+    fallback_command, steer_along, Command, Decision, Evaluation, GameReport, Law, Period, Sampling,
+};
+#[cfg(feature = "value-tables")]
+use crate::num::f32_math::{sin_cos, wrap_signed};
+use crate::num::Scalar;
+use crate::status::Status;
+use crate::value_tables::ValueTables;
+use homing::{NearFieldMemory, NearFieldTerms};
+
+/// Which feedback a [`Guidance`] applies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Policy {
+    /// The paper's law everywhere (the default).
+    #[default]
+    Paper,
+    /// The paper's law while the players are at least the theorem's threshold apart
+    /// ([`crate::Limits::theorem_threshold`]); below it the pursuer pursues (module docs).
+    Flight,
+    /// The flight policy, and below the threshold, where the game's value tables play
+    /// ([`Guidance::with_tables`], [`crate::value_tables`]), both players' optimal turns from
+    /// the tables (docs/near-field.md). Without tables, or built without the
+    /// `value-tables` feature, the flight policy.
+    Table,
+}
+
+/// A stateful caller of the law (firmware, host simulator): the law, the control period, the
+/// policy and the previous choice of circles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Guidance<S> {
+    law: Law<S>,
+    policy: Policy,
+    dt: S,
+    period: Period<S>,
+    /// Arc tolerances and tie floor, fixed by the limits and dt; `previous` is the last choice.
+    sampling: Sampling<S>,
+    near_field: NearFieldMemory<S>,
+    near_field_terms: NearFieldTerms<S>,
+    /// The game's value tables of these limits' ratios, if any ([`Guidance::with_tables`]).
+    tables: Option<&'static ValueTables<'static>>,
+}
+
+/// Why value tables do not fit a guidance's limits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TablesMismatch;
+
+/// Why a control period is not usable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InvalidPeriod;
+
+impl<S: Scalar> Guidance<S> {
+    /// Guidance with control period `dt` seconds.
+    ///
+    /// # Errors
+    /// [`InvalidPeriod`] unless 0 < dt <= 1e3 s and finite, and its terms (dt plus the tie floor,
+    /// 2 pi / (v_max dt)) are within the backend's [`Scalar::MAX_PERIOD_TERM`] in the law's units.
+    pub fn new(law: Law<S>, dt: f32) -> Result<Self, InvalidPeriod> {
+        if !(dt.is_finite() && dt > 0.0 && dt <= 1.0e3) {
+            return Err(InvalidPeriod);
+        }
+        let dt = S::from_f32(law.limits.units.time_from_seconds(dt));
+        let bound = S::from_f32(S::MAX_PERIOD_TERM);
+        if !(dt.is_valid() && dt > S::zero() && dt <= bound) {
+            return Err(InvalidPeriod);
+        }
+        let pursuer_speed = law.limits.pursuer.v_max();
+        let tie_floor = dt * pursuer_speed / (pursuer_speed - law.limits.evader.v_max());
+        // Compared with bound - dt (>= 0 here): dt + tie_floor itself may leave the range.
+        if !(tie_floor.is_valid() && tie_floor <= bound - dt) {
+            return Err(InvalidPeriod);
+        }
+        let period = Period::new(&law.limits, dt).ok_or(InvalidPeriod)?;
+        // A full turn's curvature, 2 pi / (v_max dt), within the bound as well.
+        let per_radian_bound = bound / S::tau();
+        if !(period.pursuer <= per_radian_bound && period.evader <= per_radian_bound) {
+            return Err(InvalidPeriod);
+        }
+        // An arc within one period's full turn of 2 pi is a hair past the tangent.
+        let largest_arc = |limits: &VehicleLimits<S>| {
+            S::tau() - (limits.max_turn_rate() * dt).max(S::from_f32(S::ARC_RESOLUTION))
+        };
+        Ok(Guidance {
+            law,
+            policy: Policy::Paper,
+            dt,
+            period,
+            sampling: Sampling {
+                pursuer_largest_arc: largest_arc(&law.limits.pursuer),
+                evader_largest_arc: largest_arc(&law.limits.evader),
+                previous: None,
+                tie_floor,
+            },
+            near_field: NearFieldMemory::FRESH,
+            near_field_terms: NearFieldTerms::new(&law.limits, dt),
+            tables: None,
+        })
+    }
+
+    /// The same guidance with the game's value `tables`, which [`Policy::Table`] plays.
+    ///
+    /// # Errors
+    /// [`TablesMismatch`] unless the tables were solved for this law's ratios v_em / v_pm and
+    /// (v_em / v_pm) (w_em / w_pm), each within 1e-3 of its value.
+    pub fn with_tables(
+        mut self,
+        tables: &'static ValueTables<'static>,
+    ) -> Result<Self, TablesMismatch> {
+        self.set_tables(tables)?;
+        Ok(self)
+    }
+
+    /// [`Guidance::with_tables`] in place.
+    ///
+    /// # Errors
+    /// As [`Guidance::with_tables`]; the guidance is then unchanged.
+    pub fn set_tables(
+        &mut self,
+        tables: &'static ValueTables<'static>,
+    ) -> Result<(), TablesMismatch> {
+        let limits = &self.law.limits;
+        let ratio = |a: S, b: S| a.to_f32() / b.to_f32();
+        let speed_ratio = ratio(limits.evader.v_max(), limits.pursuer.v_max());
+        let evader_turn = speed_ratio * ratio(limits.evader.w_max(), limits.pursuer.w_max());
+        let close = |table: f32, limit: f32| (table - limit).abs() <= 1e-3 * limit;
+        let table = tables.finest_table().ok_or(TablesMismatch)?;
+        if close(table.speed_ratio, speed_ratio) && close(table.evader_turn, evader_turn) {
+            self.tables = Some(tables);
+            Ok(())
+        } else {
+            Err(TablesMismatch)
+        }
+    }
+
+    /// The same guidance told the capture radius, `metres` from the pursuer: the flight
+    /// policy's pursuer then turns onto an evader within that radius of its turning circle
+    /// rather than opening the distance to meet it exactly, and leaves the law where homing to
+    /// the radius is sooner than the law's promise. The default, 0, asks for the evader's
+    /// position itself (the paper's point capture).
+    ///
+    /// # Errors
+    /// `Status::InvalidLimits` unless 0 <= `metres` < the pursuer's turning radius times the
+    /// backend's coordinate range, finite.
+    pub fn with_capture_radius(mut self, metres: f32) -> Result<Self, Status> {
+        let units = self.law.limits.units;
+        let radius = S::from_f32(metres / units.metres);
+        let bound = S::from_f32(S::MAX_COORDINATE);
+        if !(metres.is_finite() && metres >= 0.0 && radius.is_valid() && radius < bound) {
+            return Err(Status::InvalidLimits);
+        }
+        self.near_field_terms.capture = radius;
+        Ok(self)
+    }
+
+    /// The value tables [`Policy::Table`] plays, if any.
+    pub fn tables(&self) -> Option<&'static ValueTables<'static>> {
+        self.tables
+    }
+
+    /// The same guidance with `policy`.
+    #[must_use]
+    pub fn with_policy(self, policy: Policy) -> Self {
+        Guidance { policy, ..self }
+    }
+
+    /// [`Guidance::with_policy`] in place.
+    pub fn set_policy(&mut self, policy: Policy) {
+        self.policy = policy;
+    }
+
+    /// The same guidance with control period `dt` seconds, its memory kept (the previous
+    /// choice and the near field's): for a caller whose period is measured as it runs.
+    ///
+    /// # Errors
+    /// As [`Guidance::new`].
+    pub fn with_period(&self, dt: f32) -> Result<Self, InvalidPeriod> {
+        let mut next = Guidance::new(self.law, dt)?.with_policy(self.policy);
+        next.near_field_terms.capture = self.near_field_terms.capture;
+        next.sampling.previous = self.sampling.previous;
+        next.near_field = self.near_field;
+        next.tables = self.tables;
+        Ok(next)
+    }
+
+    /// The law this guidance evaluates.
+    pub fn law(&self) -> &Law<S> {
+        &self.law
+    }
+
+    /// Forgets the previous choice (a new engagement).
+    pub fn reset(&mut self) {
+        self.sampling.previous = None;
+        self.near_field = NearFieldMemory::FRESH;
+    }
+
+    /// Evaluates the law for this period and returns what a controller acts on: the status, the
+    /// game's solution and the sampled command (as [`Guidance::step`], without the per-pair
+    /// report).
+    pub fn decide(&mut self, pursuer: &VehicleState<S>, evader: &VehicleState<S>) -> Decision<S> {
+        let mut report = GameReport::empty();
+        let (status, command) = self.play(pursuer, evader, &mut report);
+        Decision::from_game(status, &report, command, self.law.limits.units)
+    }
+
+    /// Evaluates the law for this period and returns the evaluation with the sampled command.
+    pub fn step(&mut self, pursuer: &VehicleState<S>, evader: &VehicleState<S>) -> Evaluation<S> {
+        let mut report = GameReport::empty();
+        let (status, command) = self.play(pursuer, evader, &mut report);
+        Evaluation::from_game(status, report, command, self.law.limits.units)
+    }
+
+    /// The law for this period, its game written into `report`: the status and the sampled
+    /// command. Without a game the near-field memory is forgotten.
+    #[inline]
+    fn play(
+        &mut self,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        report: &mut GameReport<S>,
+    ) -> (Status, Command<S>) {
+        let sampling = self.sampling;
+        let law = self.law;
+        let (status, command) =
+            law.decide_into(pursuer, evader, &sampling, report, |status, report| {
+                self.sampled_command(status, report, pursuer, evader)
+            });
+        if !status.has_game() {
+            self.near_field = NearFieldMemory::FRESH;
+        }
+        (status, command)
+    }
+
+    /// The sampled command for a game: each player steers toward its chosen tangent by what one
+    /// period needs (or the fallback's bearings); under the flight policy the pursuer may
+    /// leave the law (module docs). Records the choice for the next period.
+    fn sampled_command(
+        &mut self,
+        status: Status,
+        report: &GameReport<S>,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+    ) -> Command<S> {
+        let limits = self.law.limits;
+        let mut command = match status {
+            Status::Ok => {
+                let s = report.solution;
+                self.sampling.previous = Some((s.row, s.col));
+                match report.chosen_pair() {
+                    Some(pair) => Command {
+                        pursuer: steer_along(
+                            s.row,
+                            pair.capture.pursuer_arc,
+                            &limits.pursuer,
+                            self.period.pursuer,
+                        ),
+                        evader: steer_along(
+                            s.col,
+                            pair.capture.evader_arc,
+                            &limits.evader,
+                            self.period.evader,
+                        ),
+                    },
+                    // A finite upper value with an infinite chosen entry cannot happen (the chosen
+                    // row's worst entry is finite); the instantaneous command if it ever did.
+                    None => self.law.instantaneous_command(&s, pursuer, evader),
+                }
+            }
+            _ => fallback_command(pursuer, evader, &limits, Some(&self.period)),
+        };
+        match self.policy {
+            Policy::Flight => self.near_field(report, pursuer, evader, &mut command),
+            Policy::Table => {
+                self.near_field(report, pursuer, evader, &mut command);
+                #[cfg(feature = "value-tables")]
+                self.table_turns(pursuer, evader, &mut command);
+            }
+            Policy::Paper => self.near_field = NearFieldMemory::FRESH,
+        }
+        command
+    }
+
+    /// The tables' turns (feature `value-tables`): where the value tables play (below the threshold, outside the capture
+    /// disc, in their boxes), each player turns fully or runs straight as the tables' minimax
+    /// says for the period. Out of line: only [`Policy::Table`] runs it.
+    #[cfg(feature = "value-tables")]
+    #[inline(never)]
+    fn table_turns(
+        &self,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        command: &mut Command<S>,
+    ) {
+        let Some(tables) = self.tables else {
+            return;
+        };
+        let limits = &self.law.limits;
+        // The evader in the pursuer's frame, lengths in r_p (= 1 / w_pm, in any units).
+        let per_radius = limits.pursuer.w_max().to_f32();
+        let (dx, dy) = (
+            (evader.x - pursuer.x).to_f32() * per_radius,
+            (evader.y - pursuer.y).to_f32() * per_radius,
+        );
+        let (s, c) = sin_cos(wrap_signed(pursuer.theta.to_f32()));
+        let (x, y) = (dx * c + dy * s, -dx * s + dy * c);
+        let phi = (evader.theta - pursuer.theta).to_f32();
+        if let Some(u) = tables.pursuer_turn(x, y, phi) {
+            command.pursuer = S::from_f32(u) * limits.pursuer.w_max();
+        }
+        if let Some(w) = tables.evader_turn(x, y, phi) {
+            command.evader = S::from_f32(w) * limits.evader.w_max();
+        }
+    }
+
+    /// The flight policy's near field: below the theorem's threshold the pursuer's command may
+    /// home on the evader ([`crate::guidance::homing`]); at or above it the memory is forgotten.
+    /// Out of line: the paper policy never runs it.
+    #[inline(never)]
+    fn near_field(
+        &mut self,
+        report: &GameReport<S>,
+        pursuer: &VehicleState<S>,
+        evader: &VehicleState<S>,
+        command: &mut Command<S>,
+    ) {
+        let terms = &self.near_field_terms;
+        let distance = pursuer.position().distance(evader.position());
+        if distance >= terms.threshold {
+            self.near_field = NearFieldMemory::FRESH;
+            return;
+        }
+        command.pursuer = self.near_field.pursuer_command(
+            report,
+            pursuer,
+            evader,
+            distance,
+            &self.law.limits.pursuer,
+            terms,
+            (self.dt, self.sampling.tie_floor, self.period.pursuer),
+            command.pursuer,
+        );
+    }
+}

@@ -1,0 +1,491 @@
+//! The guidance unit: bytes in, bytes out. It deframes the serial stream, answers Configure,
+//! State and ReadCounters, refuses every malformed input with an Error, counts each kind, and
+//! emits the safe command when no valid State arrived within the watchdog time.
+//!
+//! Pure and allocation-free: the firmware feeds it UART bytes and its clock; the host tests and
+//! fuzzers feed it anything.
+
+use crate::guidance::{Guidance, Policy};
+use crate::law::capture::Variant;
+use crate::law::geometry::{Direction, Limits};
+use crate::law::{Decision, Law};
+use crate::num::{ieee, Scalar};
+use crate::protocol::frame::{
+    encode_frame, header_sequence, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
+};
+use crate::protocol::message::{
+    kind, CommandMsg, Configure, Counters, ErrorMsg, LineCounts, StateMsg, NO_CIRCLE, ROLE_EVADER,
+    ROLE_PURSUER,
+};
+use crate::status::Status;
+use crate::value_tables::ValueTables;
+
+/// Wire status code of the watchdog's safe command (the law's statuses are 0 to 5).
+pub const STATUS_STALE_INPUT: u8 = 6;
+
+/// Wire code of a law status.
+pub fn status_code(status: Status) -> u8 {
+    match status {
+        Status::Ok => 0,
+        Status::NonFiniteInput => 1,
+        Status::InvalidLimits => 2,
+        Status::OutOfRange => 3,
+        Status::Captured => 4,
+        Status::NoValidTangent => 5,
+    }
+}
+
+fn circle_code(d: Direction) -> u8 {
+    match d {
+        Direction::Anticlockwise => 0,
+        Direction::Clockwise => 1,
+    }
+}
+
+/// The circle a turn rate turns on: A for > 0, C for < 0, none for straight.
+fn turned_code<S: Scalar>(rate: S) -> u8 {
+    if rate > S::zero() {
+        circle_code(Direction::Anticlockwise)
+    } else if rate < S::zero() {
+        circle_code(Direction::Clockwise)
+    } else {
+        NO_CIRCLE
+    }
+}
+
+/// A reply frame ready to send: COBS-encoded, delimiter included.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reply {
+    bytes: [u8; MAX_ENCODED],
+    len: usize,
+    message_type: u8,
+}
+
+impl Reply {
+    /// The bytes to write to the serial port.
+    pub fn as_bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len).unwrap_or(&[])
+    }
+
+    /// Whether this acknowledges a Shutdown: the session is over once it is sent.
+    pub fn is_shutdown(&self) -> bool {
+        self.message_type == kind::SHUTDOWN_ACK
+    }
+
+    /// No reply yet: the place a reply is written into.
+    const EMPTY: Reply = Reply {
+        bytes: [0; MAX_ENCODED],
+        len: 0,
+        message_type: 0,
+    };
+
+    /// Writes the reply frame of `message_type` in place (the payload written by the closure);
+    /// false, and no reply, if it does not fit (no message of ours is that long).
+    fn write(
+        &mut self,
+        message_type: u8,
+        sequence: u16,
+        payload: impl FnOnce(&mut crate::protocol::frame::Writer<'_>) -> Option<()>,
+    ) -> bool {
+        let written = encode_frame(message_type, sequence, payload, &mut self.bytes);
+        self.len = written.unwrap_or(0);
+        self.message_type = message_type;
+        written.is_some()
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Configured<S> {
+    guidance: Guidance<S>,
+    /// The policy byte in effect: the Configure's, or 1 (flight) where it asked for tables
+    /// and none fit.
+    policy: u8,
+    roles: u8,
+    watchdog_ms: u32,
+    /// Wire units per law unit: rad/s per turn rate, seconds per time (1 on SI backends).
+    /// Derivable from the limits' units, kept to spare the M0 two soft-float divisions per
+    /// State (+553 instructions per frame measured).
+    rate_scale: f32,
+    time_scale: f32,
+}
+
+/// The unit's state: configuration, deframer, counters, watchdog, and its last reply. Generic
+/// over the law's numeric backend: `f32` on cores with an FPU, [`crate::num::fixed::Fixed`]
+/// (Q17.14) on those without, where the wire's `f32` values are converted with integers only.
+#[derive(Debug)]
+pub struct Unit<S = f32> {
+    deframer: Deframer<MAX_FRAME>,
+    session: Session<S>,
+    /// Written in place and lent to the caller: a reply by value was copied (76 bytes) at each
+    /// of its moves.
+    reply: Reply,
+}
+
+/// Everything but the deframer: a decoded frame borrows the deframer's buffer while the session
+/// handles it (no copy of the frame).
+#[derive(Debug)]
+struct Session<S> {
+    configured: Option<Configured<S>>,
+    /// The value tables the image carries, one set per pair of ratios ([`Unit::set_tables`]).
+    tables: &'static [ValueTables<'static>],
+    counters: Counters,
+    watchdog: Watchdog,
+}
+
+/// The stale-input watchdog. Latched: once input went stale, States get the safe command until
+/// a Configure or a Reset, so a unit never silently resumes after a gap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Watchdog {
+    /// No valid State since the last Configure or Reset.
+    Idle,
+    /// The last valid State arrived at device time `arrived_ms`, stamped `stamp_ms` by its sender.
+    Armed { arrived_ms: u32, stamp_ms: u32 },
+    /// Input went stale: the safe command until Configure or Reset.
+    Latched,
+}
+
+impl<S: Scalar> Default for Unit<S> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<S: Scalar> Unit<S> {
+    /// An unconfigured unit.
+    pub const fn new() -> Self {
+        Unit {
+            deframer: Deframer::new(),
+            session: Session {
+                configured: None,
+                tables: &[],
+                counters: Counters {
+                    accepted: 0,
+                    stale: 0,
+                    errors: [0; crate::protocol::frame::ERROR_KINDS],
+                    line: LineCounts {
+                        overrun: 0,
+                        framing: 0,
+                        noise: 0,
+                        parity: 0,
+                        rx_full: 0,
+                        tx_full: 0,
+                    },
+                },
+                watchdog: Watchdog::Idle,
+            },
+            reply: Reply::EMPTY,
+        }
+    }
+
+    /// Gives the unit the game's value tables its image carries, one set per pair of ratios: a
+    /// Configure with policy 2 plays the first set that fits its limits' ratios. In
+    /// place: a builder moving the unit by value raised the M4F loop's peak stack by 64 B.
+    pub fn set_tables(&mut self, tables: &'static [ValueTables<'static>]) {
+        self.session.tables = tables;
+    }
+
+    /// Counters so far.
+    pub fn counters(&self) -> &Counters {
+        &self.session.counters
+    }
+
+    /// Records the serial line's fault counts (kept by the board's UART interrupt), for the
+    /// next Counters reply.
+    pub fn record_line(&mut self, line: LineCounts) {
+        self.session.counters.line = line;
+    }
+
+    /// Feeds one received byte at device time `now_ms`; returns the reply to send, if any.
+    pub fn receive(&mut self, byte: u8, now_ms: u32) -> Option<&Reply> {
+        self.receive_slice(&[byte], now_ms).1
+    }
+
+    /// Feeds received bytes at device time `now_ms`, up to and including the first that ends a
+    /// frame: how many it took, and the reply to send, if any. Feed the rest after sending it.
+    /// (The firmware's loop: the deframer runs over the bytes without storing its state per byte.)
+    pub fn receive_slice(&mut self, bytes: &[u8], now_ms: u32) -> (usize, Option<&Reply>) {
+        let Unit {
+            deframer,
+            session,
+            reply,
+        } = self;
+        let (taken, feed) = deframer.push_slice(bytes);
+        let result = match feed {
+            Feed::Pending => return (taken, None),
+            Feed::Error(e) => Err((e, None)),
+            Feed::Frame(bytes) => match Frame::new_checked(bytes) {
+                Ok(frame) => session.handle(&frame, now_ms, reply),
+                // The CRC held, so the header is readable: the refusal echoes its sequence.
+                Err(WireError::BadVersion) => {
+                    Err((WireError::BadVersion, Some(header_sequence(bytes))))
+                }
+                Err(e) => Err((e, None)),
+            },
+        };
+        let written = match result {
+            Ok(written) => {
+                session.counters.accepted = session.counters.accepted.saturating_add(1);
+                written
+            }
+            Err((error, sequence)) => {
+                session.counters.count(error);
+                let message = ErrorMsg {
+                    code: error as u8,
+                    sequence_known: u8::from(sequence.is_some()),
+                };
+                reply.write(kind::ERROR, sequence.unwrap_or(0), |w| message.emit(w))
+            }
+        };
+        (taken, written.then_some(&*reply))
+    }
+
+    /// Checks the watchdog at device time `now_ms`: when no valid State arrived for longer than
+    /// the configured time, latches and returns (once) the safe command with status
+    /// `stale_input`.
+    pub fn poll(&mut self, now_ms: u32) -> Option<&Reply> {
+        self.session
+            .poll(now_ms, &mut self.reply)
+            .then_some(&self.reply)
+    }
+}
+
+impl<S: Scalar> Session<S> {
+    /// [`Unit::poll`]: whether the stale reply was written into `reply`.
+    fn poll(&mut self, now_ms: u32, reply: &mut Reply) -> bool {
+        let Some(configured) = self.configured else {
+            return false;
+        };
+        match self.watchdog {
+            Watchdog::Armed { arrived_ms, .. }
+                if now_ms.wrapping_sub(arrived_ms) > configured.watchdog_ms =>
+            {
+                self.latch();
+                reply.write(kind::COMMAND, 0, |w| {
+                    stale_command(configured.roles).emit(w)
+                })
+            }
+            _ => false,
+        }
+    }
+
+    fn latch(&mut self) {
+        self.watchdog = Watchdog::Latched;
+        self.counters.stale = self.counters.stale.saturating_add(1);
+    }
+
+    /// Handles a checked frame, its reply written into `reply`: whether one was written, or the
+    /// error to refuse the frame with (and its sequence number where known).
+    fn handle(
+        &mut self,
+        frame: &Frame<'_>,
+        now_ms: u32,
+        reply: &mut Reply,
+    ) -> Result<bool, (WireError, Option<u16>)> {
+        let sequence = frame.sequence();
+        let refuse = |e: WireError| (e, Some(sequence));
+        match frame.message_type() {
+            kind::CONFIGURE => {
+                let message = Configure::parse(frame.payload()).map_err(refuse)?;
+                // Written in place; only its policy byte is read back (a copy of the whole
+                // configuration kept for the ack cost the M0's loop 264 B of stack).
+                let configured = self
+                    .configured
+                    .insert(configure(&message, self.tables).map_err(refuse)?);
+                let policy = configured.policy;
+                self.watchdog = Watchdog::Idle;
+                Ok(reply.write(kind::CONFIGURE_ACK, sequence, |w| w.u8(policy)))
+            }
+            kind::STATE => {
+                let message = StateMsg::parse(frame.payload()).map_err(refuse)?;
+                let configured = self
+                    .configured
+                    .as_mut()
+                    .ok_or(refuse(WireError::NotConfigured))?;
+                // The contract's order: a non-finite field anywhere before any envelope check
+                // (on the bits: no float operation on a core without an FPU).
+                let mut fields = message.pursuer.iter().chain(message.evader.iter());
+                if fields.any(|v| !ieee::is_finite_bits(v.to_bits())) {
+                    return Err(refuse(WireError::NonFiniteField));
+                }
+                let limits = &configured.guidance.law().limits;
+                let (pursuer, evader) = limits.states(message.pursuer, message.evader).map_err(
+                    |status| match status {
+                        Status::NonFiniteInput => refuse(WireError::NonFiniteField),
+                        _ => refuse(WireError::OutOfRangeField),
+                    },
+                )?;
+                let roles = configured.roles;
+                // Staleness by the sender's own timestamps: a gap longer than the watchdog time
+                // (or a timestamp going backwards, which wraps to a huge gap) latches.
+                let stale = match self.watchdog {
+                    Watchdog::Latched => true,
+                    Watchdog::Armed { stamp_ms, .. } => {
+                        message.time_ms.wrapping_sub(stamp_ms) > configured.watchdog_ms
+                    }
+                    Watchdog::Idle => false,
+                };
+                if stale {
+                    if self.watchdog != Watchdog::Latched {
+                        self.latch();
+                    }
+                    return Ok(
+                        reply.write(kind::COMMAND, sequence, |w| stale_command(roles).emit(w))
+                    );
+                }
+                let decision = configured.guidance.decide(&pursuer, &evader);
+                let command = command_message(&decision, configured);
+                self.watchdog = Watchdog::Armed {
+                    arrived_ms: now_ms,
+                    stamp_ms: message.time_ms,
+                };
+                Ok(reply.write(kind::COMMAND, sequence, |w| command.emit(w)))
+            }
+            kind::READ_COUNTERS => {
+                if !frame.payload().is_empty() {
+                    return Err(refuse(WireError::Oversized));
+                }
+                let counters = self.counters;
+                Ok(reply.write(kind::COUNTERS, sequence, |w| counters.emit(w)))
+            }
+            kind::RESET => {
+                if !frame.payload().is_empty() {
+                    return Err(refuse(WireError::Oversized));
+                }
+                self.watchdog = Watchdog::Idle;
+                if let Some(c) = self.configured.as_mut() {
+                    c.guidance.reset();
+                }
+                Ok(reply.write(kind::RESET_ACK, sequence, |_| Some(())))
+            }
+            kind::SHUTDOWN => {
+                if !frame.payload().is_empty() {
+                    return Err(refuse(WireError::Oversized));
+                }
+                Ok(reply.write(kind::SHUTDOWN_ACK, sequence, |_| Some(())))
+            }
+            _ => Err(refuse(WireError::UnknownType)),
+        }
+    }
+}
+
+/// Largest watchdog time accepted, seconds.
+pub const MAX_WATCHDOG_S: f32 = 3600.0;
+
+fn configure<S: Scalar>(
+    message: &Configure,
+    tables: &'static [ValueTables<'static>],
+) -> Result<Configured<S>, WireError> {
+    let [v_pm, w_pm, v_em, w_em] = message.limits;
+    let limits = Limits::<S>::new(v_pm, w_pm, v_em, w_em).map_err(|status| match status {
+        Status::NonFiniteInput => WireError::NonFiniteField,
+        Status::InvalidLimits => WireError::InvalidLimits,
+        _ => WireError::OutOfRangeField,
+    })?;
+    let variant = match message.variant {
+        0 => Variant::Paper,
+        1 => Variant::Clamped,
+        _ => return Err(WireError::InvalidConfig),
+    };
+    let policy = match message.policy {
+        0 => Policy::Paper,
+        1 => Policy::Flight,
+        2 => Policy::Table,
+        _ => return Err(WireError::InvalidConfig),
+    };
+    let roles_valid = message.roles != 0 && message.roles & !(ROLE_PURSUER | ROLE_EVADER) == 0;
+    let watchdog = message.watchdog;
+    if !(roles_valid && watchdog.is_finite() && watchdog > 0.0 && watchdog <= MAX_WATCHDOG_S) {
+        return Err(WireError::InvalidConfig);
+    }
+    let mut guidance = Guidance::new(Law::new(limits, variant), message.dt)
+        .map_err(|_| WireError::InvalidConfig)?
+        .with_policy(policy);
+    // Tables asked for: those of the limits' ratios, or the flight policy, said in the ack.
+    // In place: a second guidance on the stack cost the M0's loop over 200 B.
+    let mut policy_byte = message.policy;
+    if policy == Policy::Table && !attach_tables(&mut guidance, tables) {
+        guidance.set_policy(Policy::Flight);
+        policy_byte = 1;
+    }
+    // In range by the check above: at most 3.6e6 ms.
+    let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
+    let units = limits.units;
+    Ok(Configured {
+        guidance,
+        policy: policy_byte,
+        roles: message.roles,
+        watchdog_ms,
+        rate_scale: units.metres_per_second / units.metres,
+        time_scale: units.metres / units.metres_per_second,
+    })
+}
+
+/// Gives `guidance` the first set of `tables` that fits its limits' ratios; whether one did
+/// (feature `value-tables`; without it no image can play tables, and none is taken).
+fn attach_tables<S: Scalar>(
+    guidance: &mut Guidance<S>,
+    tables: &'static [ValueTables<'static>],
+) -> bool {
+    #[cfg(feature = "value-tables")]
+    return tables.iter().any(|t| guidance.set_tables(t).is_ok());
+    #[cfg(not(feature = "value-tables"))]
+    {
+        let _ = (guidance, tables);
+        false
+    }
+}
+
+/// The safe command (zero turn rates) with status `stale_input`.
+fn stale_command(roles: u8) -> CommandMsg {
+    CommandMsg {
+        status: STATUS_STALE_INPUT,
+        roles,
+        pursuer_rate: 0.0,
+        evader_rate: 0.0,
+        row: NO_CIRCLE,
+        col: NO_CIRCLE,
+        predicted: f32::INFINITY,
+        upper: f32::INFINITY,
+        lower: f32::INFINITY,
+    }
+}
+
+fn command_message<S: Scalar>(evaluation: &Decision<S>, configured: &Configured<S>) -> CommandMsg {
+    let limits = &configured.guidance.law().limits;
+    let roles = configured.roles;
+    // Turn rates v w in the law's units (zero for a role not played), then in rad/s.
+    let rate = |role: u8, w: S, v: S| if roles & role != 0 { v * w } else { S::zero() };
+    let solution = evaluation.solution;
+    let value = |v: Option<Option<S>>| {
+        v.flatten()
+            .map_or(f32::INFINITY, |v| v.to_f32_scaled(configured.time_scale))
+    };
+    let pursuer_rate = rate(
+        ROLE_PURSUER,
+        evaluation.command.pursuer,
+        limits.pursuer.v_max(),
+    );
+    let evader_rate = rate(
+        ROLE_EVADER,
+        evaluation.command.evader,
+        limits.evader.v_max(),
+    );
+    // The game's circles where it has a saddle to play; under the fallback (no valid tangent)
+    // the circle each player actually turns on (none when straight), as the contract binds.
+    let (row, col) = match (evaluation.status, solution) {
+        (Status::NoValidTangent, _) => (turned_code(pursuer_rate), turned_code(evader_rate)),
+        (_, Some(s)) => (circle_code(s.row), circle_code(s.col)),
+        (_, None) => (NO_CIRCLE, NO_CIRCLE),
+    };
+    CommandMsg {
+        status: status_code(evaluation.status),
+        roles,
+        pursuer_rate: pursuer_rate.to_f32_scaled(configured.rate_scale),
+        evader_rate: evader_rate.to_f32_scaled(configured.rate_scale),
+        row,
+        col,
+        predicted: value(solution.map(|s| s.upper)),
+        upper: value(solution.map(|s| s.upper)),
+        lower: value(solution.map(|s| s.lower)),
+    }
+}

@@ -1,0 +1,342 @@
+//! The messages of the wire protocol: their payloads as plain structs, with `parse` and `emit`.
+//! Byte-by-byte layout in `docs/protocol.md`. Turn rates on the wire are rad/s (= v w).
+
+use crate::protocol::frame::{Reader, WireError, Writer};
+
+/// Message type codes. Host to unit below 0x80, unit to host from 0x80.
+pub mod kind {
+    /// Host -> unit: limits, period, watchdog, roles, variant, policy.
+    pub const CONFIGURE: u8 = 0x01;
+    /// Host -> unit: timestamp and both vehicles' states.
+    pub const STATE: u8 = 0x02;
+    /// Host -> unit: ask for the counters.
+    pub const READ_COUNTERS: u8 = 0x03;
+    /// Host -> unit: end the session (a board may stop; QEMU exits with code 0).
+    pub const SHUTDOWN: u8 = 0x04;
+    /// Host -> unit: clear a latched watchdog (and the law's remembered choice); the
+    /// configuration stays.
+    pub const RESET: u8 = 0x05;
+    /// Unit -> host: Configure accepted.
+    pub const CONFIGURE_ACK: u8 = 0x81;
+    /// Unit -> host: the command for a State (or the watchdog's safe command).
+    pub const COMMAND: u8 = 0x82;
+    /// Unit -> host: the counters.
+    pub const COUNTERS: u8 = 0x83;
+    /// Unit -> host: Shutdown accepted; nothing follows.
+    pub const SHUTDOWN_ACK: u8 = 0x84;
+    /// Unit -> host: Reset accepted.
+    pub const RESET_ACK: u8 = 0x85;
+    /// Unit -> host: an input was refused.
+    pub const ERROR: u8 = 0x8F;
+}
+
+/// Bit of [`Configure::roles`]: this unit computes the pursuer's command.
+pub const ROLE_PURSUER: u8 = 0b01;
+/// Bit of [`Configure::roles`]: this unit computes the evader's command.
+pub const ROLE_EVADER: u8 = 0b10;
+
+/// Configure: both vehicles' limits (m/s, 1/m), control period and watchdog time (s), roles,
+/// Algorithm-2 variant (0 paper, 1 clamped) and policy (0 paper, 1 flight).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Configure {
+    /// v_pm, w_pm, v_em, w_em.
+    pub limits: [f32; 4],
+    /// Control period dt, seconds.
+    pub dt: f32,
+    /// Watchdog: the safe command after this long without a valid State, seconds.
+    pub watchdog: f32,
+    /// [`ROLE_PURSUER`] | [`ROLE_EVADER`].
+    pub roles: u8,
+    /// 0 paper, 1 clamped.
+    pub variant: u8,
+    /// 0 paper, 1 flight ([`crate::Policy`]).
+    pub policy: u8,
+}
+
+impl Configure {
+    /// Payload length, bytes.
+    pub const LEN: usize = 27;
+
+    /// Parses a payload.
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let limits = [r.f32()?, r.f32()?, r.f32()?, r.f32()?];
+        let m = Configure {
+            limits,
+            dt: r.f32()?,
+            watchdog: r.f32()?,
+            roles: r.u8()?,
+            variant: r.u8()?,
+            policy: r.u8()?,
+        };
+        r.finish()?;
+        Ok(m)
+    }
+
+    /// Writes the payload.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        for v in self.limits {
+            w.f32(v)?;
+        }
+        w.f32(self.dt)?;
+        w.f32(self.watchdog)?;
+        w.u8(self.roles)?;
+        w.u8(self.variant)?;
+        w.u8(self.policy)
+    }
+}
+
+/// State: the sender's timestamp (ms) and both vehicles' (x, y, theta) in metres and radians.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StateMsg {
+    /// Sender's timestamp, milliseconds.
+    pub time_ms: u32,
+    /// Pursuer x, y, theta.
+    pub pursuer: [f32; 3],
+    /// Evader x, y, theta.
+    pub evader: [f32; 3],
+}
+
+impl StateMsg {
+    /// Payload length, bytes.
+    pub const LEN: usize = 28;
+
+    /// Parses a payload.
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let m = StateMsg {
+            time_ms: r.u32()?,
+            pursuer: [r.f32()?, r.f32()?, r.f32()?],
+            evader: [r.f32()?, r.f32()?, r.f32()?],
+        };
+        r.finish()?;
+        Ok(m)
+    }
+
+    /// Writes the payload.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        w.u32(self.time_ms)?;
+        for v in self.pursuer.iter().chain(self.evader.iter()) {
+            w.f32(*v)?;
+        }
+        Some(())
+    }
+}
+
+/// Wire code of a circle: 0 = A, 1 = C, 0xFF = none.
+pub const NO_CIRCLE: u8 = 0xFF;
+
+/// Command: status, the roles computed, turn rates (rad/s; 0 for a role not computed), chosen
+/// circles, predicted capture time and upper/lower values (s; +inf where none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CommandMsg {
+    /// Status code (see `docs/protocol.md`).
+    pub status: u8,
+    /// Roles computed.
+    pub roles: u8,
+    /// Pursuer turn rate v_pm w_p, rad/s.
+    pub pursuer_rate: f32,
+    /// Evader turn rate v_em w_e, rad/s.
+    pub evader_rate: f32,
+    /// Pursuer circle: 0 A, 1 C, 0xFF none.
+    pub row: u8,
+    /// Evader circle: 0 A, 1 C, 0xFF none.
+    pub col: u8,
+    /// Predicted capture time (the upper value), seconds.
+    pub predicted: f32,
+    /// Upper value, seconds.
+    pub upper: f32,
+    /// Lower value, seconds.
+    pub lower: f32,
+}
+
+impl CommandMsg {
+    /// Payload length, bytes.
+    pub const LEN: usize = 24;
+
+    /// Parses a payload.
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let m = CommandMsg {
+            status: r.u8()?,
+            roles: r.u8()?,
+            pursuer_rate: r.f32()?,
+            evader_rate: r.f32()?,
+            row: r.u8()?,
+            col: r.u8()?,
+            predicted: r.f32()?,
+            upper: r.f32()?,
+            lower: r.f32()?,
+        };
+        r.finish()?;
+        Ok(m)
+    }
+
+    /// Writes the payload.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        w.u8(self.status)?;
+        w.u8(self.roles)?;
+        w.f32(self.pursuer_rate)?;
+        w.f32(self.evader_rate)?;
+        w.u8(self.row)?;
+        w.u8(self.col)?;
+        w.f32(self.predicted)?;
+        w.f32(self.upper)?;
+        w.f32(self.lower)
+    }
+}
+
+/// Error: the [`WireError`] code, and whether the header's sequence echoes the input's (1) or is
+/// unknown (0: the input was not readable).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ErrorMsg {
+    /// [`WireError`] code.
+    pub code: u8,
+    /// 1 if the sequence is the refused input's.
+    pub sequence_known: u8,
+}
+
+impl ErrorMsg {
+    /// Payload length, bytes.
+    pub const LEN: usize = 2;
+
+    /// Parses a payload.
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let m = ErrorMsg {
+            code: r.u8()?,
+            sequence_known: r.u8()?,
+        };
+        r.finish()?;
+        Ok(m)
+    }
+
+    /// Writes the payload.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        w.u8(self.code)?;
+        w.u8(self.sequence_known)
+    }
+}
+
+/// Faults of the serial line below the framing, counted by the UART's interrupt and the loop
+/// (`crate::serial`): the bytes the line lost or damaged, not frames. Appended to [`Counters`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LineCounts {
+    /// Receive overruns: a byte arrived before the previous one was read (one byte lost).
+    pub overrun: u32,
+    /// Framing errors: a byte without its stop bit (the byte is dropped).
+    pub framing: u32,
+    /// Noise flagged on a received byte (the byte is kept; its frame's CRC decides).
+    pub noise: u32,
+    /// Parity errors (the byte is dropped; the link is 8N1, so only a misconfigured peer).
+    pub parity: u32,
+    /// Received bytes dropped because the receive queue was full.
+    pub rx_full: u32,
+    /// Replies dropped whole because the transmit queue had no room for them.
+    pub tx_full: u32,
+}
+
+impl LineCounts {
+    /// Payload length, bytes.
+    pub const LEN: usize = 24;
+
+    fn parse(r: &mut Reader<'_>) -> Result<Self, WireError> {
+        Ok(LineCounts {
+            overrun: r.u32()?,
+            framing: r.u32()?,
+            noise: r.u32()?,
+            parity: r.u32()?,
+            rx_full: r.u32()?,
+            tx_full: r.u32()?,
+        })
+    }
+
+    fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        w.u32(self.overrun)?;
+        w.u32(self.framing)?;
+        w.u32(self.noise)?;
+        w.u32(self.parity)?;
+        w.u32(self.rx_full)?;
+        w.u32(self.tx_full)
+    }
+}
+
+/// Counters: valid messages handled, watchdog expiries, refused inputs per [`WireError`] code,
+/// then the line's faults (appended in the same protocol version: a reader of the first
+/// [`Counters::LEN_V1`] bytes keeps working).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Valid messages handled.
+    pub accepted: u32,
+    /// Watchdog expiries (stale input).
+    pub stale: u32,
+    /// Refused inputs, index = code - 1.
+    pub errors: [u32; crate::protocol::frame::ERROR_KINDS],
+    /// Faults of the serial line (0 where the unit has no UART of its own, as on the host).
+    pub line: LineCounts,
+}
+
+impl Counters {
+    /// Payload length of the first release (no line faults), bytes.
+    pub const LEN_V1: usize = 8 + 4 * crate::protocol::frame::ERROR_KINDS;
+    /// Payload length, bytes.
+    pub const LEN: usize = Self::LEN_V1 + LineCounts::LEN;
+
+    /// Counts one refused input.
+    pub fn count(&mut self, error: WireError) {
+        let index = usize::from(error as u8).saturating_sub(1);
+        if let Some(c) = self.errors.get_mut(index) {
+            *c = c.saturating_add(1);
+        }
+    }
+
+    /// The count for one kind.
+    pub fn of(&self, error: WireError) -> u32 {
+        let index = usize::from(error as u8).saturating_sub(1);
+        self.errors.get(index).copied().unwrap_or(0)
+    }
+
+    /// Parses a payload: [`Counters::LEN`] bytes, or the first release's [`Counters::LEN_V1`]
+    /// (line faults then 0).
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let mut m = Counters {
+            accepted: r.u32()?,
+            stale: r.u32()?,
+            ..Counters::default()
+        };
+        for c in m.errors.iter_mut() {
+            *c = r.u32()?;
+        }
+        if payload.len() > Self::LEN_V1 {
+            m.line = LineCounts::parse(&mut r)?;
+        }
+        r.finish()?;
+        Ok(m)
+    }
+
+    /// Writes the payload.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        w.u32(self.accepted)?;
+        w.u32(self.stale)?;
+        for c in self.errors {
+            w.u32(c)?;
+        }
+        self.line.emit(w)
+    }
+}

@@ -1,0 +1,94 @@
+//! The MAVLink endpoint's rows of `cargo xtask bench`: its serial path on the Cortex-M4F
+//! (`bench-mavlink` image, the sessions of `src/bench/mavlink.rs`), checked against the same
+//! sessions on the host.
+
+use twocars::bench::mavlink::{script, serve_script, Outcome, Session, PERIODS, SCRIPT_CAPACITY};
+
+use crate::bench::image::{build_and_print, M4F};
+
+/// What the MAVLink sessions cost on the Cortex-M4F.
+#[derive(Clone, Copy, Debug)]
+pub struct MavlinkMeasured {
+    /// Instructions per control period: a target and an own GLOBAL_POSITION_INT found, checked
+    /// and decoded, the law, SET_ATTITUDE_TARGET and NAMED_VALUE_FLOAT encoded and sent.
+    pub per_period: f64,
+    /// Instructions per GLOBAL_POSITION_INT from a system the endpoint ignores (frame search,
+    /// checksum, decode).
+    pub per_parse: f64,
+    /// The empty session (one heartbeat and its companion), instructions.
+    pub fixed: f64,
+    /// Stack high-water mark of the guided session, bytes.
+    pub stack: u64,
+    /// Frames sent in the guided session.
+    pub frames: u32,
+}
+
+fn host(session: Session) -> Result<Outcome, String> {
+    let mut bytes = [0u8; SCRIPT_CAPACITY];
+    let n = script(session, &mut bytes).ok_or("the MAVLink script does not fit")?;
+    Ok(serve_script(&mut twocars::serial::Line::new(), &bytes[..n]))
+}
+
+/// Runs the three sessions on the Cortex-M4F; an error where what it sent differs from the
+/// host's.
+pub fn measure() -> Result<MavlinkMeasured, String> {
+    let (out, _) = build_and_print(M4F, "bench-mavlink")?;
+    let sessions = [Session::Empty, Session::Ignored, Session::Guided];
+    let mut ticks = [None; 3];
+    let mut stack = 0;
+    let mut frames = 0;
+    for line in out.lines() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let ["mavlink", i, t, s, f, d] = fields.as_slice() else {
+            continue;
+        };
+        let bad = || format!("bad line {line}");
+        let i: usize = i.parse().map_err(|_| bad())?;
+        let session = *sessions.get(i).ok_or_else(bad)?;
+        let got = Outcome {
+            frames: f.parse().map_err(|_| bad())?,
+            digest: u32::from_str_radix(d, 16).map_err(|_| bad())?,
+        };
+        let want = host(session)?;
+        if got != want {
+            return Err(format!(
+                "MAVLink session {session:?}: Cortex-M4F {got:?}, host {want:?}"
+            ));
+        }
+        ticks[i] = Some(t.parse::<f64>().map_err(|_| bad())? / M4F.ticks_per_instruction);
+        if session == Session::Guided {
+            stack = s.parse().map_err(|_| bad())?;
+            frames = got.frames;
+        }
+    }
+    let [Some(empty), Some(ignored), Some(guided)] = ticks else {
+        return Err(format!(
+            "the MAVLink bench did not report every session:\n{out}"
+        ));
+    };
+    Ok(MavlinkMeasured {
+        per_period: (guided - empty) / PERIODS as f64,
+        per_parse: (ignored - empty) / (2 * PERIODS) as f64,
+        fixed: empty,
+        stack,
+        frames,
+    })
+}
+
+/// The bench page's paragraph.
+pub fn paragraph(m: &MavlinkMeasured) -> String {
+    format!(
+        "MAVLink endpoint (Cortex-M4F, f32; `bench-mavlink` image: the serial path of the \
+         `twocars-qemu-mavlink` image, the UART interrupt's handler and \
+         `twocars::mavlink::service::service` over the same queues, fed by a scripted UART 32 \
+         bytes per pass the bench states as an autopilot reports them, a target and an own \
+         GLOBAL_POSITION_INT per control period; {} frames sent, byte for byte the host's): \
+         **{:.0} instructions per control period** (two positions found, checked and decoded, \
+         the law for the pursuer, SET_ATTITUDE_TARGET and NAMED_VALUE_FLOAT encoded with their \
+         checksums and queued: the guided session less the empty one, {:.0}, over its {} periods); \
+         **{:.0} instructions per GLOBAL_POSITION_INT parsed** (the same positions from systems \
+         the endpoint ignores); **stack {} B** (the endpoint, its frame buffers and the law below \
+         the loop's frame).\n",
+        m.frames, m.per_period, m.fixed, PERIODS, m.per_parse, m.stack
+    )
+}

@@ -1,0 +1,120 @@
+//! The serial path's rows of `cargo xtask bench`: the firmware's loop fed a scripted session on
+//! the Cortex-M4F and the Cortex-M0, its replies checked against the same unit on the host.
+
+use twocars::bench::main_loop::{script, serve_script_on, Outcome, SCRIPT_CAPACITY};
+use twocars::num::fixed::Fixed;
+use twocars::Scalar;
+
+use crate::bench::image::{build_and_print, M0, M4F};
+
+/// The session of `twocars::bench::main_loop` served on the host, by a unit with `tables`.
+fn host_session<S: Scalar>(
+    with_states: bool,
+    tables: &'static [twocars::value_tables::ValueTables<'static>],
+) -> Result<Outcome, String> {
+    let mut bytes = [0u8; SCRIPT_CAPACITY];
+    let n = script(with_states, !tables.is_empty(), &mut bytes).ok_or("the script does not fit")?;
+    let outcome = serve_script_on::<S>(&mut twocars::serial::Line::new(), &bytes[..n], tables);
+    if !outcome.shutdown {
+        return Err("the host's session ended without its Shutdown".to_string());
+    }
+    Ok(outcome)
+}
+
+/// The firmware's serial loop on the Cortex-M4F (`bench-loop` image), its replies checked
+/// against the host's.
+#[derive(Clone, Copy, Debug)]
+pub struct LoopMeasured {
+    /// Instructions per State frame: deframing, CRC, parsing, the law for both roles, the
+    /// Command encoded and written (the session with the states minus the one without, over
+    /// its State frames).
+    pub per_state: f64,
+    /// Instructions of the session without the states (two Configures, four refused inputs,
+    /// ReadCounters, Shutdown).
+    pub rest: f64,
+    /// Stack high-water mark of the loop (its unit, buffers and the law), bytes.
+    pub stack: u64,
+    /// Replies of the session with the states.
+    pub replies: u32,
+}
+
+/// The serial loop's images: the Cortex-M4F with the f32 law, the Cortex-M0 with fixed point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LoopImage {
+    /// mps2-an386, f32.
+    M4fFloat,
+    /// micro:bit, Q17.14.
+    M0Fixed,
+    /// mps2-an386, f32, the unit with the bench's value table (`bench-table`): the session
+    /// plays it at the table points.
+    M4fTables,
+}
+
+/// The bench's value table (`src/bench/table.tcv`), as the `bench-table` image carries it.
+fn bench_tables() -> Result<&'static [twocars::value_tables::ValueTables<'static>], String> {
+    static TABLE: &[u8] = include_bytes!("../../../src/bench/table.tcv");
+    let set = twocars::value_tables::ValueTables::parse(TABLE)
+        .map_err(|e| format!("src/bench/table.tcv: {e:?}"))?;
+    Ok(Box::leak(Box::new([set])))
+}
+
+/// Runs the serial loop's bench session on `image`'s CPU; an error where its replies, their
+/// digest or its counters differ from the host's (the same unit and backend on the host).
+pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
+    let (cpu, features) = match image {
+        LoopImage::M4fFloat => (M4F, "bench-loop"),
+        LoopImage::M0Fixed => (M0, "bench-loop,bench-fixed"),
+        LoopImage::M4fTables => (M4F, "bench-loop,bench-table"),
+    };
+    let tables = image == LoopImage::M4fTables;
+    let (out, _) = build_and_print(cpu, features)?;
+    let mut ticks = [None, None];
+    let mut stack = 0;
+    let mut replies = 0;
+    for line in out.lines() {
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        let ["loop", with, t, s, r, d, a, x] = fields.as_slice() else {
+            continue;
+        };
+        let bad = || format!("bad line {line}");
+        let with_states = *with == "1";
+        let got = Outcome {
+            // The image prints a line only for a session that ended at its Shutdown.
+            shutdown: true,
+            replies: r.parse().map_err(|_| bad())?,
+            digest: u32::from_str_radix(d, 16).map_err(|_| bad())?,
+            accepted: a.parse().map_err(|_| bad())?,
+            refused: x.parse().map_err(|_| bad())?,
+        };
+        let want = match image {
+            LoopImage::M4fFloat => host_session::<f32>(with_states, &[])?,
+            LoopImage::M0Fixed => host_session::<Fixed>(with_states, &[])?,
+            LoopImage::M4fTables => host_session::<f32>(with_states, bench_tables()?)?,
+        };
+        if got != want {
+            return Err(format!(
+                "serial loop (with states: {with_states}): {} {got:?}, host {want:?}",
+                cpu.name
+            ));
+        }
+        ticks[usize::from(with_states)] = Some(t.parse::<f64>().map_err(|_| bad())?);
+        if with_states {
+            stack = s.parse().map_err(|_| bad())?;
+            replies = got.replies;
+        }
+    }
+    let (Some(without), Some(with)) = (ticks[0], ticks[1]) else {
+        return Err(format!(
+            "the serial loop's image did not report both sessions:\n{out}"
+        ));
+    };
+    let per_instruction = cpu.ticks_per_instruction;
+    Ok(LoopMeasured {
+        per_state: (with - without)
+            / per_instruction
+            / twocars::bench::main_loop::state_frames(tables) as f64,
+        rest: without / per_instruction,
+        stack,
+        replies,
+    })
+}

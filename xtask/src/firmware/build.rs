@@ -1,0 +1,303 @@
+//! Firmware builds: the boards, their images built with the core's own features (and the value
+//! tables an image carries), the link-time panic check, the memory map's check and
+//! `cargo xtask build`.
+
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+use crate::workspace::root;
+
+/// The boards the firmware builds for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Board {
+    /// QEMU mps2-an386 (Cortex-M4F).
+    Qemu,
+    /// QEMU mps2-an386 speaking MAVLink 2 (the guidance endpoint, docs/mavlink.md).
+    QemuMavlink,
+    /// STM32F405 flight controller (Cortex-M4F): build and size only.
+    Stm32f405,
+    /// STM32F405 speaking MAVLink 2: build and size only.
+    Stm32f405Mavlink,
+    /// BBC micro:bit (nRF51822, Cortex-M0, the fixed-point law), in QEMU's `microbit` machine.
+    Microbit,
+    /// Raspberry Pi Pico (RP2040, Cortex-M0+, the fixed-point law): build, size and link check
+    /// only (no emulator models it).
+    Rp2040,
+    /// QEMU mps2-an386 carrying the value tables of two pairs of ratios.
+    QemuTables,
+    /// STM32F405 carrying the value tables of the paper's ratios: build and size only.
+    Stm32f405Tables,
+}
+
+impl Board {
+    /// Every board.
+    pub const ALL: [Board; 8] = [
+        Board::Qemu,
+        Board::QemuMavlink,
+        Board::Stm32f405,
+        Board::Stm32f405Mavlink,
+        Board::Microbit,
+        Board::Rp2040,
+        Board::QemuTables,
+        Board::Stm32f405Tables,
+    ];
+
+    /// The Rust target of the board's core.
+    pub fn target(self) -> &'static str {
+        match self {
+            Board::Qemu
+            | Board::QemuMavlink
+            | Board::Stm32f405
+            | Board::Stm32f405Mavlink
+            | Board::QemuTables
+            | Board::Stm32f405Tables => "thumbv7em-none-eabihf",
+            Board::Microbit | Board::Rp2040 => "thumbv6m-none-eabi",
+        }
+    }
+    fn bin(self) -> &'static str {
+        match self {
+            Board::Qemu | Board::QemuTables => "twocars-qemu",
+            Board::QemuMavlink => "twocars-qemu-mavlink",
+            Board::Stm32f405 | Board::Stm32f405Tables => "twocars-stm32f405",
+            Board::Stm32f405Mavlink => "twocars-stm32f405-mavlink",
+            Board::Microbit => "twocars-microbit",
+            Board::Rp2040 => "twocars-rp2040",
+        }
+    }
+    /// Features of the image `cargo xtask build` and `run` use.
+    pub fn feature(self) -> &'static str {
+        match self {
+            // The QEMU image logs with defmt over semihosting.
+            Board::Qemu => "qemu-log",
+            Board::QemuMavlink => "board-qemu,mavlink",
+            Board::Stm32f405 => "board-stm32f405",
+            Board::Stm32f405Mavlink => "board-stm32f405,mavlink",
+            Board::Microbit => "firmware-microbit",
+            Board::Rp2040 => "firmware-rp2040",
+            Board::QemuTables => "qemu-log,tables-in-flash",
+            Board::Stm32f405Tables => "board-stm32f405,tables-in-flash",
+        }
+    }
+    /// The value-table sets the image carries, one per pair of ratios (`crate::hj::solve::flash_sets`):
+    /// both of [`crate::hj::sets::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
+    pub fn table_sets(self) -> &'static [crate::hj::sets::FlashSet] {
+        match self {
+            Board::QemuTables => &crate::hj::sets::FLASH_SETS,
+            Board::Stm32f405Tables => &crate::hj::sets::FLASH_SETS[..1],
+            _ => &[],
+        }
+    }
+    /// QEMU's machine options for the board (`None`: no emulator).
+    pub(crate) fn machine(self) -> Option<&'static [&'static str]> {
+        match self {
+            Board::Qemu | Board::QemuMavlink | Board::QemuTables => {
+                Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"])
+            }
+            Board::Microbit => Some(&["-M", "microbit"]),
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Rp2040 | Board::Stm32f405Tables => {
+                None
+            }
+        }
+    }
+    /// Features of the flight image: no logger, so panic freedom can be proven at link time.
+    pub fn flight_features(self) -> &'static str {
+        match self {
+            Board::Qemu => "board-qemu,panic-never",
+            Board::QemuMavlink => "board-qemu,mavlink,panic-never",
+            Board::Stm32f405 => "board-stm32f405,panic-never",
+            Board::Stm32f405Mavlink => "board-stm32f405,mavlink,panic-never",
+            Board::Microbit => "firmware-microbit,panic-never",
+            Board::Rp2040 => "firmware-rp2040,panic-never",
+            Board::QemuTables => "board-qemu,tables-in-flash,panic-never",
+            Board::Stm32f405Tables => "board-stm32f405,tables-in-flash,panic-never",
+        }
+    }
+    /// Flash of the board's memory map (its `src/board/*.x`), bytes.
+    pub fn flash_bytes(self) -> u64 {
+        match self {
+            Board::Qemu | Board::QemuMavlink | Board::QemuTables => 4 << 20,
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => 1 << 20,
+            Board::Microbit => 256 << 10,
+            // Less the 256-byte second-stage bootloader.
+            Board::Rp2040 => (2 << 20) - 0x100,
+        }
+    }
+    /// Flash origin of the board's memory map: where the vector table must be.
+    pub fn flash_origin(self) -> u64 {
+        match self {
+            Board::Qemu | Board::QemuMavlink | Board::Microbit | Board::QemuTables => 0x0000_0000,
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => 0x0800_0000,
+            // After the 256-byte second-stage bootloader at the start of flash.
+            Board::Rp2040 => 0x1000_0100,
+        }
+    }
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Board::Qemu => "qemu (mps2-an386)",
+            Board::QemuMavlink => "qemu (mps2-an386), MAVLink",
+            Board::Stm32f405 => "stm32f405",
+            Board::Stm32f405Mavlink => "stm32f405, MAVLink",
+            Board::Microbit => "microbit (nRF51822)",
+            Board::Rp2040 => "rp2040 (Raspberry Pi Pico)",
+            Board::QemuTables => "qemu (mps2-an386), value tables",
+            Board::Stm32f405Tables => "stm32f405, value tables",
+        }
+    }
+}
+
+/// Builds the release firmware for `board`; returns the ELF's path.
+pub fn build(board: Board) -> Result<PathBuf, String> {
+    build_with(board, board.feature())
+}
+
+/// Builds the flight image of `board` with the link-time panic check: it links only if no
+/// panic path survives optimisation.
+pub fn prove_panic_free(board: Board) -> Result<PathBuf, String> {
+    build_with(board, board.flight_features())
+        .map_err(|e| format!("{e}: a panic path is reachable (see the undefined symbol above)"))
+}
+
+fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
+    let sets = board.table_sets();
+    if sets.is_empty() {
+        return build_image(board.target(), features, board.bin(), Stdio::inherit(), &[])
+            .map_err(|e| format!("firmware build for {board:?} failed ({e})"));
+    }
+    // The same binary with its sets in flash, kept beside the one without as `<bin>-tables`.
+    let files = crate::hj::solve::flash_sets(sets)?;
+    let paths = std::env::join_paths(&files).map_err(|e| e.to_string())?;
+    let elf = build_image(
+        board.target(),
+        features,
+        board.bin(),
+        Stdio::inherit(),
+        &[("TWOCARS_VALUE_TABLES", paths.as_os_str())],
+    )
+    .map_err(|e| format!("firmware build for {board:?} failed ({e})"))?;
+    let kept = elf.with_file_name(format!("{}-tables", board.bin()));
+    std::fs::copy(&elf, &kept).map_err(|e| format!("{}: {e}", kept.display()))?;
+    Ok(kept)
+}
+
+/// Builds the core's binary `bin` for `target` with `features` (release), cargo's own output
+/// to `stdout`; returns the ELF's path. Only the core's own features: a workspace build would
+/// unify in those the host crates enable (`value-tables`), and their code with them
+/// (docs/optimisation.md).
+pub fn build_image(
+    target: &str,
+    features: &str,
+    bin: &str,
+    stdout: Stdio,
+    env: &[(&str, &std::ffi::OsStr)],
+) -> Result<PathBuf, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let status = Command::new(cargo)
+        .current_dir(root())
+        .args(["build", "--package", "twocars", "--release"])
+        .args(["--target", target, "--features", features, "--bin", bin])
+        .env("DEFMT_LOG", "info")
+        .envs(env.iter().copied())
+        .stdout(stdout)
+        .status()
+        .map_err(|e| format!("cargo build: {e}"))?;
+    if !status.success() {
+        return Err(status.to_string());
+    }
+    Ok(root().join("target").join(target).join("release").join(bin))
+}
+
+/// Builds `board`'s image and checks its vector table sits at the board's flash origin (a
+/// wrong memory map links silently otherwise).
+pub fn build_checked(board: Board) -> Result<(PathBuf, crate::firmware::size::ImageSize), String> {
+    let elf = build(board)?;
+    let size = crate::firmware::size::of(&elf)?;
+    // The RP2040's boot ROM runs the 256 bytes at the start of flash: boot2 must be there.
+    if board == Board::Rp2040 && size.boot2 != Some(0x1000_0000) {
+        return Err(format!(
+            "{}: no second-stage bootloader at 0x10000000 ({:?})",
+            board.name(),
+            size.boot2
+        ));
+    }
+    if size.vector_table != board.flash_origin() {
+        return Err(format!(
+            "{}: vector table at {:#010x}, expected the board's flash origin {:#010x}",
+            board.name(),
+            size.vector_table,
+            board.flash_origin()
+        ));
+    }
+    Ok((elf, size))
+}
+
+/// The boards `cargo xtask build` builds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum BoardArg {
+    /// QEMU mps2-an386 (Cortex-M4F): the COBS and the MAVLink images.
+    Qemu,
+    /// STM32F405 flight controller, both images (built and sized only).
+    Stm32f405,
+    /// BBC micro:bit (nRF51822, Cortex-M0, fixed point).
+    Microbit,
+    /// Raspberry Pi Pico (RP2040, Cortex-M0+, fixed point; built and sized only).
+    Rp2040,
+    /// QEMU mps2-an386 with the value tables of two pairs of ratios in flash (solved first,
+    /// about a minute each, then cached).
+    QemuTables,
+    /// STM32F405 with the value tables of the paper's ratios in flash (built and sized only).
+    Stm32f405Tables,
+    /// Every board.
+    All,
+}
+
+/// `cargo xtask build`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BuildArgs {
+    /// The board.
+    #[arg(long, value_enum, default_value = "all")]
+    board: BoardArg,
+}
+
+/// `cargo xtask build [--board qemu|stm32f405|microbit|rp2040|qemu-tables|stm32f405-tables|all]`: builds each image, checks its memory map
+/// and prints its size.
+pub fn build_command(args: &BuildArgs) -> i32 {
+    let boards: Vec<Board> = match args.board {
+        BoardArg::Qemu => vec![Board::Qemu, Board::QemuMavlink],
+        BoardArg::Stm32f405 => vec![Board::Stm32f405, Board::Stm32f405Mavlink],
+        BoardArg::Microbit => vec![Board::Microbit],
+        BoardArg::Rp2040 => vec![Board::Rp2040],
+        BoardArg::QemuTables => vec![Board::QemuTables],
+        BoardArg::Stm32f405Tables => vec![Board::Stm32f405Tables],
+        BoardArg::All => Board::ALL.to_vec(),
+    };
+    let mut rows = Vec::new();
+    for board in boards {
+        match build_checked(board) {
+            Ok((elf, s)) => rows.push(format!(
+                "| {} | {} | {} | {:#010x} | {} B ({} + {} + {}) | {} B ({} + {}) |",
+                board.name(),
+                board.target(),
+                elf.file_name()
+                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+                s.entry,
+                s.flash(),
+                s.text,
+                s.rodata,
+                s.data,
+                s.ram(),
+                s.data,
+                s.bss
+            )),
+            Err(e) => {
+                eprintln!("xtask build: {e}");
+                return 1;
+            }
+        }
+    }
+    println!("| board | target | image | entry | flash (text + rodata + data) | static RAM (data + bss) |");
+    println!("|---|---|---|---|---|---|");
+    for row in rows {
+        println!("{row}");
+    }
+    0
+}

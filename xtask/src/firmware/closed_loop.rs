@@ -1,0 +1,257 @@
+//! The closed loop with the firmware: the host integrates both vehicles exactly, sends a State
+//! every control period over the serial link, applies the firmware's turn rates (the host law
+//! plays a role the firmware does not compute), and stops at capture or timeout.
+
+use std::collections::VecDeque;
+
+use host_tests::adversary::{Adversary, EvaderKind, Opponent};
+use host_tests::link::{self, Reply, ReplyDecoder};
+use host_tests::sim::{closed_loop, SimParams, SimResult, StepCommand};
+use twocars::protocol::endpoint::Unit;
+use twocars::protocol::message::{Configure, Counters, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use twocars::value_tables::ValueTables;
+use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant, VehicleState};
+
+use crate::firmware::qemu::Qemu;
+
+/// A serial link to a guidance unit: the firmware in QEMU, or the same unit in this process.
+pub trait Link {
+    /// Sends raw bytes.
+    fn send(&mut self, bytes: &[u8]) -> Result<(), String>;
+    /// The next reply.
+    fn reply(&mut self) -> Result<Reply, String>;
+}
+
+impl Link for Qemu {
+    fn send(&mut self, bytes: &[u8]) -> Result<(), String> {
+        Qemu::send(self, bytes)
+    }
+    fn reply(&mut self) -> Result<Reply, String> {
+        Qemu::reply(self)
+    }
+}
+
+/// The guidance unit on backend `S` in this process, fed the frames a firmware image would be:
+/// the host's twin of the image, for a bit-for-bit comparison (its clock stands still).
+pub struct HostUnit<S> {
+    unit: Unit<S>,
+    decoder: ReplyDecoder,
+    pending: VecDeque<Reply>,
+}
+
+impl<S: Scalar> HostUnit<S> {
+    /// An unconfigured unit.
+    pub fn new() -> Self {
+        HostUnit {
+            unit: Unit::new(),
+            decoder: ReplyDecoder::default(),
+            pending: VecDeque::new(),
+        }
+    }
+
+    /// An unconfigured unit with value tables, as an image carrying them.
+    pub fn with_tables(tables: &'static [ValueTables<'static>]) -> Self {
+        let mut host = Self::new();
+        host.unit.set_tables(tables);
+        host
+    }
+}
+
+impl<S: Scalar> Link for HostUnit<S> {
+    fn send(&mut self, bytes: &[u8]) -> Result<(), String> {
+        for &byte in bytes {
+            if let Some(reply) = self.unit.receive(byte, 0) {
+                for r in self.decoder.feed(reply.as_bytes()) {
+                    self.pending
+                        .push_back(r.map_err(|e| format!("undecodable reply: {e:?}"))?);
+                }
+            }
+        }
+        Ok(())
+    }
+    fn reply(&mut self) -> Result<Reply, String> {
+        self.pending
+            .pop_front()
+            .ok_or_else(|| "the unit sent no reply".to_string())
+    }
+}
+
+/// What one firmware run shows besides the simulation figures.
+#[derive(Debug, Clone)]
+pub struct FirmwareRun {
+    /// Capture time, switches, sign flips, ...
+    pub result: SimResult,
+    /// The firmware's predicted capture time in its first Command, seconds.
+    pub predicted: f64,
+    /// State frames sent.
+    pub states_sent: u64,
+    /// Command frames received.
+    pub commands_received: u64,
+    /// Error frames received.
+    pub errors_received: u64,
+}
+
+fn circle(code: u8) -> Option<Direction> {
+    match code {
+        0 => Some(Direction::Anticlockwise),
+        1 => Some(Direction::Clockwise),
+        _ => None,
+    }
+}
+
+/// Configures the firmware and runs one closed loop.
+pub fn run_case(
+    qemu: &mut impl Link,
+    sequence: &mut u16,
+    params: &SimParams,
+    roles: u8,
+    how: (Variant, Policy),
+) -> Result<FirmwareRun, String> {
+    run_against(qemu, sequence, params, roles, how, None)
+}
+
+/// [`run_case`] with the evader played by an adversary of the suite (`opponent`, its seed)
+/// in place of the firmware's or the host law's evader; the Configure's ack must say `policy`.
+pub fn run_against(
+    qemu: &mut impl Link,
+    sequence: &mut u16,
+    params: &SimParams,
+    roles: u8,
+    (variant, policy): (Variant, Policy),
+    opponent: Option<(EvaderKind, u64)>,
+) -> Result<FirmwareRun, String> {
+    let limits32 = params.limits.map(|v| v as f32);
+    let configure = Configure {
+        limits: limits32,
+        dt: params.dt as f32,
+        watchdog: 1.0,
+        roles,
+        variant: match variant {
+            Variant::Paper => 0,
+            Variant::Clamped => 1,
+        },
+        policy: match policy {
+            Policy::Paper => 0,
+            Policy::Flight => 1,
+            Policy::Table => 2,
+        },
+    };
+    *sequence = sequence.wrapping_add(1);
+    qemu.send(&link::configure(*sequence, &configure))?;
+    match qemu.reply()? {
+        Reply::ConfigureAck(s, Some(p)) if s == *sequence && p == configure.policy => {}
+        other => return Err(format!("Configure refused or another policy: {other:?}")),
+    }
+    let [v_pm, w_pm, v_em, w_em] = limits32;
+    let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|s| s.name().to_string())?;
+    let mut host = Guidance::new(Law::new(limits, variant), params.dt as f32)
+        .map_err(|_| "invalid dt".to_string())?
+        .with_policy(policy);
+    let mut run = FirmwareRun {
+        result: SimResult::empty(host_tests::sim::SimStatus::Timeout, f64::INFINITY),
+        predicted: f64::NAN,
+        states_sent: 0,
+        commands_received: 0,
+        errors_received: 0,
+    };
+    let params = SimParams {
+        limits: limits32.map(f64::from),
+        ..*params
+    };
+    let mut adversary = match opponent {
+        Some((kind, seed)) => Some(
+            Adversary::new(
+                Opponent::Evader(kind),
+                params.limits,
+                params.dt,
+                params.eps,
+                seed,
+            )
+            .ok_or("no adversary for these limits")?,
+        ),
+        None => None,
+    };
+    let result = closed_loop(&params, false, |t, p, e| {
+        *sequence = sequence.wrapping_add(1);
+        let state = StateMsg {
+            time_ms: (t * 1000.0).round() as u32,
+            pursuer: p.map(|v| v as f32),
+            evader: e.map(|v| v as f32),
+        };
+        qemu.send(&link::state(*sequence, &state))?;
+        run.states_sent += 1;
+        let reply = qemu.reply()?;
+        let (rate_p, rate_e, choice) = match reply {
+            Reply::Command(s, c) if s == *sequence => {
+                run.commands_received += 1;
+                if run.predicted.is_nan() {
+                    run.predicted = f64::from(c.predicted);
+                }
+                (
+                    c.pursuer_rate,
+                    c.evader_rate,
+                    circle(c.row).zip(circle(c.col)),
+                )
+            }
+            Reply::Error(..) => {
+                run.errors_received += 1;
+                (0.0, 0.0, None)
+            }
+            other => return Err(format!("unexpected reply at t = {t}: {other:?}")),
+        };
+        // The host law plays any role the firmware does not compute.
+        let host_command = match (
+            VehicleState::<f32>::new(state.pursuer[0], state.pursuer[1], state.pursuer[2]),
+            VehicleState::<f32>::new(state.evader[0], state.evader[1], state.evader[2]),
+        ) {
+            (Ok(ps), Ok(es)) => host.step(&ps, &es).command,
+            _ => twocars::Command::straight(),
+        };
+        let pursuer = if roles & ROLE_PURSUER != 0 {
+            f64::from(rate_p / v_pm)
+        } else {
+            f64::from(host_command.pursuer)
+        };
+        let evader = if roles & ROLE_EVADER != 0 {
+            f64::from(rate_e / v_em)
+        } else {
+            f64::from(host_command.evader)
+        };
+        let mut command = StepCommand::full_speed(pursuer, evader, choice);
+        if let Some(adversary) = adversary.as_mut() {
+            (command.evader, command.evader_speed) = {
+                let (w, v) = adversary.command(t, p, e);
+                (w, Some(v))
+            };
+        }
+        Ok::<_, String>(command)
+    })?;
+    run.result = result;
+    Ok(run)
+}
+
+/// Reads the firmware's counters.
+pub fn counters(qemu: &mut impl Link, sequence: &mut u16) -> Result<Counters, String> {
+    *sequence = sequence.wrapping_add(1);
+    qemu.send(&link::read_counters(*sequence))?;
+    match qemu.reply()? {
+        Reply::Counters(_, c) => Ok(c),
+        other => Err(format!("expected Counters, got {other:?}")),
+    }
+}
+
+/// Ends the session: Shutdown, its acknowledgement, QEMU's exit code.
+pub fn shutdown(mut qemu: Qemu, sequence: &mut u16) -> Result<i32, String> {
+    *sequence = sequence.wrapping_add(1);
+    qemu.send(&link::shutdown(*sequence))?;
+    match qemu.reply()? {
+        Reply::ShutdownAck(s) if s == *sequence => {}
+        other => {
+            return Err(format!(
+                "expected the Shutdown acknowledgement, got {other:?}"
+            ))
+        }
+    }
+    let status = qemu.wait_exit()?;
+    Ok(status.code().unwrap_or(-1))
+}

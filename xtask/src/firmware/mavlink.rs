@@ -1,0 +1,296 @@
+//! `cargo xtask run --link mavlink` and the MAVLink checks of `cargo xtask test`: the MAVLink
+//! image in QEMU, pymavlink (from the Python package index, in a virtual environment under
+//! `target/`) playing the autopilot and the target (`xtask/mavlink_peer.py`).
+//!
+//! In the closed loop this process integrates both vehicles exactly (`host_tests::sim`), turns
+//! their states into the fixes an autopilot reports (`host_tests::autopilot`), applies the
+//! commanded yaw rate to the pursuer and plays the paper's law for the evader. The paper's four
+//! cases run at ten times its lengths and speeds (the same times), so that GPS resolution
+//! (1 cm) is far below the capture radius.
+
+use std::io::{BufRead, BufReader, Write};
+use std::path::PathBuf;
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+
+use host_tests::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
+use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
+use host_tests::sim::{advance, closed_loop, wrap_pi, SimParams, SimStatus, StepCommand};
+use twocars::{Guidance, Law, Limits, Policy, Variant, VehicleState};
+
+use crate::firmware::build::{self, Board};
+use crate::firmware::qemu;
+
+/// pymavlink's version in the virtual environment.
+const PYMAVLINK: &str = "pymavlink==2.4.49";
+/// Lengths and speeds times this (times unchanged).
+const SCALE: f64 = 10.0;
+/// Control period, s.
+const DT: f64 = 0.01;
+/// Capture distance at the scale, metres (`cargo xtask run`'s 0.01 m, scaled).
+const EPS: f64 = 0.01 * SCALE;
+/// A capture within this many periods of the reference counts as on time.
+const ON_TIME_PERIODS: f64 = 5.0;
+/// The paper's four cases' captures in `cargo xtask run` under the paper's law (plus
+/// eps / (v_pm - v_em)), seconds: the reference. Case 3's upper value at t = 0 is 5.1641.
+const REFERENCE: [f64; 4] = [5.6575, 6.6072, 5.1265, 5.9778];
+
+/// The virtual environment's Python with pymavlink, created on first use.
+pub fn python() -> Result<PathBuf, String> {
+    let venv = crate::workspace::root().join("target/mavlink-venv");
+    let python = venv.join("bin/python");
+    let has_pymavlink = |p: &PathBuf| {
+        Command::new(p)
+            .args(["-c", "import pymavlink"])
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if has_pymavlink(&python) {
+        return Ok(python);
+    }
+    crate::setup::python_venv()?;
+    eprintln!("xtask: installing {PYMAVLINK} into target/mavlink-venv (first use)");
+    let created = Command::new("python3")
+        .args(["-m", "venv"])
+        .arg(&venv)
+        .status()
+        .is_ok_and(|s| s.success());
+    let installed = created
+        && Command::new(&python)
+            .args(["-m", "pip", "install", "--quiet", PYMAVLINK])
+            .status()
+            .is_ok_and(|s| s.success());
+    if installed && has_pymavlink(&python) {
+        Ok(python)
+    } else {
+        Err(format!(
+            "could not install {PYMAVLINK} into {} (is the Python package index reachable?)",
+            venv.display()
+        ))
+    }
+}
+
+fn peer_script() -> PathBuf {
+    crate::workspace::root().join("xtask/mavlink_peer.py")
+}
+
+/// The MAVLink image in QEMU and the scripted pymavlink session against it; Err with what failed.
+pub fn scripted_session() -> Result<(), String> {
+    let python = python()?;
+    let (elf, _) = build::build_checked(Board::QemuMavlink)?;
+    let launched = qemu::launch(&elf, Board::QemuMavlink, false)?;
+    let status = Command::new(python)
+        .arg(peer_script())
+        .args(["session", &launched.port.to_string()])
+        .status()
+        .map_err(|e| format!("mavlink_peer.py: {e}"))?;
+    drop(launched);
+    if status.success() {
+        Ok(())
+    } else {
+        Err("the scripted MAVLink session failed".to_string())
+    }
+}
+
+/// The pymavlink peer in `serve` mode: one JSON request, one JSON answer.
+struct Peer {
+    child: Child,
+    input: ChildStdin,
+    output: BufReader<ChildStdout>,
+}
+
+impl Peer {
+    fn start(port: u16) -> Result<Peer, String> {
+        let mut child = Command::new(python()?)
+            .arg(peer_script())
+            .args(["serve", &port.to_string()])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .spawn()
+            .map_err(|e| format!("mavlink_peer.py: {e}"))?;
+        let (Some(input), Some(output)) = (child.stdin.take(), child.stdout.take()) else {
+            return Err("mavlink_peer.py: no pipes".to_string());
+        };
+        Ok(Peer {
+            child,
+            input,
+            output: BufReader::new(output),
+        })
+    }
+
+    fn ask(&mut self, request: &str) -> Result<String, String> {
+        writeln!(self.input, "{request}").map_err(|e| format!("to mavlink_peer.py: {e}"))?;
+        let mut line = String::new();
+        self.output
+            .read_line(&mut line)
+            .map_err(|e| format!("from mavlink_peer.py: {e}"))?;
+        if line.is_empty() {
+            return Err("mavlink_peer.py stopped".to_string());
+        }
+        Ok(line.trim().to_string())
+    }
+}
+
+impl Drop for Peer {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// A number after `"key": ` in a flat JSON answer.
+fn field(answer: &str, key: &str) -> Option<f64> {
+    let at = answer.find(&format!("\"{key}\": "))? + key.len() + 4;
+    let rest = answer.get(at..)?;
+    let end = rest.find([',', '}']).unwrap_or(rest.len());
+    let text = rest.get(..end)?.trim();
+    match text {
+        "Infinity" => Some(f64::INFINITY),
+        "-Infinity" => Some(f64::NEG_INFINITY),
+        "NaN" => Some(f64::NAN),
+        t => t.parse().ok(),
+    }
+}
+
+/// The GLOBAL_POSITION_INT fields of a vehicle at `state` (metres north and east of home,
+/// heading clockwise from north) moving at `speed`, stamped `time_ms`, as a JSON array.
+fn report(plane: &Plane, time_ms: u32, state: [f64; 3], speed: f64) -> String {
+    let (lat, lon) = plane.fix(state[0], state[1]);
+    let (vx, vy) = velocity_cm_s(speed, state[2]);
+    format!(
+        "[{time_ms}, [{lat}, {lon}], [{vx}, {vy}], {}]",
+        hdg_cdeg(state[2])
+    )
+}
+
+/// `cargo xtask run --link mavlink`: the paper's cases at ten times their scale with the
+/// firmware flying the pursuer over MAVLink; returns the exit code.
+pub fn run() -> i32 {
+    match run_cases() {
+        Ok(true) => 0,
+        Ok(false) => 1,
+        Err(e) => {
+            eprintln!("xtask run --link mavlink: {e}");
+            1
+        }
+    }
+}
+
+/// The closed loop of `run --link mavlink`: whether every capture was on time.
+pub fn run_cases() -> Result<bool, String> {
+    let limits = PAPER_LIMITS.map(|v| v as f32);
+    // Speeds times the scale, curvatures divided by it.
+    let scaled = [
+        limits[0] * SCALE as f32,
+        limits[1] / SCALE as f32,
+        limits[2] * SCALE as f32,
+        limits[3] / SCALE as f32,
+    ];
+    let (elf, size) = build::build_checked(Board::QemuMavlink)?;
+    println!(
+        "twocars-qemu-mavlink: {} B flash; pymavlink plays the autopilot (system 1) and the target (system 2)",
+        size.flash()
+    );
+    let launched = qemu::launch(&elf, Board::QemuMavlink, false)?;
+    let mut peer = Peer::start(launched.port)?;
+    let heartbeat = peer.ask(r#"{"op": "heartbeat"}"#)?;
+    println!("unit's heartbeat: {heartbeat}");
+    let mut ok = heartbeat.contains("\"component\": 191") && heartbeat.contains("\"type\": 18");
+    // Each step keeps the limits valid: speeds first, then the evader's curvature.
+    for (name, value) in [
+        ("TC_V_PM", scaled[0]),
+        ("TC_V_EM", scaled[2]),
+        ("TC_W_EM", scaled[3]),
+        ("TC_W_PM", scaled[1]),
+    ] {
+        let answer = peer.ask(&format!(
+            r#"{{"op": "set", "name": "{name}", "value": {value}}}"#
+        ))?;
+        let read_back = field(&answer, "value");
+        println!("PARAM_SET {name} = {value}: PARAM_VALUE {answer}");
+        ok &= read_back == Some(f64::from(value));
+    }
+    println!("PARAM_REQUEST_LIST: {}", peer.ask(r#"{"op": "list"}"#)?);
+    let [v_pm, w_pm, v_em, w_em] = scaled;
+    let law_limits =
+        Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|s| s.name().to_string())?;
+    let plane = Plane::new(HOME);
+    let mut clock_ms = 0_u32;
+    for (case, reference) in paper_cases().into_iter().zip(REFERENCE) {
+        let params = SimParams {
+            limits: scaled.map(f64::from),
+            pursuer: [
+                case.pursuer[0] * SCALE,
+                case.pursuer[1] * SCALE,
+                case.pursuer[2],
+            ],
+            evader: [
+                case.evader[0] * SCALE,
+                case.evader[1] * SCALE,
+                case.evader[2],
+            ],
+            dt: DT,
+            t_max: 30.0,
+            eps: EPS,
+        };
+        // The evader plays the paper's law on the exact states.
+        let mut evader_law = Guidance::new(Law::new(law_limits, Variant::Paper), DT as f32)
+            .map_err(|_| "invalid dt".to_string())?
+            .with_policy(Policy::Paper);
+        let mut pursuer = params.pursuer;
+        let mut first_tc_t = None;
+        let mut setpoints = 0_u64;
+        let result = closed_loop(&params, false, |_, local_p, local_e| {
+            // closed_loop gives the states about the pursuer; the autopilot reports fixes.
+            let evader = [pursuer[0] + local_e[0], pursuer[1] + local_e[1], local_e[2]];
+            let request = format!(
+                r#"{{"op": "step", "own": {}, "target": {}}}"#,
+                report(&plane, clock_ms, pursuer, params.limits[0]),
+                report(&plane, clock_ms, evader, params.limits[2]),
+            );
+            clock_ms += (DT * 1000.0) as u32;
+            let answer = peer.ask(&request)?;
+            let rate = field(&answer, "yaw_rate")
+                .ok_or_else(|| format!("no setpoint for the own state: {answer}"))?;
+            setpoints += 1;
+            if first_tc_t.is_none() {
+                first_tc_t = field(&answer, "tc_t");
+            }
+            let evader_w = match (
+                VehicleState::<f32>::new(local_p[0] as f32, local_p[1] as f32, local_p[2] as f32),
+                VehicleState::<f32>::new(local_e[0] as f32, local_e[1] as f32, local_e[2] as f32),
+            ) {
+                (Ok(p), Ok(e)) => f64::from(evader_law.step(&p, &e).command.evader),
+                _ => 0.0,
+            };
+            let pursuer_w = rate / params.limits[0];
+            // The same step closed_loop takes: the pursuer's absolute state for the next fix.
+            let next = advance(pursuer, params.limits[0], pursuer_w, DT);
+            pursuer = [next[0], next[1], wrap_pi(next[2])];
+            Ok::<_, String>(StepCommand::full_speed(pursuer_w, evader_w, None))
+        })?;
+        let closing = result.t_capture + EPS / (params.limits[0] - params.limits[2]);
+        let late = (closing - reference) / DT;
+        let on_time = result.status == SimStatus::Captured && late.abs() <= ON_TIME_PERIODS;
+        ok &= on_time;
+        println!(
+            "{}: firmware over MAVLink: {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); \
+             reference {reference:.4} s: {:+.2} control periods ({}); first TC_T {:.4} s (upper value {:.4} s); {setpoints} setpoints",
+            case.name,
+            result.status.name(),
+            result.t_capture,
+            closing,
+            late,
+            if on_time { "within 5" } else { "NOT WITHIN 5" },
+            first_tc_t.unwrap_or(f64::NAN),
+            case.expected_value,
+        );
+        // The next case starts fresh: both states go stale (TC_TIMEOUT 1 s), which the unit
+        // announces and which resets its guidance.
+        peer.ask(r#"{"op": "quiet", "seconds": 1.2}"#)?;
+        clock_ms += 10_000;
+    }
+    drop(peer);
+    drop(launched);
+    Ok(ok)
+}

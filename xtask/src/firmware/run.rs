@@ -1,0 +1,442 @@
+//! `cargo xtask run`: the main job. The firmware runs in QEMU (mps2-an386), its UART on a
+//! loopback TCP link to the host simulator, which integrates both vehicles exactly and sends a
+//! State every control period; per case it prints the law's matrix at t = 0, the capture time in
+//! closed loop with the firmware, the host-only simulation of the same case, frames and counters.
+
+use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
+use host_tests::sim::{SimParams, SimStatus};
+use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
+use twocars::value_tables::ValueTables;
+use twocars::{evaluate_observation, Observation, Policy, Scalar};
+
+use crate::firmware::build::{self, Board};
+use crate::firmware::closed_loop;
+use crate::firmware::qemu::Qemu;
+use crate::host::options::{with_numeric, LawArgs, Options};
+
+/// Capture distance, metres.
+const EPS: f64 = 0.01;
+/// Largest |firmware - host| capture-time difference accepted, in control periods.
+const AGREEMENT_PERIODS: f64 = 3.0;
+
+/// Options of `run`.
+#[derive(Debug, Clone)]
+struct RunOptions {
+    cases: Vec<Case>,
+    limits: [f64; 4],
+    dt: f64,
+    t_max: f64,
+    roles: u8,
+    host_only: bool,
+}
+
+/// Which players the firmware plays (the host law plays the other).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Roles {
+    /// Both players.
+    Both,
+    /// The pursuer only.
+    Pursuer,
+    /// The evader only.
+    Evader,
+}
+
+/// `cargo xtask run`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub law: LawArgs,
+    /// A paper case (paper1..paper4) or all; repeatable; default all.
+    #[arg(long, value_parser = ["paper1", "paper2", "paper3", "paper4", "all"])]
+    case: Vec<String>,
+    /// Control period, seconds.
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// Longest run, seconds.
+    #[arg(long, default_value_t = 30.0)]
+    t_max: f64,
+    /// The players the firmware plays; the host's law plays the other.
+    #[arg(long, value_enum, default_value = "both")]
+    roles: Roles,
+    /// Limits v_pm,w_pm,v_em,w_em (m/s, 1/m, m/s, 1/m); default the paper's 2,2,1,1.
+    #[arg(long, value_parser = crate::workspace::numbers::<4>)]
+    limits: Option<[f64; 4]>,
+    /// A custom start: the pursuer's x,y,theta (m, m, rad), with --evader.
+    #[arg(long, value_parser = crate::workspace::numbers::<3>, requires = "evader")]
+    pursuer: Option<[f64; 3]>,
+    /// A custom start: the evader's x,y,theta (m, m, rad), with --pursuer.
+    #[arg(long, value_parser = crate::workspace::numbers::<3>, requires = "pursuer")]
+    evader: Option<[f64; 3]>,
+    /// The host simulation only, no QEMU.
+    #[arg(long)]
+    pub host_only: bool,
+    /// The board QEMU runs: mps2-an386 (Cortex-M4F, f32) or the micro:bit (Cortex-M0, the
+    /// fixed-point law; the host then simulates fixed point too, and runs the same unit in this
+    /// process to compare bit for bit).
+    #[arg(long, value_enum, default_value = "qemu")]
+    board: RunBoard,
+    /// The firmware's link: our COBS protocol, or MAVLink 2 with pymavlink playing the
+    /// autopilot and the target (the paper's cases at ten times their scale; docs/mavlink.md).
+    #[arg(long, value_enum, default_value = "cobs")]
+    link: RunLink,
+}
+
+/// The links `run` can fly the firmware over.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunLink {
+    /// The COBS protocol (docs/protocol.md).
+    Cobs,
+    /// MAVLink 2 (the `twocars-qemu-mavlink` image).
+    Mavlink,
+}
+
+/// The boards `run` can put in QEMU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunBoard {
+    /// QEMU mps2-an386 (Cortex-M4F, f32 law).
+    Qemu,
+    /// QEMU microbit (nRF51822, Cortex-M0, fixed-point law).
+    Microbit,
+    /// QEMU mps2-an386 with the value tables in flash: the policy defaults to the
+    /// tables' (Configure's policy byte 2), and the host simulation plays the same tables.
+    QemuTables,
+}
+
+/// A start below the theorem's threshold at the paper's limits, where the tables play: the
+/// evader 1.1 m behind and to the left of the pursuer, turning across its path.
+const NEAR_CASE: Case = Case {
+    name: "near",
+    pursuer: [0.0, 0.0, 0.0],
+    evader: [-0.85, 0.75, -0.9],
+    expected_value: f64::NAN,
+};
+
+fn parse(args: &RunArgs) -> Result<RunOptions, String> {
+    let tables = args.board == RunBoard::QemuTables;
+    let mut o = RunOptions {
+        cases: Vec::new(),
+        limits: args.limits.unwrap_or(PAPER_LIMITS),
+        dt: args.dt,
+        t_max: args.t_max,
+        roles: match args.roles {
+            Roles::Both => ROLE_PURSUER | ROLE_EVADER,
+            Roles::Pursuer => ROLE_PURSUER,
+            Roles::Evader => ROLE_EVADER,
+        },
+        host_only: args.host_only,
+    };
+    for name in &args.case {
+        o.cases.extend(
+            paper_cases()
+                .into_iter()
+                .filter(|c| name == "all" || c.name == name.as_str()),
+        );
+    }
+    if let (Some(p), Some(e)) = (args.pursuer, args.evader) {
+        o.cases.push(Case {
+            name: "custom",
+            pursuer: p,
+            evader: e,
+            expected_value: f64::NAN,
+        });
+    }
+    if o.cases.is_empty() {
+        o.cases.extend(paper_cases());
+        if tables {
+            o.cases.push(NEAR_CASE);
+        }
+    }
+    if !(o.dt.is_finite() && o.dt > 0.0 && o.t_max.is_finite() && o.t_max > 0.0) {
+        return Err("--dt and --t-max must be positive".to_string());
+    }
+    Ok(o)
+}
+
+fn observation(o: &RunOptions, case: &Case) -> Observation {
+    Observation {
+        limits: o.limits.map(|v| v as f32),
+        pursuer: case.pursuer.map(|v| v as f32),
+        evader: case.evader.map(|v| v as f32),
+    }
+}
+
+/// Prints the law's matrix at t = 0; false if a paper value is off by more than 1e-3 s.
+fn show_matrix<S: Scalar>(o: &RunOptions, case: &Case, options: &Options) -> bool {
+    let evaluation = evaluate_observation::<S>(&observation(o, case), options.variant);
+    println!();
+    println!(
+        "{}: p0 = {:?}, e0 = {:?}: status {}",
+        case.name,
+        case.pursuer,
+        case.evader,
+        evaluation.status.name()
+    );
+    let Some(report) = evaluation.report else {
+        return case.expected_value.is_nan();
+    };
+    let units = evaluation.units;
+    let f = |v: Option<S>| v.map_or("inf".to_string(), |v| format!("{:9.4}", units.seconds(v)));
+    let m = report.matrix().entries;
+    println!("             evader A   evader C");
+    println!("  pursuer A {}  {}", f(m[0][0]), f(m[0][1]));
+    println!("  pursuer C {}  {}", f(m[1][0]), f(m[1][1]));
+    let s = report.solution;
+    println!(
+        "  pursuer plays {}, evader plays {}; upper {} s, lower {} s, saddle {}{}",
+        s.row.letter(),
+        s.col.letter(),
+        f(s.upper).trim(),
+        f(s.lower).trim(),
+        s.saddle(),
+        report
+            .matrix()
+            .mixed_value()
+            .map_or(String::new(), |v| format!(
+                ", mixed value {:.4} s",
+                units.seconds(v)
+            )),
+    );
+    let predicted = s.upper.map_or(f64::INFINITY, |v| units.seconds(v));
+    if case.expected_value.is_nan() {
+        println!("  predicted capture time {predicted:.4} s");
+        true
+    } else {
+        println!(
+            "  predicted capture time {predicted:.4} s (independent f64: {:.4} s)",
+            case.expected_value
+        );
+        (predicted - case.expected_value).abs() <= 1e-3
+    }
+}
+
+fn params(o: &RunOptions, case: &Case) -> SimParams {
+    SimParams {
+        limits: o.limits,
+        pursuer: case.pursuer,
+        evader: case.evader,
+        dt: o.dt,
+        t_max: o.t_max,
+        eps: EPS,
+    }
+}
+
+fn closing(o: &RunOptions, t: f64) -> f64 {
+    t + EPS / (o.limits[0] - o.limits[2])
+}
+
+/// The micro:bit image's twin: the same fixed-point unit in this process, fed the same frames;
+/// prints the difference of the capture times (0 when the M0 computes what the host does, bit
+/// for bit) and whether the two runs are identical.
+fn twin_agrees(
+    o: &RunOptions,
+    case: &Case,
+    options: &Options,
+    firmware: &host_tests::sim::SimResult,
+) -> bool {
+    let mut twin = closed_loop::HostUnit::<twocars::num::fixed::Fixed>::new();
+    let mut sequence = 0u16;
+    match closed_loop::run_case(
+        &mut twin,
+        &mut sequence,
+        &params(o, case),
+        o.roles,
+        (options.variant, options.policy),
+    ) {
+        Ok(t) => {
+            let r = &t.result;
+            let same = r.status == firmware.status
+                && r.t_capture.to_bits() == firmware.t_capture.to_bits()
+                && r.switches == firmware.switches
+                && r.sign_flips == firmware.sign_flips;
+            println!(
+                "  the same unit on the host (fixed point): {}, captured at {:.4} s; firmware - host: {} s ({})",
+                r.status.name(),
+                r.t_capture,
+                firmware.t_capture - r.t_capture,
+                if same { "identical runs" } else { "RUNS DIFFER" }
+            );
+            same
+        }
+        Err(e) => {
+            eprintln!("xtask run: the host twin: {e}");
+            false
+        }
+    }
+}
+
+/// Prints the tables' V(x0) for `case`: the time to capture at the tables' radius (one r_p)
+/// under optimal play by both sides; none beyond the threshold or inside the disc.
+fn print_table_value(o: &RunOptions, case: &Case, set: &ValueTables<'_>) {
+    let [v_pm, w_pm, ..] = o.limits;
+    let (x, y, phi) = host_tests::hj_policy::relative(w_pm, case.pursuer, case.evader);
+    match set.value(x as f32, y as f32, phi as f32) {
+        Some(v) => println!(
+            "  the tables' V(x0): {:.4} s to capture within {} m (one r_p) under optimal play by both sides",
+            f64::from(v) / (w_pm * v_pm),
+            1.0 / w_pm
+        ),
+        None => println!("  the tables do not play here (beyond the threshold or in the capture disc): the paper's law"),
+    }
+}
+
+/// Runs the main job; returns the exit code.
+pub fn run(args: &RunArgs) -> i32 {
+    if args.link == RunLink::Mavlink {
+        return crate::firmware::mavlink::run();
+    }
+    let tables_board = args.board == RunBoard::QemuTables;
+    let mut options = args.law.options(if tables_board {
+        Policy::Table
+    } else {
+        Policy::Flight
+    });
+    let board = match args.board {
+        RunBoard::Qemu => Board::Qemu,
+        RunBoard::Microbit => {
+            // The image's law: the host simulates the same backend.
+            options.numeric = crate::host::options::Numeric::Fixed;
+            Board::Microbit
+        }
+        RunBoard::QemuTables => {
+            // The image's law is f32's; the tables are read in f32.
+            options.numeric = crate::host::options::Numeric::F32;
+            Board::QemuTables
+        }
+    };
+    let options = &options;
+    let o = match parse(args) {
+        Ok(o) => o,
+        Err(e) => {
+            eprintln!("xtask run: {e}");
+            return 2;
+        }
+    };
+    let [v_pm, w_pm, v_em, w_em] = o.limits;
+    println!(
+        "limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m; variant {:?}, policy {:?}, numeric {:?}",
+        options.variant, options.policy, options.numeric
+    );
+    // The set the image plays at these limits (the same files it was built with).
+    let tables = if tables_board && options.policy == Policy::Table {
+        match crate::firmware::tables::table_set(o.limits, options.variant, o.dt) {
+            Ok(set) => Some(set),
+            Err(e) => {
+                eprintln!("xtask run: {e}");
+                return 2;
+            }
+        }
+    } else {
+        None
+    };
+    let mut ok = true;
+    let mut session = None;
+    if !o.host_only {
+        let started =
+            build::build_checked(board).and_then(|(elf, _)| Qemu::start(&elf, board, true));
+        match started {
+            Ok(q) => session = Some(q),
+            Err(e) => {
+                eprintln!("xtask run: {e}");
+                return 1;
+            }
+        }
+    }
+    let mut sequence = 0u16;
+    for case in &o.cases {
+        ok &= with_numeric!(options.numeric, S => show_matrix::<S>(&o, case, options));
+        let host = match tables {
+            Some(set) => {
+                print_table_value(&o, case, set);
+                host_tests::sim::simulate_with_turns::<f32>(
+                    &params(&o, case),
+                    options.variant,
+                    options.policy,
+                    None,
+                    false,
+                    [&|_, _| None, &|_, _| None],
+                    host_tests::sim::Setup {
+                        tables: Some(set),
+                        ..Default::default()
+                    },
+                )
+            }
+            None => crate::host::sim::run_one(&params(&o, case), options, None, false),
+        };
+        println!(
+            "  host simulation (dt = {} s): {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); {} switches, {} sign flips",
+            o.dt,
+            host.status.name(),
+            host.t_capture,
+            closing(&o, host.t_capture),
+            host.switches,
+            host.sign_flips
+        );
+        let Some(q) = session.as_mut() else { continue };
+        match closed_loop::run_case(
+            q,
+            &mut sequence,
+            &params(&o, case),
+            o.roles,
+            (options.variant, options.policy),
+        ) {
+            Ok(fw) => {
+                let r = &fw.result;
+                let diff = r.t_capture - host.t_capture;
+                println!(
+                    "  firmware in QEMU: {}, captured at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s), firmware's prediction {:.4} s; \
+                     vs host: {:+.6} s ({:+.2} control periods); {} States sent, {} Commands and {} Errors received; {} switches, {} sign flips",
+                    r.status.name(),
+                    r.t_capture,
+                    closing(&o, r.t_capture),
+                    fw.predicted,
+                    diff,
+                    diff / o.dt,
+                    fw.states_sent,
+                    fw.commands_received,
+                    fw.errors_received,
+                    r.switches,
+                    r.sign_flips
+                );
+                let agree = r.status == host.status
+                    && (r.status != SimStatus::Captured || diff.abs() <= AGREEMENT_PERIODS * o.dt);
+                ok &= agree;
+                if board == Board::Microbit {
+                    ok &= twin_agrees(&o, case, options, r);
+                }
+            }
+            Err(e) => {
+                eprintln!("xtask run: {}: {e}", case.name);
+                return 1;
+            }
+        }
+    }
+    if let Some(mut q) = session {
+        match closed_loop::counters(&mut q, &mut sequence) {
+            Ok(c) => println!(
+                "\nfirmware counters: {} messages accepted, {} refused {:?}, {} watchdog expiries; {} bytes sent, {} frames received",
+                c.accepted,
+                c.errors.iter().sum::<u32>(),
+                c.errors,
+                c.stale,
+                q.bytes_sent,
+                q.frames_received
+            ),
+            Err(e) => {
+                eprintln!("xtask run: {e}");
+                return 1;
+            }
+        }
+        match closed_loop::shutdown(q, &mut sequence) {
+            Ok(0) => println!("firmware exited with code 0"),
+            Ok(code) => {
+                println!("firmware exited with code {code}");
+                ok = false;
+            }
+            Err(e) => {
+                eprintln!("xtask run: {e}");
+                return 1;
+            }
+        }
+    }
+    i32::from(!ok)
+}

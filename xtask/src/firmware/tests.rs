@@ -1,0 +1,398 @@
+//! Tests of the firmware in QEMU (part of `cargo xtask test`): the scripted session answered
+//! exactly like the host's unit, the closed loop equal to the host simulation, the watchdog, and
+//! exit code 0 after Shutdown.
+
+use std::time::Duration;
+
+use host_tests::link::{Reply, ReplyDecoder};
+use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
+use host_tests::session::{paper_configure, paper_state, script};
+use host_tests::sim::{simulate, SimParams};
+use twocars::num::fixed::Fixed;
+use twocars::protocol::endpoint::{Unit, STATUS_STALE_INPUT};
+use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
+use twocars::{Policy, Scalar, Variant};
+
+use crate::firmware::build::{self, Board};
+use crate::firmware::closed_loop;
+use crate::firmware::qemu::{self, Qemu};
+
+type Outcome = Result<String, String>;
+type QemuTest = fn(&std::path::Path) -> Outcome;
+
+fn host_replies<S: Scalar>(bytes: &[u8], unit: &mut Unit<S>) -> Vec<Reply> {
+    let mut decoder = ReplyDecoder::default();
+    bytes
+        .iter()
+        .filter_map(|&b| unit.receive(b, 0).copied())
+        .flat_map(|r| decoder.feed(r.as_bytes()))
+        .filter_map(Result::ok)
+        .collect()
+}
+
+fn same(a: &Reply, b: &Reply) -> bool {
+    match (a, b) {
+        (Reply::Command(s, x), Reply::Command(t, y)) => {
+            s == t
+                && x.status == y.status
+                && x.pursuer_rate.to_bits() == y.pursuer_rate.to_bits()
+                && x.evader_rate.to_bits() == y.evader_rate.to_bits()
+                && (x.row, x.col) == (y.row, y.col)
+                && x.predicted.to_bits() == y.predicted.to_bits()
+                && x.upper.to_bits() == y.upper.to_bits()
+                && x.lower.to_bits() == y.lower.to_bits()
+        }
+        _ => a == b,
+    }
+}
+
+fn scripted_session(elf: &std::path::Path) -> Outcome {
+    scripted_session_on::<f32>(elf, Board::Qemu)
+}
+
+/// The scripted session on `board`'s image, each reply equal to the host unit's on backend `S`.
+fn scripted_session_on<S: Scalar>(elf: &std::path::Path, board: Board) -> Outcome {
+    let mut q = Qemu::start(elf, board, false)?;
+    let mut unit = Unit::<S>::new();
+    for step in script() {
+        q.send(&step.bytes)?;
+        let got = q.reply().map_err(|e| format!("{}: {e}", step.name))?;
+        let want = host_replies(&step.bytes, &mut unit);
+        match want.as_slice() {
+            [w] if same(w, &got) => {}
+            _ => {
+                return Err(format!(
+                    "{}: firmware {got:?}, host unit {want:?}",
+                    step.name
+                ))
+            }
+        }
+    }
+    let mut sequence = 1000;
+    let code = closed_loop::shutdown(q, &mut sequence)?;
+    if code != 0 {
+        return Err(format!("exit code {code} after Shutdown"));
+    }
+    Ok(format!(
+        "{} steps answered as the host unit does; exit code 0",
+        script().len()
+    ))
+}
+
+/// A paper case at the paper's limits, dt = 10 ms, 30 s, capture to 1 cm.
+fn paper_case_params(case: &Case) -> SimParams {
+    SimParams {
+        limits: PAPER_LIMITS,
+        pursuer: case.pursuer,
+        evader: case.evader,
+        dt: 0.01,
+        t_max: 30.0,
+        eps: 0.01,
+    }
+}
+
+fn closed_loop(elf: &std::path::Path) -> Outcome {
+    let mut q = Qemu::start(elf, Board::Qemu, false)?;
+    let mut sequence = 0;
+    let mut report = Vec::new();
+    // Both policies: Configure's policy byte selects the firmware's, the host runs the same.
+    for policy in [Policy::Paper, Policy::Flight] {
+        for case in paper_cases() {
+            let params = paper_case_params(&case);
+            let fw = closed_loop::run_case(
+                &mut q,
+                &mut sequence,
+                &params,
+                ROLE_PURSUER | ROLE_EVADER,
+                (Variant::Paper, policy),
+            )?;
+            let host = simulate::<f32>(&params, Variant::Paper, policy, false);
+            let diff = fw.result.t_capture - host.t_capture;
+            // Stated tolerance: one control period (the same f32 code runs on both sides).
+            if fw.result.status != host.status || diff.abs() > params.dt || fw.errors_received > 0 {
+                return Err(format!(
+                    "{} {policy:?}: firmware {:?} vs host {:?}",
+                    case.name, fw.result, host
+                ));
+            }
+            report.push(format!("{} {policy:?} {:+.1e} s", case.name, diff));
+        }
+    }
+    closed_loop::shutdown(q, &mut sequence)?;
+    Ok(format!(
+        "capture time firmware - host: {}",
+        report.join(", ")
+    ))
+}
+
+fn watchdog(elf: &std::path::Path) -> Outcome {
+    let mut q = Qemu::start(elf, Board::Qemu, false)?;
+    q.send(&host_tests::link::configure(1, &paper_configure()))?;
+    q.reply()?;
+    q.send(&host_tests::link::state(2, &paper_state(0, 0)))?;
+    q.reply()?;
+    // Silence past the 0.5 s watchdog: the firmware sends the safe command by itself.
+    std::thread::sleep(Duration::from_millis(700));
+    match q.reply()? {
+        Reply::Command(_, c)
+            if c.status == STATUS_STALE_INPUT && c.pursuer_rate == 0.0 && c.evader_rate == 0.0 => {}
+        other => {
+            return Err(format!(
+                "expected the stale-input safe command, got {other:?}"
+            ))
+        }
+    }
+    // Latched: a fresh State still gets the safe command; a Reset clears it.
+    q.send(&host_tests::link::state(3, &paper_state(0, 800)))?;
+    match q.reply()? {
+        Reply::Command(3, c) if c.status == STATUS_STALE_INPUT => {}
+        other => return Err(format!("expected the latched safe command, got {other:?}")),
+    }
+    q.send(&host_tests::link::reset(4))?;
+    match q.reply()? {
+        Reply::ResetAck(4) => {}
+        other => return Err(format!("expected the Reset acknowledgement, got {other:?}")),
+    }
+    q.send(&host_tests::link::state(5, &paper_state(0, 810)))?;
+    match q.reply()? {
+        Reply::Command(5, c) if c.status == 0 && c.pursuer_rate == 4.0 => {}
+        other => {
+            return Err(format!(
+                "expected the law's command after Reset, got {other:?}"
+            ))
+        }
+    }
+    let mut sequence = 5;
+    let counters = closed_loop::counters(&mut q, &mut sequence)?;
+    if counters.stale != 1 {
+        return Err(format!("stale counter {}", counters.stale));
+    }
+    closed_loop::shutdown(q, &mut sequence)?;
+    Ok(
+        "safe command with status stale_input after 0.5 s of silence, latched until Reset"
+            .to_string(),
+    )
+}
+
+/// 400 States written back to back without waiting, each after a burst of line noise (1 to 24
+/// random bytes, zeros included) and a delimiter: every State answered with its Command, in
+/// order; the noise refused with Errors that the counters match; no reset.
+fn noisy_stream(elf: &std::path::Path) -> Outcome {
+    const STATES: u16 = 400;
+    let mut q = Qemu::start(elf, Board::Qemu, false)?;
+    q.send(&host_tests::link::configure(1, &paper_configure()))?;
+    match q.reply()? {
+        Reply::ConfigureAck(1, Some(0)) => {}
+        other => return Err(format!("expected ConfigureAck, got {other:?}")),
+    }
+    let mut rng = host_tests::rng::Rng::new(27);
+    let (mut stream, mut noise_bytes) = (Vec::new(), 0);
+    for k in 0..STATES {
+        let noise = 1 + rng.next_u64() % 24;
+        noise_bytes += noise;
+        stream.extend((0..noise).map(|_| rng.next_u64() as u8));
+        stream.push(0);
+        let t_ms = 10 * u32::from(k);
+        stream.extend(host_tests::link::state(
+            100 + k,
+            &paper_state(usize::from(k), t_ms),
+        ));
+    }
+    q.send(&stream)?;
+    let (mut answered, mut errors) = (Vec::new(), 0u32);
+    while answered.len() < usize::from(STATES) {
+        match q.reply()? {
+            Reply::Command(s, c) if c.status == 0 => answered.push(s),
+            Reply::Error(None, _) => errors += 1,
+            other => return Err(format!("unexpected reply {other:?}")),
+        }
+    }
+    if !answered.iter().copied().eq(100..100 + STATES) {
+        return Err(format!("Commands out of order or missing: {answered:?}"));
+    }
+    let mut sequence = 1000;
+    let counters = closed_loop::counters(&mut q, &mut sequence)?;
+    let refused: u32 = counters.errors.iter().sum();
+    // Accepted: the Configure and the States (the ReadCounters counts after its reply).
+    if refused != errors || counters.accepted != 1 + u32::from(STATES) {
+        return Err(format!(
+            "counters {counters:?}: {errors} Errors received, {} messages sent",
+            STATES + 2
+        ));
+    }
+    closed_loop::shutdown(q, &mut sequence)?;
+    Ok(format!(
+        "{STATES} States behind {noise_bytes} bytes of noise: {STATES} Commands in order, \
+         {errors} Errors for the noise, counters agree"
+    ))
+}
+
+/// The fixed-point law on a Cortex-M0 (QEMU micro:bit, the bench image): every bench state's
+/// value and commands equal to the host's fixed-point law bit for bit (integer arithmetic), and
+/// the paper's four values (the first four bench states) within 1e-3 s.
+fn fixed_point_on_cortex_m0() -> Outcome {
+    let m0 = crate::bench::image::build_and_run(crate::bench::image::M0, "bench-fixed")?;
+    let host = crate::bench::law::host_outputs::<twocars::num::fixed::Fixed>();
+    if m0.outputs.len() != host.len() {
+        return Err(format!(
+            "{} of {} states reported",
+            m0.outputs.len(),
+            host.len()
+        ));
+    }
+    for (i, (got, want)) in m0.outputs.iter().zip(&host).enumerate() {
+        let want = want.ok_or(format!("state {i}: the host could not evaluate it"))?;
+        if got.map(f32::to_bits) != want.map(|v| (v as f32).to_bits()) {
+            return Err(format!("state {i}: Cortex-M0 {got:?}, host {want:?}"));
+        }
+    }
+    let mut values = Vec::new();
+    for (case, got) in paper_cases().iter().zip(&m0.outputs) {
+        let value = f64::from(got[0]);
+        if (value - case.expected_value).abs() > 1e-3 {
+            return Err(format!(
+                "{}: {value:.4} s on the M0, paper {:.4} s",
+                case.name, case.expected_value
+            ));
+        }
+        values.push(format!("{} {value:.4} s", case.name));
+    }
+    Ok(format!(
+        "{} states equal to the host bit for bit; {}",
+        host.len(),
+        values.join(", ")
+    ))
+}
+
+/// The firmware's serial loop on the Cortex-M4F (the bench's `bench-loop` image, QEMU
+/// mps2-an386): the bench session's replies (their count and digest) and the unit's counters
+/// equal the host's.
+fn serial_loop_on_cortex_m4f() -> Outcome {
+    let l = crate::bench::serial::measure_loop(crate::bench::serial::LoopImage::M4fFloat)?;
+    Ok(format!(
+        "{} replies equal to the host's; {:.0} instructions per State frame, stack {} B",
+        l.replies, l.per_state, l.stack
+    ))
+}
+
+/// The micro:bit image (Cortex-M0, fixed point) in closed loop on the paper's four cases under
+/// both policies: every run identical to the same unit's on the host (`HostUnit<Fixed>` fed the
+/// same frames), bit for bit: capture time, switches and sign flips.
+fn microbit_closed_loop(elf: &std::path::Path) -> Outcome {
+    let mut q = Qemu::start(elf, Board::Microbit, false)?;
+    let (mut sequence, mut twin_sequence) = (0, 0);
+    let mut twin = closed_loop::HostUnit::<Fixed>::new();
+    let mut times = Vec::new();
+    for policy in [Policy::Paper, Policy::Flight] {
+        for case in paper_cases() {
+            let params = paper_case_params(&case);
+            let how = (Variant::Paper, policy);
+            let both = ROLE_PURSUER | ROLE_EVADER;
+            let fw = closed_loop::run_case(&mut q, &mut sequence, &params, both, how)?;
+            let host = closed_loop::run_case(&mut twin, &mut twin_sequence, &params, both, how)?;
+            let (f, h) = (&fw.result, &host.result);
+            if f.status != h.status
+                || f.t_capture.to_bits() != h.t_capture.to_bits()
+                || (f.switches, f.sign_flips) != (h.switches, h.sign_flips)
+                || fw.errors_received > 0
+            {
+                return Err(format!(
+                    "{} {policy:?}: firmware {f:?} vs the host's unit {h:?}",
+                    case.name
+                ));
+            }
+            times.push(format!("{} {policy:?} {:.4} s", case.name, f.t_capture));
+        }
+    }
+    closed_loop::shutdown(q, &mut sequence)?;
+    Ok(format!("identical runs: {}", times.join(", ")))
+}
+
+/// Runs the micro:bit image's QEMU tests; returns (passed, failed).
+fn run_microbit(record: &mut impl FnMut(&str, Outcome)) {
+    println!("== xtask test: firmware in QEMU (micro:bit, Cortex-M0, fixed point)");
+    let elf = match build::build_checked(Board::Microbit) {
+        Ok((elf, _)) => elf,
+        Err(e) => {
+            record("qemu::microbit_image_builds", Err(e));
+            return;
+        }
+    };
+    record(
+        "qemu::microbit_scripted_session_matches_the_host_fixed_point_unit",
+        scripted_session_on::<Fixed>(&elf, Board::Microbit),
+    );
+    record(
+        "qemu::microbit_closed_loop_equals_the_same_unit_on_the_host_bit_for_bit",
+        microbit_closed_loop(&elf),
+    );
+}
+
+/// Runs the QEMU tests; returns (passed, failed).
+pub fn run() -> (u64, u64) {
+    println!("== xtask test: firmware in QEMU (mps2-an386)");
+    let elf = match qemu::qemu_binary().and_then(|_| build::build_checked(Board::Qemu)) {
+        Ok((elf, _)) => elf,
+        Err(e) => {
+            eprintln!("== xtask test: {e}");
+            return (0, 1);
+        }
+    };
+    let tests: [(&str, QemuTest); 4] = [
+        (
+            "qemu::scripted_session_matches_the_host_unit_byte_for_byte",
+            scripted_session,
+        ),
+        ("qemu::closed_loop_matches_the_host_simulation", closed_loop),
+        (
+            "qemu::watchdog_latches_the_safe_command_until_reset",
+            watchdog,
+        ),
+        (
+            "qemu::states_back_to_back_through_line_noise_are_all_answered_in_order",
+            noisy_stream,
+        ),
+    ];
+    let (mut passed, mut failed) = (0, 0);
+    let mut record = |name: &str, outcome: Outcome| match outcome {
+        Ok(detail) => {
+            println!("test {name} ... ok ({detail})");
+            passed += 1;
+        }
+        Err(e) => {
+            println!("test {name} ... FAILED: {e}");
+            failed += 1;
+        }
+    };
+    for (name, test) in tests {
+        record(name, test(&elf));
+    }
+    run_microbit(&mut record);
+    crate::firmware::tables::run(&mut record);
+    println!("== xtask test: the serial loop's bench session in QEMU (mps2-an386)");
+    record(
+        "qemu::serial_loop_bench_session_on_cortex_m4f_equals_the_host",
+        serial_loop_on_cortex_m4f(),
+    );
+    println!("== xtask test: fixed-point law in QEMU (micro:bit, Cortex-M0)");
+    record(
+        "qemu::fixed_point_law_on_cortex_m0_equals_the_host_and_the_paper",
+        fixed_point_on_cortex_m0(),
+    );
+    println!("== xtask test: the MAVLink image in QEMU, pymavlink the autopilot and the target");
+    record(
+        "qemu::mavlink_scripted_session_passes_every_check",
+        crate::firmware::mavlink::scripted_session().map(|()| "every check passed".to_string()),
+    );
+    record(
+        "qemu::mavlink_closed_loop_captures_the_paper_cases_on_time",
+        crate::firmware::mavlink::run_cases().and_then(|on_time| {
+            if on_time {
+                Ok("four captures within 5 control periods".to_string())
+            } else {
+                Err("a capture missed its reference by more than 5 periods".to_string())
+            }
+        }),
+    );
+    (passed, failed)
+}
