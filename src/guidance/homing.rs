@@ -79,6 +79,10 @@ pub(crate) struct NearFieldTerms<S> {
     closing_squares: S,
     /// The control period dt, seconds: the tail chase's terminal lead.
     period: S,
+    /// The sampled law's tie floor, seconds: a rise of the upper value within it is a tie.
+    tie_floor: S,
+    /// The pursuer's 1 / (v_pm dt), per radian: the curvature that turns a radian in a period.
+    per_radian: S,
     /// The evader's full turn over one period, v_em w_em dt, radians: the bound of its
     /// observed turn.
     evader_turn: S,
@@ -121,8 +125,9 @@ impl<S: Scalar> NearFieldTerms<S> {
         }
     }
 
-    /// The terms of `limits` with control period `dt` (the law's units).
-    pub fn new(limits: &Limits<S>, dt: S) -> Self {
+    /// The terms of `limits` with control period `dt` (the law's units), the sampled law's
+    /// `tie_floor` (seconds) and the pursuer's `per_radian`, 1 / (v_pm dt).
+    pub fn new(limits: &Limits<S>, dt: S, tie_floor: S, per_radian: S) -> Self {
         let p = &limits.pursuer;
         NearFieldTerms {
             threshold: limits.theorem_threshold(),
@@ -133,6 +138,8 @@ impl<S: Scalar> NearFieldTerms<S> {
             navigation_gain: S::from_f32(NAVIGATION_GAIN) / p.v_max(),
             closing_squares: p.v_max() * p.v_max() - limits.evader.v_max() * limits.evader.v_max(),
             period: dt,
+            tie_floor,
+            per_radian,
             evader_turn: limits.evader.max_turn_rate() * dt,
             augment_gain: S::from_f32(NAVIGATION_GAIN / 2.0) * limits.evader.v_max()
                 / (p.v_max() * p.v_max()),
@@ -142,6 +149,23 @@ impl<S: Scalar> NearFieldTerms<S> {
             capture: S::zero(),
         }
     }
+}
+
+/// One near-field period as the homing laws see it.
+#[derive(Clone, Copy)]
+pub(crate) struct Situation<'a, S> {
+    /// This period's game.
+    pub report: &'a GameReport<S>,
+    /// The pursuer's state (metres, radians).
+    pub pursuer: &'a VehicleState<S>,
+    /// The evader's state.
+    pub evader: &'a VehicleState<S>,
+    /// Their distance, metres.
+    pub distance: S,
+    /// The pursuer's limits.
+    pub limits: &'a VehicleLimits<S>,
+    /// The law's sampled curvature for the pursuer, 1/m.
+    pub law: S,
 }
 
 /// What the near field remembers: the law's last upper value (seconds), whether the pursuer
@@ -179,22 +203,18 @@ impl<S: Scalar> NearFieldMemory<S> {
         lead: LeadTurn::Pending(None),
     };
 
-    /// The pursuer's curvature (1/m) below the threshold: `law` (the paper's sampled command)
-    /// or pure pursuit (module docs). `report` is this period's game, `dt` the period and
-    /// `tie_floor` the sampled law's tie floor (seconds), `per_radian` the pursuer's
-    /// 1 / (v_pm dt).
-    #[allow(clippy::too_many_arguments)]
-    pub fn pursuer_command(
-        &mut self,
-        report: &GameReport<S>,
-        pursuer: &VehicleState<S>,
-        evader: &VehicleState<S>,
-        distance: S,
-        limits: &VehicleLimits<S>,
-        terms: &NearFieldTerms<S>,
-        (dt, tie_floor, per_radian): (S, S, S),
-        law: S,
-    ) -> S {
+    /// The pursuer's curvature (1/m) below the threshold: the law's sampled command or
+    /// homing (module docs).
+    pub fn pursuer_command(&mut self, now: &Situation<'_, S>, terms: &NearFieldTerms<S>) -> S {
+        let Situation {
+            report,
+            pursuer,
+            evader,
+            distance,
+            limits,
+            law,
+        } = *now;
+        let (dt, tie_floor, per_radian) = (terms.period, terms.tie_floor, terms.per_radian);
         let to_go = bearing(pursuer, evader.x, evader.y);
         // The law's turn is the lead turn's tie-break only where the pursuer has not followed
         // it yet: later the law's circles have been played and the point behind is the

@@ -21,7 +21,7 @@ use crate::num::f32_math::{sin_cos, wrap_signed};
 use crate::num::Scalar;
 use crate::status::Status;
 use crate::value_tables::ValueTables;
-use homing::{NearFieldMemory, NearFieldTerms};
+use homing::{NearFieldMemory, NearFieldTerms, Situation};
 
 /// Which feedback a [`Guidance`] applies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -106,7 +106,7 @@ impl<S: Scalar> Guidance<S> {
                 tie_floor,
             },
             near_field: NearFieldMemory::FRESH,
-            near_field_terms: NearFieldTerms::new(&law.limits, dt),
+            near_field_terms: NearFieldTerms::new(&law.limits, dt, tie_floor, period.pursuer),
             tables: None,
         })
     }
@@ -342,15 +342,14 @@ impl<S: Scalar> Guidance<S> {
             self.near_field = NearFieldMemory::FRESH;
             return;
         }
-        command.pursuer = self.near_field.pursuer_command(
+        let now = Situation {
             report,
             pursuer,
             evader,
             distance,
-            &self.law.limits.pursuer,
-            terms,
-            (self.dt, self.sampling.tie_floor, self.period.pursuer),
-            command.pursuer,
-        );
+            limits: &self.law.limits.pursuer,
+            law: command.pursuer,
+        };
+        command.pursuer = self.near_field.pursuer_command(&now, terms);
     }
 }

@@ -193,6 +193,58 @@ pub struct Limits<S> {
     per_metre: Reciprocal,
 }
 
+/// The checks of [`Limits::new`], in the contract's order: non-finite, then the game's
+/// assumptions, then the envelope.
+#[inline(always)]
+fn validate<S: Scalar>(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<(), Status> {
+    if [v_pm, w_pm, v_em, w_em].iter().any(|v| !v.is_finite()) {
+        return Err(Status::NonFiniteInput);
+    }
+    if !(v_pm > v_em && v_em > 0.0 && w_pm > w_em && w_em > 0.0) {
+        return Err(Status::InvalidLimits);
+    }
+    if v_pm > MAX_SPEED || v_em < MIN_SPEED || w_pm > MAX_CURVATURE || 1.0 / w_em > MAX_RADIUS {
+        return Err(Status::OutOfRange);
+    }
+    let speed_ratio = v_em / v_pm;
+    if w_pm / w_em > S::MAX_RADIUS_RATIO
+        || speed_ratio < S::MIN_SPEED_RATIO
+        || speed_ratio > S::MAX_SPEED_RATIO
+    {
+        return Err(Status::OutOfRange);
+    }
+    Ok(())
+}
+
+impl<S: Scalar> VehicleLimits<S> {
+    /// A vehicle of speed `v` (m/s) and curvature `w` (1/m) in the backend's `units`. The
+    /// curvature is rounded toward zero, so that +-w_max commands stay within the true limit.
+    /// On a normalised backend the radius and the turn time per radian are formed in f32 and
+    /// rounded once: formed from the rounded curvature and speed they carried those roundings
+    /// (fixed point: up to 1e-3 of r_e where w_em is w_pm / 16, and t_e with it).
+    #[inline(always)]
+    fn in_units(v: f32, w: f32, units: Units) -> Self {
+        let w_max = S::from_f32_toward_zero(w * units.metres);
+        let v_max = S::from_f32(v / units.metres_per_second);
+        let (radius, seconds_per_radian) = if S::NORMALISED {
+            let radius = 1.0 / (w * units.metres);
+            (
+                S::from_f32(radius),
+                S::from_f32(radius / (v / units.metres_per_second)),
+            )
+        } else {
+            let radius = S::one() / w_max;
+            (radius, radius / v_max)
+        };
+        VehicleLimits {
+            v_max,
+            w_max,
+            radius,
+            seconds_per_radian,
+        }
+    }
+}
+
 impl<S: Scalar> Limits<S> {
     /// Validates limits given in m/s and 1/m.
     ///
@@ -202,23 +254,7 @@ impl<S: Scalar> Limits<S> {
     /// curvatures above [`MAX_CURVATURE`], radii above [`MAX_RADIUS`], or ratios outside the
     /// backend's envelope (`S::MAX_RADIUS_RATIO`, `S::MIN_SPEED_RATIO`, `S::MAX_SPEED_RATIO`).
     pub fn new(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<Self, Status> {
-        let all = [v_pm, w_pm, v_em, w_em];
-        if all.iter().any(|v| !v.is_finite()) {
-            return Err(Status::NonFiniteInput);
-        }
-        if !(v_pm > v_em && v_em > 0.0 && w_pm > w_em && w_em > 0.0) {
-            return Err(Status::InvalidLimits);
-        }
-        if v_pm > MAX_SPEED || v_em < MIN_SPEED || w_pm > MAX_CURVATURE || 1.0 / w_em > MAX_RADIUS {
-            return Err(Status::OutOfRange);
-        }
-        let speed_ratio = v_em / v_pm;
-        if w_pm / w_em > S::MAX_RADIUS_RATIO
-            || speed_ratio < S::MIN_SPEED_RATIO
-            || speed_ratio > S::MAX_SPEED_RATIO
-        {
-            return Err(Status::OutOfRange);
-        }
+        validate::<S>(v_pm, w_pm, v_em, w_em)?;
         let units = if S::NORMALISED {
             Units {
                 metres: length_unit(w_pm),
@@ -226,31 +262,6 @@ impl<S: Scalar> Limits<S> {
             }
         } else {
             Units::SI
-        };
-        // Curvature rounded toward zero, so that +-w_max commands stay within the true limit.
-        // On a normalised backend the radius, the turn time per radian and (below) the closing
-        // time per metre are formed in f32 and rounded once: formed from the rounded curvature
-        // and speed they carried those roundings (fixed point: up to 1e-3 of r_e where w_em is
-        // w_pm / 16, and t_e with it).
-        let vehicle = |v: f32, w: f32| {
-            let w_max = S::from_f32_toward_zero(w * units.metres);
-            let v_max = S::from_f32(v / units.metres_per_second);
-            let (radius, seconds_per_radian) = if S::NORMALISED {
-                let radius = 1.0 / (w * units.metres);
-                (
-                    S::from_f32(radius),
-                    S::from_f32(radius / (v / units.metres_per_second)),
-                )
-            } else {
-                let radius = S::one() / w_max;
-                (radius, radius / v_max)
-            };
-            VehicleLimits {
-                v_max,
-                w_max,
-                radius,
-                seconds_per_radian,
-            }
         };
         let pursuer = if S::NORMALISED {
             // The units themselves: exactly one, so that the law skips its products by them
@@ -264,9 +275,9 @@ impl<S: Scalar> Limits<S> {
                 seconds_per_radian: one,
             }
         } else {
-            vehicle(v_pm, w_pm)
+            VehicleLimits::in_units(v_pm, w_pm, units)
         };
-        let evader = vehicle(v_em, w_em);
+        let evader = VehicleLimits::in_units(v_em, w_em, units);
         let seconds_per_metre_closed = if S::NORMALISED {
             S::from_f32(1.0 / (1.0 - v_em / v_pm))
         } else {
