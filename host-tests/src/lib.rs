@@ -3,9 +3,6 @@
 
 pub mod adversary;
 pub mod autopilot;
-pub mod hj;
-pub mod hj_paper;
-pub mod hj_policy;
 pub mod kinematics;
 pub mod link;
 pub mod mavlink_spec;

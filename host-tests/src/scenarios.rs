@@ -48,3 +48,18 @@ pub fn paper_cases() -> [Case; 4] {
         },
     ]
 }
+
+/// 3,000 seeded states from `threshold` out to `far` (r_p), each at a random bearing and
+/// relative heading: (x, y, phi) in the Hamilton-Jacobi-Isaacs solver's frame, where the
+/// theorem's comparison of V with the paper's value is made (`hji::paper::PaperValue::gaps`).
+pub fn states_beyond(threshold: f64, far: f64) -> Vec<(f64, f64, f64)> {
+    let mut rng = crate::rng::Rng::new(30);
+    let pi = std::f64::consts::PI;
+    (0..3_000)
+        .map(|_| {
+            let (d, bearing) = (rng.uniform(threshold, far), rng.uniform(-pi, pi));
+            let phi = rng.uniform(-pi, pi);
+            (d * bearing.cos(), d * bearing.sin(), phi)
+        })
+        .collect()
+}

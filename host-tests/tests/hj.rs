@@ -1,7 +1,7 @@
 //! The Hamilton-Jacobi-Isaacs value iteration (src/hj.rs) on a coarse grid: the tail chase's
 //! exact value, the game's mirror symmetry, and capture from the whole interior.
 
-use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, REACHED};
+use hji::{solve, solve_with_boundary, Game, Grid, Solution, REACHED};
 
 /// The paper's limits (v_em / v_pm = 1/2, r_e = 2 r_p), capture radius 0.3 r_p, box +-6 r_p at
 /// 0.3 r_p spacing: about 3 s in release on two threads, solved once for the tests that read it.
@@ -81,8 +81,8 @@ fn the_value_is_mirror_symmetric_and_finite_inside_the_box() {
 /// within 20 s (the flight policy's own capture is `tests/adversaries.rs`).
 #[test]
 fn the_table_pursuer_captures_a_meshing_circler() {
+    use hji::policy::pursuer_curvature;
     use host_tests::adversary::{Adversary, EvaderKind, Opponent};
-    use host_tests::hj_policy::pursuer_curvature;
     use host_tests::sim::{closed_loop, SimParams, SimStatus, StepCommand};
     use twocars::{Guidance, Law, Limits, Policy, Variant};
 
@@ -200,7 +200,7 @@ fn a_long_step_captures_a_path_through_the_disc() {
 /// value the disc keeps there for interpolating outside it, and many of those are above 0.
 #[test]
 fn a_step_that_ends_in_the_disc_is_captured() {
-    use host_tests::hj::Step;
+    use hji::Step;
     let game = Game::with_radius([2.0, 2.0, 1.2, 1.2], 1.0);
     let grid = Grid {
         n: 41,
@@ -250,7 +250,7 @@ fn a_step_that_ends_in_the_disc_is_captured() {
 /// one Euler step of the whole tau is off by about a cell.
 #[test]
 fn the_step_follows_the_relative_motion_exactly() {
-    use host_tests::hj::Step;
+    use hji::Step;
     let (a, tau) = (0.5, 0.25);
     let mut worst: f64 = 0.0;
     for &(x, y, phi) in &[(1.0, 2.0, 0.3), (-30.0, 12.0, -2.0), (25.0, -28.0, 3.0)] {
@@ -281,8 +281,9 @@ fn the_step_follows_the_relative_motion_exactly() {
 /// this spacing; at half of it the median gap is 0.02 %, `cargo xtask hj`, docs/near-field.md).
 #[test]
 fn beyond_the_threshold_the_value_is_the_papers() {
-    use host_tests::hj::NEVER;
-    use host_tests::hj_paper::PaperValue;
+    use hji::paper::PaperValue;
+    use hji::NEVER;
+    use host_tests::scenarios::states_beyond;
     let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 1.0);
     let grid = Grid {
         n: 73,
@@ -299,10 +300,13 @@ fn beyond_the_threshold_the_value_is_the_papers() {
         |x, y, phi| paper.beyond_threshold(x, y, phi).unwrap_or(NEVER),
         |_, _| {},
     );
-    let (gaps, refused) = paper.gaps(paper.threshold + 2.0, |x, y, phi| {
-        let v = s.value(x, y, phi);
-        (v < REACHED).then_some(v)
-    });
+    let (gaps, refused) = paper.gaps(
+        states_beyond(paper.threshold, paper.threshold + 2.0),
+        |x, y, phi| {
+            let v = s.value(x, y, phi);
+            (v < REACHED).then_some(v)
+        },
+    );
     assert_eq!(refused, 0);
     assert!(gaps.len() > 2_000, "{}", gaps.len());
     for (gap, value) in gaps {

@@ -1,12 +1,12 @@
 //! `Policy::Table`: the firmware's `Guidance` playing the game's value tables
 //! (`twocars::value_tables`) below the theorem's threshold, against the host's players of the
-//! same tables (`host_tests::hj_policy`) and in closed loop.
+//! same tables (`hji::policy`) and in closed loop.
 
 use std::sync::OnceLock;
 
+use hji::policy::{pursuer_curvature, relative};
+use hji::{solve, table_set_bytes, Game, Grid, Solution};
 use host_tests::adversary::{EvaderKind, Opponent};
-use host_tests::hj::{solve, table_set_bytes, Game, Grid, Solution};
-use host_tests::hj_policy::{pursuer_curvature, relative};
 use host_tests::rng::Rng;
 use host_tests::sim::{simulate_with_turns, Setup, SimParams, SimStatus};
 use twocars::value_tables::ValueTables;

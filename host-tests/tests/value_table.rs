@@ -1,13 +1,13 @@
 //! The value table as the firmware reads it (`twocars::value_tables::table`, no_std, f32, u16 codes)
-//! against the solver's f64 table it was written from (`host_tests::hj`): values within half a
+//! against the solver's f64 table it was written from (`hji`): values within half a
 //! code, the same optimal pursuer turn wherever the host's minimax says so clearly (one table
 //! and a nested set, `twocars::value_tables`), the tail chase, and malformed tables refused
 //! without a panic.
 
 use std::sync::OnceLock;
 
-use host_tests::hj::{solve, solve_with_boundary, table_set_bytes, Game, Grid, Solution, Step};
-use host_tests::hj_policy::{evader_turn, finest, turn};
+use hji::policy::{evader_turn, finest, turn};
+use hji::{solve, solve_with_boundary, table_set_bytes, Game, Grid, Solution, Step};
 use host_tests::rng::Rng;
 use twocars::value_tables::table::{TableError, ValueTable, HEADER_LEN, MAGIC, NEVER};
 use twocars::value_tables::ValueTables;
@@ -341,7 +341,7 @@ fn the_committed_bench_table_is_the_solvers() {
 /// the values around the disc as the solver wrote them, within half a code.
 #[test]
 fn behind_the_non_usable_edge_the_disc_keeps_the_value_outside() {
-    use host_tests::hj::usable;
+    use hji::usable;
     let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 0.5);
     let pi = std::f64::consts::PI;
     let mut rng = Rng::new(42);

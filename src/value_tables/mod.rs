@@ -124,7 +124,7 @@ impl<'a> ValueTables<'a> {
     /// The evader's optimal turn at `(x, y, phi)` at full speed: -1, 0 or 1, the sign of its
     /// turn rate. In the finest table that plays there: for each of its turns, the least V over
     /// the pursuer's three one solver step ahead; the turn whose best case for the pursuer is
-    /// largest, straight keeping ties (the host's `hj_policy::evader_curvature`). A landing
+    /// largest, straight keeping ties (the host's `hji::policy::evader_curvature`). A landing
     /// without a value counts as never captured (the evader's best). `None` where no table
     /// plays or has a value.
     pub fn evader_turn(&self, x: f32, y: f32, phi: f32) -> Option<f32> {

@@ -268,7 +268,7 @@ fn twin_agrees(
 /// under optimal play by both sides; none beyond the threshold or inside the disc.
 fn print_table_value(o: &RunOptions, case: &Case, set: &ValueTables<'_>) {
     let [v_pm, w_pm, ..] = o.limits;
-    let (x, y, phi) = host_tests::hj_policy::relative(w_pm, case.pursuer, case.evader);
+    let (x, y, phi) = hji::policy::relative(w_pm, case.pursuer, case.evader);
     match set.value(x as f32, y as f32, phi as f32) {
         Some(v) => println!(
             "  the tables' V(x0): {:.4} s to capture within {} m (one r_p) under optimal play by both sides",

@@ -4,8 +4,8 @@
 //! threshold it captures every evader of the adversary suite, and the tables' own evader, as
 //! the same unit on the host does, within the bar over V(x0) ([`BAR`]).
 
+use hji::policy::relative;
 use host_tests::adversary::EvaderKind;
-use host_tests::hj_policy::relative;
 use host_tests::link::{self, Reply};
 use host_tests::rng::Rng;
 use host_tests::session::paper_configure;

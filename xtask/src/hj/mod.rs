@@ -1,5 +1,5 @@
 //! `cargo xtask hj`: the game's value function V by value iteration on the Hamilton-Jacobi-
-//! Isaacs grid (`host_tests::hj`), and its validation against what is known exactly: the tail
+//! Isaacs grid (`hji`), and its validation against what is known exactly: the tail
 //! chase, V = (d - eps) / (v_pm - v_em), on three grid sizes with the observed order of
 //! convergence. With `--table FILE` it solves one grid and writes it as the firmware's value
 //! table (`twocars::value_tables::table`), read back: the tail chase, and where the box reaches the
@@ -11,8 +11,9 @@ pub mod reference;
 pub mod sets;
 pub mod solve;
 
-use host_tests::hj::{Game, Grid, Solution, REACHED};
-use host_tests::hj_paper::PaperValue;
+use hji::paper::PaperValue;
+use hji::{Game, Grid, Solution, REACHED};
+use host_tests::scenarios::states_beyond;
 
 use crate::hj::sets::NEAR_FIELD;
 use crate::hj::solve::{solve_grid, write_set, Boundary};
@@ -267,7 +268,7 @@ fn threshold_comparison(game: Game, table: &twocars::value_tables::table::ValueT
         );
         return;
     }
-    let (gaps, refused) = paper.gaps(far, |x, y, phi| {
+    let (gaps, refused) = paper.gaps(states_beyond(threshold, far), |x, y, phi| {
         table.value(x as f32, y as f32, phi as f32).map(f64::from)
     });
     let relative = gaps

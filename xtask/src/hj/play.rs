@@ -2,7 +2,7 @@
 //! every evader of the adversary suite, from seeded starts below the theorem's threshold at the
 //! paper's limits (or `--limits`), beside the flight policy. The tables are the limits' near
 //! field ([`crate::hj::solve::near_field`], `--levels`); their pursuer takes the turn whose worst case
-//! one step ahead has the least V (`host_tests::hj_policy`), the paper's law beyond the
+//! one step ahead has the least V (`hji::policy`), the paper's law beyond the
 //! threshold. The last row's evader plays the reference tables (its turn whose best case for
 //! the pursuer one step ahead has the largest V), where both players play V's game. The runs
 //! capture at the tables' radius, and each capture is compared with V(x0), the time to capture
@@ -12,9 +12,9 @@
 //! run past 10 % is listed beside the earliest capture of its evader by the open-loop plans of
 //! `--probe` ([`crate::hj::probe::best_plan`]).
 
+use hji::policy::{evader_curvature, pursuer_curvature, relative};
+use hji::{table_set_bytes, Solution};
 use host_tests::adversary::{Adversary, EvaderKind, Opponent};
-use host_tests::hj::{table_set_bytes, Solution};
-use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative};
 use host_tests::rng::Rng;
 use host_tests::sim::{
     simulate_with_turns, theorem_threshold, Setup, SimParams, SimResult, SimStatus, Turn,
@@ -213,7 +213,7 @@ impl Over {
 pub fn command(
     runs: usize,
     seeds: &[u64],
-    levels: &[host_tests::hj::Grid],
+    levels: &[hji::Grid],
     limits: [f64; 4],
     tables_play: bool,
 ) -> i32 {

@@ -10,7 +10,7 @@
 //! run's evader: where none captures much earlier than the tables' pursuer, no pursuer of the
 //! family does better, and the run's distance past V(x0) says more about V(x0) than about it.
 
-use host_tests::hj_policy::{evader_curvature, pursuer_curvature, relative};
+use hji::policy::{evader_curvature, pursuer_curvature, relative};
 
 use crate::hj::reference::{capture_radius, table_value, DT};
 use host_tests::sim::{advance, capture_within, distance};
@@ -24,7 +24,7 @@ type Plan = ([f64; 3], [f64; 2]);
 
 /// Solves (or reads) the tables of `limits`, plays the start `(x, y, phi)` (the evader in the
 /// pursuer's frame: r_p, r_p, rad) and prints what it found; exit code 0.
-pub fn command(start: [f64; 3], levels: &[host_tests::hj::Grid], limits: [f64; 4]) -> i32 {
+pub fn command(start: [f64; 3], levels: &[hji::Grid], limits: [f64; 4]) -> i32 {
     let (reference, _) = crate::hj::solve::near_field(limits, &crate::hj::sets::NEAR_FIELD);
     let (tables, _) = crate::hj::solve::near_field(limits, levels);
     let [_, w_pm, v_em, w_em] = limits;
@@ -32,7 +32,7 @@ pub fn command(start: [f64; 3], levels: &[host_tests::hj::Grid], limits: [f64; 4
     let pursuer0 = [0.0, 0.0, 0.0];
     let evader0 = [start[0] / w_pm, start[1] / w_pm, start[2]];
     let at = relative(w_pm, pursuer0, evader0);
-    let seconds = |tables: &[host_tests::hj::Solution]| {
+    let seconds = |tables: &[hji::Solution]| {
         table_value(tables, limits, pursuer0, evader0)
             .map_or("none".to_string(), |v| format!("{v:.3} s"))
     };

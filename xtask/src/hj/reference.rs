@@ -1,8 +1,8 @@
 //! What the plays and the probe are judged by: V(x0) read from the reference tables at their
 //! capture radius, at the control period both run.
 
-use host_tests::hj::Solution;
-use host_tests::hj_policy::{relative, value};
+use hji::policy::{relative, value};
+use hji::Solution;
 
 /// Control period, s.
 pub(crate) const DT: f64 = 0.01;

@@ -3,7 +3,7 @@
 //! driver (`crate::hj`), whose source stamps the solve cache: a change here names other files
 //! in the cache and solves only what it changes.
 
-use host_tests::hj::Grid;
+use hji::Grid;
 
 /// The near field's tables, coarsest first: a box of +-30 r_p (15 m, just past the theorem's
 /// threshold of 14.57 m on the diagonals) at 0.5 r_p with 72 relative headings; +-6 r_p at

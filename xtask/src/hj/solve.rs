@@ -3,15 +3,15 @@
 
 use std::time::Instant;
 
-use host_tests::hj::{solve, solve_with_boundary, Game, Grid, Solution, NEVER};
-use host_tests::hj_paper::PaperValue;
+use hji::paper::PaperValue;
+use hji::{solve, solve_with_boundary, Game, Grid, Solution, NEVER};
 
 use crate::hj::sets::FlashSet;
 use crate::progress::Progress;
 use crate::workspace::root;
 
 /// The game of `limits` (v_pm, w_pm, v_em, w_em) over its near field as nested tables
-/// (`host_tests::hj_policy`) on `levels`, coarsest first; returned finest first. Capture
+/// (`hji::policy`) on `levels`, coarsest first; returned finest first. Capture
 /// radius one r_p (0.5 m at the paper's limits). The coarsest table lands on the paper's value
 /// beyond the threshold, each finer one on the table before it; each is solved to a residual
 /// of 1e-4, or read back from `target/hj-cache/` where the same solver sources solved it;
@@ -50,7 +50,7 @@ pub(crate) fn flash_sets(sets: &[FlashSet]) -> Result<Vec<std::path::PathBuf>, S
     let mut paths = Vec::new();
     for set in sets {
         let (tables, how) = near_field(set.limits, &set.levels);
-        let bytes = host_tests::hj::table_set_bytes(&tables);
+        let bytes = hji::table_set_bytes(&tables);
         let [v_pm, w_pm, v_em, w_em] = set.limits;
         let path = dir.join(format!("{v_pm}-{w_pm}-{v_em}-{w_em}.tcv"));
         if std::fs::read(&path).ok().as_deref() != Some(bytes.as_slice()) {
@@ -77,7 +77,7 @@ pub(crate) fn write_set(path: &std::path::Path, limits: [f64; 4], levels: &[Grid
         return 2;
     }
     let (tables, how) = near_field(limits, levels);
-    let bytes = host_tests::hj::table_set_bytes(&tables);
+    let bytes = hji::table_set_bytes(&tables);
     if let Err(e) = std::fs::write(path, &bytes) {
         eprintln!("xtask hj: {}: {e}", path.display());
         return 1;
@@ -103,9 +103,9 @@ pub(crate) fn write_set(path: &std::path::Path, limits: [f64; 4], levels: &[Grid
 /// its boundaries (the paper's value comes from the law) and this module's nesting of grids
 /// (not `crate::hj::sets`, which only says which grids: the cache's file names say that).
 const SOLVER_SOURCES: [&str; 7] = [
-    include_str!("../../../host-tests/src/hj.rs"),
+    include_str!("../../../hji/src/lib.rs"),
     include_str!("../../../src/value_tables/table.rs"),
-    include_str!("../../../host-tests/src/hj_paper.rs"),
+    include_str!("../../../hji/src/paper.rs"),
     include_str!("solve.rs"),
     include_str!("../../../src/law/mod.rs"),
     include_str!("../../../src/law/game.rs"),

@@ -1,14 +1,14 @@
 //! `cargo xtask plot`'s near-field figures: the game's value V, solved on the
-//! Hamilton-Jacobi-Isaacs grid (`host_tests::hj`), beside the paper's upper value on the same
-//! axes; and the pursuer's optimal turn from V (`host_tests::hj_policy`) beside the
+//! Hamilton-Jacobi-Isaacs grid (`hji`), beside the paper's upper value on the same
+//! axes; and the pursuer's optimal turn from V (`hji::policy`) beside the
 //! paper law's pursuer circle. The paper's limits; pursuer at the origin heading +y, evader
 //! heading +y.
 
 use std::f64::consts::FRAC_PI_2;
 use std::path::{Path, PathBuf};
 
-use host_tests::hj::{Game, Solution, REACHED};
-use host_tests::hj_policy::{holding, relative, turn};
+use hji::policy::{holding, relative, turn};
+use hji::{Game, Solution, REACHED};
 use host_tests::scenarios::PAPER_LIMITS;
 use twocars::Direction;
 

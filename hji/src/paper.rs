@@ -2,8 +2,7 @@
 //! v_pm = 1), and the comparison the theorem asks for: beyond its threshold, wherever the
 //! paper's law has a saddle, the game's value V is the paper's upper value.
 
-use crate::hj::Game;
-use crate::rng::Rng;
+use crate::Game;
 
 /// The paper's law for a game of the solver, in its units.
 #[derive(Clone, Copy)]
@@ -43,21 +42,16 @@ impl PaperValue {
         ((upper - lower).abs() <= 1e-9 * upper).then_some(upper - self.eps_closing)
     }
 
-    /// Over 3,000 seeded states from the threshold out to `far` (r_p; random bearing and
-    /// relative heading): for each where the law has a saddle, V from `value` (`None`: the
-    /// table has none) less the paper's value, with that value; and how many had no V.
+    /// Over `states` (x, y in r_p, phi in radians): for each beyond the threshold where the law
+    /// has a saddle, V from `value` (`None`: the table has none) less the paper's value, with
+    /// that value; and how many had no V.
     pub fn gaps(
         &self,
-        far: f64,
+        states: impl IntoIterator<Item = (f64, f64, f64)>,
         value: impl Fn(f64, f64, f64) -> Option<f64>,
     ) -> (Vec<(f64, f64)>, usize) {
-        let mut rng = Rng::new(30);
         let (mut gaps, mut refused) = (Vec::new(), 0);
-        for _ in 0..3_000 {
-            let pi = std::f64::consts::PI;
-            let (d, bearing) = (rng.uniform(self.threshold, far), rng.uniform(-pi, pi));
-            let phi = rng.uniform(-pi, pi);
-            let (x, y) = (d * bearing.cos(), d * bearing.sin());
+        for (x, y, phi) in states {
             let Some(paper) = self.beyond_threshold(x, y, phi) else {
                 continue;
             };

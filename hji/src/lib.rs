@@ -29,6 +29,9 @@
 //! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary value is
 //! given ([`solve_with_boundary`]).
 
+pub mod paper;
+pub mod policy;
+
 use rayon::prelude::*;
 
 /// The value of a state from which capture within the box was not found: a large finite time,

@@ -1,4 +1,4 @@
-//! The players that play the Hamilton-Jacobi-Isaacs value tables ([`crate::hj`]) on the host:
+//! The players that play the Hamilton-Jacobi-Isaacs value tables ([`crate`]) on the host:
 //! inside the theorem's threshold, in a table's box and outside its capture disc, the pursuer
 //! takes the turn that makes V least against the evader's best reply one solver step ahead;
 //! elsewhere the flight policy, the paper's law beyond the threshold (`Policy::Table`, as a
@@ -8,7 +8,7 @@
 //! its steps leave its box (`cargo xtask hj`'s near field). A state is read from the finest
 //! table whose box holds it (less two cells).
 
-use crate::hj::{Solution, Step, REACHED};
+use crate::{Solution, Step, REACHED};
 
 /// The evader in the table's frame (r_p, radians): position relative to the pursuer, x along
 /// its heading, y to its left, and the relative heading; for limits whose pursuer curvature is
@@ -49,7 +49,7 @@ pub fn value(tables: &[Solution], at: (f64, f64, f64)) -> Option<f64> {
 }
 
 /// V at `(x, y, phi)` from the finest of `tables` whose box holds it, to its edge: where a
-/// step from a state lands ([`crate::hj::NEVER`] outside every box), interpolated as the
+/// step from a state lands ([`crate::NEVER`] outside every box), interpolated as the
 /// firmware reads it ([`Solution::interpolated_landing`]: at most 0 in the capture disc). The
 /// solver reads a landing within two cells of the disc by one more step of the scheme
 /// ([`Solution::landing`]); the players reading it so (with a step of tau) played
@@ -59,7 +59,7 @@ fn landing(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> f64 {
         .iter()
         .find(|table| x.abs() <= table.grid.half && y.abs() <= table.grid.half)
     else {
-        return crate::hj::NEVER;
+        return crate::NEVER;
     };
     table.interpolated_landing((x, y, phi))
 }
@@ -116,7 +116,7 @@ pub fn evader_turn(tables: &[Solution], (x, y, phi): (f64, f64, f64)) -> Option<
 
 /// The pursuer's turn (-1, 0 or 1) at `(x, y, phi)` in the tables' frame, from the finest of
 /// `tables` that plays there ([`finest`]): the turn (full either way, or straight) whose worst
-/// case over the evader's controls ([`crate::hj::Game::evader_controls`]), one step of that
+/// case over the evader's controls ([`crate::Game::evader_controls`]), one step of that
 /// table's `tau` ahead on the exact motion, has the least V (each landing read from the finest
 /// table whose box holds it): the solver's own minimax, read back. Straight keeps ties. With
 /// the margin (r_p / v_pm) by which that worst case beats the next turn's; `None` where no
