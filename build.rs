@@ -1,4 +1,5 @@
-//! Selects the memory map of the board being built (see memory.x), links defmt's script into
+//! Selects the memory map of the board being built (see memory.x) when a board feature is on,
+//! and only then (a crate that depends on twocars brings its own), links defmt's script into
 //! the firmware binaries that log with defmt (`-Tlink.x` comes from `.cargo/config.toml`), and
 //! with `tables-in-flash` names the value-table sets the image includes.
 use std::path::PathBuf;
@@ -7,15 +8,18 @@ fn main() {
     let target = std::env::var("TARGET").unwrap_or_default();
     let feature = |name: &str| std::env::var_os(format!("CARGO_FEATURE_{name}")).is_some();
     let map = if feature("BOARD_STM32F405") {
-        "src/board/stm32f405.x"
-    } else if feature("FIRMWARE_RP2040") {
-        "src/board/rp2040.x"
+        Some("src/board/stm32f405.x")
+    } else if feature("BOARD_RP2040") {
+        Some("src/board/rp2040.x")
     } else if feature("BOARD_MICROBIT") {
-        "src/board/microbit.x"
+        Some("src/board/microbit.x")
+    } else if feature("BOARD_QEMU") {
+        Some("src/board/qemu_mps2.x")
     } else {
-        "src/board/qemu_mps2.x"
+        None
     };
-    if let Some(out) = std::env::var_os("OUT_DIR").map(PathBuf::from) {
+    let out = std::env::var_os("OUT_DIR").map(PathBuf::from);
+    if let (Some(map), Some(out)) = (map, out) {
         if std::fs::copy(map, out.join("board-memory.x")).is_ok() {
             println!("cargo:rustc-link-search={}", out.display());
         }

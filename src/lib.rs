@@ -45,13 +45,11 @@
 // Board shells need `unsafe` for registers; everything else is safe code.
 #![deny(unsafe_code)]
 
-#[cfg(feature = "bench")]
-pub mod bench;
 #[cfg(any(
     feature = "board-qemu",
     feature = "board-stm32f405",
-    feature = "firmware-microbit",
-    feature = "firmware-rp2040"
+    feature = "board-microbit",
+    feature = "board-rp2040"
 ))]
 pub mod board;
 pub mod geodetic;

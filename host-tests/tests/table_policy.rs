@@ -271,11 +271,11 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
 #[test]
 fn the_bench_session_with_the_tables_commands_their_turns() {
     use host_tests::link::{Reply, ReplyDecoder};
-    use twocars::bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
-    use twocars::bench::TABLE_POINTS;
     use twocars::protocol::endpoint::Unit;
+    use twocars_bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
+    use twocars_bench::TABLE_POINTS;
 
-    let bytes: &'static [u8] = include_bytes!("../../src/bench/table.tcv");
+    let bytes: &'static [u8] = twocars_bench::TABLE;
     let set: &'static [ValueTables<'static>] =
         Box::leak(Box::new([ValueTables::parse(bytes).unwrap()]));
     let mut out = [0u8; SCRIPT_CAPACITY];
@@ -306,7 +306,7 @@ fn the_bench_session_with_the_tables_commands_their_turns() {
         .collect();
     // One per table point: the script's refused inputs get Error frames.
     assert_eq!(commands.len(), state_frames(true), "{replies:?}");
-    let [v_pm, w_pm, v_em, w_em] = twocars::bench::LIMITS;
+    let [v_pm, w_pm, v_em, w_em] = twocars_bench::LIMITS;
     for (c, &[x, y, phi]) in commands.iter().zip(&TABLE_POINTS) {
         let pursuer = set[0]
             .pursuer_turn(x, y, phi)

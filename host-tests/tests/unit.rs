@@ -281,13 +281,13 @@ fn the_configure_message_selects_the_policy() {
     );
 }
 
-/// The bench's session of the serial loop (`twocars::bench::main_loop`, which `cargo xtask bench`
+/// The bench's session of the serial loop (`twocars_bench::main_loop`, which `cargo xtask bench`
 /// times on the Cortex-M4F): the interrupt handler and the loop over the scripted UART answer it
 /// as the unit answers it byte by byte, ends at its Shutdown, and the script holds what it says: two
 /// Configures, a Command for each State, four refusals, Counters.
 #[test]
 fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
-    use twocars::bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
+    use twocars_bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
     for with_states in [true, false] {
         let mut bytes = [0u8; SCRIPT_CAPACITY];
         let n = script(with_states, false, &mut bytes).expect("the script fits its capacity");

@@ -315,8 +315,8 @@ fn malformed_tables_are_refused_never_read() {
     }
 }
 
-/// The bench's table (`src/bench/table.tcv`) is what `cargo xtask hj --nodes 21 --eps 0.6
-/// --table src/bench/table.tcv` writes (the solver is deterministic), and the bench's points
+/// The bench's table (`bench/table.tcv`) is what `cargo xtask hj --nodes 21 --eps 0.6
+/// --table bench/table.tcv` writes (the solver is deterministic), and the bench's points
 /// all have a value in it.
 #[test]
 fn the_committed_bench_table_is_the_solvers() {
@@ -327,10 +327,10 @@ fn the_committed_bench_table_is_the_solvers() {
         headings: 24,
     };
     let fresh = solve(game, grid, grid.step_time(), 1e-6, 20_000, |_, _| {}).table_bytes();
-    let committed = include_bytes!("../../src/bench/table.tcv");
-    assert!(fresh[..] == committed[..], "regenerate src/bench/table.tcv");
+    let committed = twocars_bench::TABLE;
+    assert!(fresh[..] == committed[..], "regenerate bench/table.tcv");
     let table = ValueTables::parse(committed).unwrap();
-    for [x, y, phi] in twocars::bench::TABLE_POINTS {
+    for [x, y, phi] in twocars_bench::TABLE_POINTS {
         assert!(table.value(x, y, phi).is_some() && table.pursuer_turn(x, y, phi).is_some());
     }
 }

@@ -14,10 +14,10 @@ pub mod qemu_mps2;
 #[cfg(feature = "board-stm32f405")]
 pub mod stm32f405;
 
-#[cfg(feature = "firmware-microbit")]
+#[cfg(feature = "board-microbit")]
 pub mod microbit;
 
-#[cfg(feature = "firmware-rp2040")]
+#[cfg(feature = "board-rp2040")]
 pub mod rp2040;
 
 #[cfg(feature = "tables-in-flash")]
@@ -77,7 +77,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 
 /// Ends a QEMU session with `code` over semihosting (0 after Shutdown, 1 on a failed start or a
 /// panic); sleeps for good if the exit returns (not under QEMU).
-#[cfg(any(feature = "board-qemu", feature = "firmware-microbit"))]
+#[cfg(any(feature = "board-qemu", feature = "board-microbit"))]
 pub fn exit_qemu(code: cortex_m_semihosting::debug::ExitStatus) -> ! {
     cortex_m_semihosting::debug::exit(code);
     loop {

@@ -81,11 +81,11 @@ fn host_tests(cargo: &str) -> Option<(u64, u64)> {
     }
 }
 
-/// The on-target scenario tests (`tests/on_target.rs`) on each Cortex-M target, run in QEMU by
+/// The on-target scenario tests (`bench/tests/on_target.rs`) on each Cortex-M target, run in QEMU by
 /// `cargo test --target` through `.cargo/config.toml`'s runner: (target, features).
 const ON_TARGET: [(&str, &str); 2] = [
-    ("thumbv7em-none-eabihf", "on-target"),
-    ("thumbv6m-none-eabi", "on-target,board-microbit"),
+    ("thumbv7em-none-eabihf", "qemu,micromath"),
+    ("thumbv6m-none-eabi", "qemu,micromath"),
 ];
 
 /// `cargo <subcommand>` of the on-target tests for `target` with `features`.
@@ -93,7 +93,7 @@ fn on_target_args<'a>(subcommand: &'a str, target: &'a str, features: &'a str) -
     [
         subcommand,
         "-p",
-        "twocars",
+        "twocars-bench",
         "--release",
         "--target",
         target,
@@ -240,7 +240,7 @@ const STEPS: [Step; 13] = [
     Step::full("clippy-core", clippy_core),
     Step::full("tables", |suite| suite.tables().is_some()),
     Step::full("clippy-firmware", clippy_firmware),
-    Step::full("clippy-on-target", clippy_on_target),
+    Step::full("clippy-bench", clippy_bench),
     Step::full("images", images),
     Step::full("panic-free", panic_free),
     Step::quick("host-tests", host),
@@ -329,22 +329,14 @@ fn clippy_core(suite: &mut Suite) -> bool {
 
 const M4F: &str = "thumbv7em-none-eabihf";
 
-/// Every firmware and bench image's features, its name, its target.
-const FIRMWARE: [(&str, &str, &str); 16] = [
+/// Every firmware image's features, its name, its target.
+const FIRMWARE: [(&str, &str, &str); 8] = [
     ("qemu-log", "QEMU", M4F),
     ("board-stm32f405", "STM32F405", M4F),
     ("board-qemu,mavlink", "QEMU MAVLink", M4F),
     ("board-stm32f405,mavlink", "STM32F405 MAVLink", M4F),
-    ("firmware-microbit", "micro:bit", "thumbv6m-none-eabi"),
-    ("firmware-rp2040", "RP2040", "thumbv6m-none-eabi"),
-    ("bench-firmware", "bench", M4F),
-    ("bench-empty", "empty bench", M4F),
-    ("bench-fixed", "fixed-point bench", M4F),
-    ("bench-micromath", "micromath bench", M4F),
-    ("bench-report", "report bench", M4F),
-    ("bench-loop", "serial loop bench", M4F),
-    ("bench-mavlink", "MAVLink bench", M4F),
-    ("bench-table", "value table bench", M4F),
+    ("board-microbit", "micro:bit", "thumbv6m-none-eabi"),
+    ("board-rp2040", "RP2040", "thumbv6m-none-eabi"),
     ("qemu-log,tables-in-flash", "QEMU tables", M4F),
     ("board-stm32f405,tables-in-flash", "STM32F405 tables", M4F),
 ];
@@ -378,11 +370,26 @@ fn clippy_firmware(suite: &mut Suite) -> bool {
     })
 }
 
-fn clippy_on_target(suite: &mut Suite) -> bool {
-    ON_TARGET.iter().all(|(target, features)| {
-        let mut clippy = on_target_args("clippy", target, features).to_vec();
-        clippy.extend(["--", "-D", "warnings"]);
-        let title = format!("clippy of the on-target tests for {target}");
+/// The bench images and the on-target tests (`twocars-bench`, every image's features at once)
+/// on both of their CPUs.
+fn clippy_bench(suite: &mut Suite) -> bool {
+    ON_TARGET.iter().all(|(target, _)| {
+        let clippy = [
+            "clippy",
+            "-p",
+            "twocars-bench",
+            "--release",
+            "--target",
+            target,
+            "--features",
+            "qemu,micromath,mavlink,tables",
+            "--bins",
+            "--tests",
+            "--",
+            "-D",
+            "warnings",
+        ];
+        let title = format!("clippy of the bench images and on-target tests for {target}");
         step(&title, &suite.cargo, &clippy, &[])
     })
 }
@@ -438,8 +445,10 @@ fn docs(suite: &mut Suite) -> bool {
         "--no-deps",
         "-p",
         "twocars",
+        "-p",
+        "twocars-bench",
         "--features",
-        "mavlink,firmware,bench",
+        "twocars/micromath,twocars/value-tables,twocars-bench/mavlink,twocars-bench/tables",
     ];
     step(
         "docs",

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use twocars::bench::STATES;
+use twocars_bench::STATES;
 
 use crate::firmware::qemu;
 
@@ -15,7 +15,6 @@ pub struct Cpu {
     pub(crate) name: &'static str,
     pub(crate) target: &'static str,
     pub(crate) machine: &'static [&'static str],
-    pub(crate) board_features: &'static str,
     /// SysTick ticks per instruction under `-icount shift=6` (64 ns per instruction).
     pub(crate) ticks_per_instruction: f64,
 }
@@ -43,7 +42,6 @@ pub const M4F: Cpu = Cpu {
     name: "Cortex-M4F (mps2-an386)",
     target: "thumbv7em-none-eabihf",
     machine: &["-M", "mps2-an386", "-cpu", "cortex-m4"],
-    board_features: "",
     // SysTick on the 25 MHz processor clock: 64 ns x 25 MHz.
     ticks_per_instruction: 1.6,
 };
@@ -52,7 +50,6 @@ pub const M0: Cpu = Cpu {
     name: "Cortex-M0 (micro:bit)",
     target: "thumbv6m-none-eabi",
     machine: &["-M", "microbit"],
-    board_features: ",board-microbit",
     // SysTick on the 16 MHz processor clock: 64 ns x 16 MHz.
     ticks_per_instruction: 1.024,
 };
@@ -69,10 +66,10 @@ pub struct Measured {
     pub flash: u64,
 }
 
-/// Builds the bench image with `features` for `cpu`, runs it in QEMU with `-icount` and reads
-/// its per-state lines.
-pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
-    let (out, flash) = build_and_print(cpu, features)?;
+/// Builds the law's bench image `bin` for `cpu`, runs it in QEMU with `-icount` and reads its
+/// per-state lines.
+pub fn build_and_run(cpu: Cpu, bin: &str) -> Result<Measured, String> {
+    let (out, flash) = build_and_print(cpu, bin)?;
     let mut m = Measured {
         ticks: Vec::new(),
         stack: Vec::new(),
@@ -103,10 +100,10 @@ pub fn build_and_run(cpu: Cpu, features: &str) -> Result<Measured, String> {
     Ok(m)
 }
 
-/// Builds the bench image with `features` for `cpu` and runs it in QEMU with `-icount`: what it
-/// printed, and its flash.
-pub(crate) fn build_and_print(cpu: Cpu, features: &str) -> Result<(String, u64), String> {
-    let elf = build(cpu, features)?;
+/// Builds the bench image `bin` for `cpu` and runs it in QEMU with `-icount`: what it printed,
+/// and its flash.
+pub(crate) fn build_and_print(cpu: Cpu, bin: &str) -> Result<(String, u64), String> {
+    let elf = build(cpu, bin)?;
     let flash = crate::firmware::size::of(&elf)?.flash();
     let mut child = cpu
         .qemu(&elf)?
@@ -137,15 +134,38 @@ pub(crate) fn build_and_print(cpu: Cpu, features: &str) -> Result<(String, u64),
     Ok((out, flash))
 }
 
-/// Builds the bench image with `features` for `cpu`; returns the ELF's path.
-pub fn build(cpu: Cpu, features: &str) -> Result<PathBuf, String> {
-    let all_features = format!("{features}{}", cpu.board_features);
+/// The bench images (`bench/src/bin/`) and the features of `twocars-bench` each needs.
+const IMAGES: [(&str, &str); 13] = [
+    ("law", "qemu"),
+    ("empty", "qemu"),
+    ("law_fixed", "qemu"),
+    ("empty_fixed", "qemu"),
+    ("law_micromath", "qemu,micromath"),
+    ("empty_micromath", "qemu,micromath"),
+    ("law_report", "qemu"),
+    ("empty_report", "qemu"),
+    ("serial", "qemu,serial"),
+    ("serial_fixed", "qemu,serial"),
+    ("serial_tables", "qemu,serial,tables"),
+    ("mavlink", "qemu,mavlink"),
+    ("table", "qemu,tables"),
+];
+
+/// Builds the bench image `bin` for `cpu`, with only the features it needs (so that the core
+/// carries no code the image does not use); returns the ELF's path.
+pub fn build(cpu: Cpu, bin: &str) -> Result<PathBuf, String> {
+    let features = IMAGES
+        .iter()
+        .find(|(name, _)| *name == bin)
+        .map(|(_, features)| *features)
+        .ok_or_else(|| format!("no bench image {bin}"))?;
     crate::firmware::build::build_image(
-        cpu.target,
-        &all_features,
         "twocars-bench",
+        cpu.target,
+        features,
+        bin,
         Stdio::null(),
         &[],
     )
-    .map_err(|e| format!("bench build for {} ({all_features}) failed: {e}", cpu.name))
+    .map_err(|e| format!("bench build of {bin} for {} failed: {e}", cpu.name))
 }

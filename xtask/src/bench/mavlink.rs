@@ -1,8 +1,8 @@
 //! The MAVLink endpoint's rows of `cargo xtask bench`: its serial path on the Cortex-M4F
-//! (`bench-mavlink` image, the sessions of `src/bench/mavlink.rs`), checked against the same
+//! (the `mavlink` image, the sessions of `bench/src/mavlink.rs`), checked against the same
 //! sessions on the host.
 
-use twocars::bench::mavlink::{script, serve_script, Outcome, Session, PERIODS, SCRIPT_CAPACITY};
+use twocars_bench::mavlink::{script, serve_script, Outcome, Session, PERIODS, SCRIPT_CAPACITY};
 
 use crate::bench::image::{build_and_print, M4F};
 
@@ -32,7 +32,7 @@ fn host(session: Session) -> Result<Outcome, String> {
 /// Runs the three sessions on the Cortex-M4F; an error where what it sent differs from the
 /// host's.
 pub fn measure() -> Result<MavlinkMeasured, String> {
-    let (out, _) = build_and_print(M4F, "bench-mavlink")?;
+    let (out, _) = build_and_print(M4F, "mavlink")?;
     let sessions = [Session::Empty, Session::Ignored, Session::Guided];
     let mut ticks = [None; 3];
     let mut stack = 0;
@@ -78,7 +78,7 @@ pub fn measure() -> Result<MavlinkMeasured, String> {
 /// The bench page's paragraph.
 pub fn paragraph(m: &MavlinkMeasured) -> String {
     format!(
-        "MAVLink endpoint (Cortex-M4F, f32; `bench-mavlink` image: the serial path of the \
+        "MAVLink endpoint (Cortex-M4F, f32; `mavlink` image: the serial path of the \
          `twocars-qemu-mavlink` image, the UART interrupt's handler and \
          `twocars::mavlink::service::service` over the same queues, fed by a scripted UART 32 \
          bytes per pass the bench states as an autopilot reports them, a target and an own \

@@ -25,15 +25,17 @@ fn function(line: &str) -> Option<String> {
     (!name.is_empty()).then(|| format!("{:#}", rustc_demangle::demangle(name)))
 }
 
-/// Counts the instructions of each call of the bench's `evaluate` in QEMU's exec log.
-pub fn count(log: &str) -> Profile {
+/// Counts the instructions of each call of the bench image `bin`'s `evaluate` in QEMU's exec
+/// log: from its entry to the return into the harness that calls it.
+pub fn count(log: &str, bin: &str) -> Profile {
+    let evaluate = format!("{bin}::evaluate");
     let mut per_function: HashMap<String, u64> = HashMap::new();
     let (mut inside, mut calls) = (false, 0u64);
     for name in log.lines().filter_map(function) {
-        if name == "twocars_bench::evaluate" && !inside {
+        if name == evaluate && !inside {
             inside = true;
             calls += 1;
-        } else if name.starts_with("twocars_bench::__cortex_m_rt_main") {
+        } else if name.starts_with("twocars_bench::target::law::run") {
             inside = false;
         }
         if inside {
@@ -49,8 +51,8 @@ pub fn count(log: &str) -> Profile {
 }
 
 /// Builds the bench image, runs it single-stepped with the exec log, and profiles it.
-pub fn profile(cpu: Cpu, features: &str) -> Result<Profile, String> {
-    let elf = image::build(cpu, features)?;
+pub fn profile(cpu: Cpu, bin: &str) -> Result<Profile, String> {
+    let elf = image::build(cpu, bin)?;
     let log = crate::workspace::root()
         .join("target")
         .join("profile-exec.log");
@@ -67,17 +69,17 @@ pub fn profile(cpu: Cpu, features: &str) -> Result<Profile, String> {
     }
     let text = std::fs::read_to_string(&log).map_err(|e| e.to_string())?;
     let _ = std::fs::remove_file(&log);
-    Ok(count(&text))
+    Ok(count(&text, bin))
 }
 
 /// `cargo xtask profile`.
 pub fn command() -> i32 {
     let mut code = 0;
-    for (cpu, numeric, features) in [
-        (image::M4F, "f32", "bench-firmware"),
-        (image::M0, "fixed point", "bench-fixed"),
+    for (cpu, numeric, bin) in [
+        (image::M4F, "f32", "law"),
+        (image::M0, "fixed point", "law_fixed"),
     ] {
-        match profile(cpu, features) {
+        match profile(cpu, bin) {
             Ok(p) => {
                 let total: f64 = p.functions.iter().map(|f| f.1).sum();
                 println!(
@@ -105,19 +107,19 @@ mod tests {
     #[test]
     fn counts_only_inside_the_timed_calls() {
         let log = "\
-Trace 0: 0x1 [00000000/00000400/0/0] _ZN13twocars_bench18__cortex_m_rt_main17h4dbc46d4c6d4b986E
-Trace 0: 0x1 [00000000/00000500/0/0] _ZN13twocars_bench8evaluate17h0fd53f7a438d4392E
-Trace 0: 0x1 [00000000/00000502/0/0] _ZN13twocars_bench8evaluate17h0fd53f7a438d4392E
+Trace 0: 0x1 [00000000/00000400/0/0] _ZN13twocars_bench6target3law3run17h4dbc46d4c6d4b986E
+Trace 0: 0x1 [00000000/00000500/0/0] _ZN3law8evaluate17h0fd53f7a438d4392E
+Trace 0: 0x1 [00000000/00000502/0/0] _ZN3law8evaluate17h0fd53f7a438d4392E
 Trace 0: 0x1 [00000000/00000600/0/0] _ZN7twocars3num8f32_math5atan217h8977c07e3b9a37e7E
-Trace 0: 0x1 [00000000/00000404/0/0] _ZN13twocars_bench18__cortex_m_rt_main17h4dbc46d4c6d4b986E
-Trace 0: 0x1 [00000000/00000500/0/0] _ZN13twocars_bench8evaluate17h0fd53f7a438d4392E
-Trace 0: 0x1 [00000000/00000404/0/0] _ZN13twocars_bench18__cortex_m_rt_main17h4dbc46d4c6d4b986E
+Trace 0: 0x1 [00000000/00000404/0/0] _ZN13twocars_bench6target3law3run17h4dbc46d4c6d4b986E
+Trace 0: 0x1 [00000000/00000500/0/0] _ZN3law8evaluate17h0fd53f7a438d4392E
+Trace 0: 0x1 [00000000/00000404/0/0] _ZN13twocars_bench6target3law3run17h4dbc46d4c6d4b986E
 ";
-        let p = count(log);
+        let p = count(log, "law");
         assert_eq!(p.calls, 2);
         let get = |n: &str| p.functions.iter().find(|f| f.0 == n).map(|f| f.1);
-        assert_eq!(get("twocars_bench::evaluate"), Some(1.5));
+        assert_eq!(get("law::evaluate"), Some(1.5));
         assert_eq!(get("twocars::num::f32_math::atan2"), Some(0.5));
-        assert_eq!(get("twocars_bench::__cortex_m_rt_main"), None);
+        assert_eq!(get("twocars_bench::target::law::run"), None);
     }
 }

@@ -1,13 +1,13 @@
 //! The serial path's rows of `cargo xtask bench`: the firmware's loop fed a scripted session on
 //! the Cortex-M4F and the Cortex-M0, its replies checked against the same unit on the host.
 
-use twocars::bench::main_loop::{script, serve_script_on, Outcome, SCRIPT_CAPACITY};
 use twocars::num::fixed::Fixed;
 use twocars::Scalar;
+use twocars_bench::main_loop::{script, serve_script_on, Outcome, SCRIPT_CAPACITY};
 
 use crate::bench::image::{build_and_print, M0, M4F};
 
-/// The session of `twocars::bench::main_loop` served on the host, by a unit with `tables`.
+/// The session of `twocars_bench::main_loop` served on the host, by a unit with `tables`.
 fn host_session<S: Scalar>(
     with_states: bool,
     tables: &'static [twocars::value_tables::ValueTables<'static>],
@@ -21,7 +21,7 @@ fn host_session<S: Scalar>(
     Ok(outcome)
 }
 
-/// The firmware's serial loop on the Cortex-M4F (`bench-loop` image), its replies checked
+/// The firmware's serial loop on the Cortex-M4F (`serial` image), its replies checked
 /// against the host's.
 #[derive(Clone, Copy, Debug)]
 pub struct LoopMeasured {
@@ -45,29 +45,29 @@ pub enum LoopImage {
     M4fFloat,
     /// micro:bit, Q17.14.
     M0Fixed,
-    /// mps2-an386, f32, the unit with the bench's value table (`bench-table`): the session
+    /// mps2-an386, f32, the unit with the bench's value table (`serial_tables`): the session
     /// plays it at the table points.
     M4fTables,
 }
 
-/// The bench's value table (`src/bench/table.tcv`), as the `bench-table` image carries it.
+/// The bench's value table (`bench/table.tcv`), as the `serial_tables` image carries it.
 fn bench_tables() -> Result<&'static [twocars::value_tables::ValueTables<'static>], String> {
-    static TABLE: &[u8] = include_bytes!("../../../src/bench/table.tcv");
+    static TABLE: &[u8] = twocars_bench::TABLE;
     let set = twocars::value_tables::ValueTables::parse(TABLE)
-        .map_err(|e| format!("src/bench/table.tcv: {e:?}"))?;
+        .map_err(|e| format!("bench/table.tcv: {e:?}"))?;
     Ok(Box::leak(Box::new([set])))
 }
 
 /// Runs the serial loop's bench session on `image`'s CPU; an error where its replies, their
 /// digest or its counters differ from the host's (the same unit and backend on the host).
 pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
-    let (cpu, features) = match image {
-        LoopImage::M4fFloat => (M4F, "bench-loop"),
-        LoopImage::M0Fixed => (M0, "bench-loop,bench-fixed"),
-        LoopImage::M4fTables => (M4F, "bench-loop,bench-table"),
+    let (cpu, bin) = match image {
+        LoopImage::M4fFloat => (M4F, "serial"),
+        LoopImage::M0Fixed => (M0, "serial_fixed"),
+        LoopImage::M4fTables => (M4F, "serial_tables"),
     };
     let tables = image == LoopImage::M4fTables;
-    let (out, _) = build_and_print(cpu, features)?;
+    let (out, _) = build_and_print(cpu, bin)?;
     let mut ticks = [None, None];
     let mut stack = 0;
     let mut replies = 0;
@@ -112,9 +112,52 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
     Ok(LoopMeasured {
         per_state: (with - without)
             / per_instruction
-            / twocars::bench::main_loop::state_frames(tables) as f64,
+            / twocars_bench::main_loop::state_frames(tables) as f64,
         rest: without / per_instruction,
         stack,
         replies,
+    })
+}
+
+/// The serial loop's paragraph of the report for `image`.
+pub(crate) fn section(image: LoopImage) -> Result<String, String> {
+    let l = measure_loop(image)?;
+    Ok(match image {
+        LoopImage::M4fFloat => format!(
+            "Main loop (Cortex-M4F, f32; `serial` image: the firmware's serial path, the \
+             UART interrupt's handler and `twocars::serial::service` over the `heapless` \
+             queues, fed the script of `bench/src/main_loop.rs` by a scripted UART one byte \
+             per interrupt: the bench states as State frames under each policy, {} replies, \
+             all equal to the host's): **{:.0} instructions per State frame** (each byte \
+             queued by the handler and dequeued by the loop, deframe, CRC, parse, the law \
+             for both roles, the Command encoded, queued and handed to the transmitter by \
+             the handler; exception entry and return are not instructions: the session's \
+             instructions less those of the same session without its State frames, {:.0}, \
+             over its State frames); **stack \
+             {} B** (the unit, its buffers and the law below the loop's frame, as in the \
+             firmware's `main`; the queues are statics; an interrupt adds its exception frame, 104 B with the FPU \
+             context (108 B when realigned), and its handler's).",
+            l.replies, l.per_state, l.rest, l.stack
+        ),
+        LoopImage::M0Fixed => format!(
+            "Main loop (Cortex-M0, fixed point; the same session on the micro:bit, `serial_fixed` \
+             with the Q17.14 law, the wire's f32 values converted with integers only, {} \
+             replies, all equal to the same unit's on the host): **{:.0} instructions per \
+             State frame** (the session without its State frames: {:.0}); **stack {} B**.",
+            l.replies, l.per_state, l.rest, l.stack
+        ),
+        LoopImage::M4fTables => format!(
+            "Main loop with the value tables (Cortex-M4F, f32; `serial_tables` image: the \
+             unit carries `bench/table.tcv` and one Configure selects it, policy 2; the \
+             {} table points of the bench below as State frames, the pursuer at the origin, \
+             so that both players' turns are read from the table, {} replies, all equal to \
+             the host's): **{:.0} instructions per State frame** (the session without its \
+             State frames: {:.0}); **stack {} B**.",
+            twocars_bench::main_loop::state_frames(true),
+            l.replies,
+            l.per_state,
+            l.rest,
+            l.stack
+        ),
     })
 }

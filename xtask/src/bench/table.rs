@@ -1,15 +1,15 @@
 //! The value table's row of `cargo xtask bench`: the firmware's reader of a
-//! Hamilton-Jacobi-Isaacs table (`twocars::value_tables::table`) on the Cortex-M4F (`bench-table`
-//! image, the table `src/bench/table.tcv`), checked against the same reads on the host.
+//! Hamilton-Jacobi-Isaacs table (`twocars::value_tables::table`) on the Cortex-M4F (`table`
+//! image, the table `bench/table.tcv`), checked against the same reads on the host.
 
-use twocars::bench::TABLE_POINTS;
 use twocars::value_tables::table::ValueTable;
 use twocars::value_tables::ValueTables;
+use twocars_bench::TABLE_POINTS;
 
 use crate::bench::image::{build_and_print, M4F};
 
 /// The table the bench image carries.
-const TABLE: &[u8] = include_bytes!("../../../src/bench/table.tcv");
+const TABLE: &[u8] = twocars_bench::TABLE;
 
 /// What reading the table costs on the Cortex-M4F.
 #[derive(Clone, Copy, Debug)]
@@ -26,8 +26,8 @@ pub struct TableMeasured {
 
 /// Runs the table bench on the Cortex-M4F; an error where a read differs from the host's.
 pub fn measure() -> Result<TableMeasured, String> {
-    let table = ValueTables::parse(TABLE).map_err(|e| format!("src/bench/table.tcv: {e:?}"))?;
-    let (out, _) = build_and_print(M4F, "bench-table")?;
+    let table = ValueTables::parse(TABLE).map_err(|e| format!("bench/table.tcv: {e:?}"))?;
+    let (out, _) = build_and_print(M4F, "table")?;
     let mut instructions = Vec::new();
     let mut stack = 0;
     for line in out.lines() {
@@ -74,12 +74,12 @@ pub fn measure() -> Result<TableMeasured, String> {
 pub fn paragraph(m: &TableMeasured) -> String {
     let (n, headings) = ValueTable::parse(TABLE).map_or((0, 0), |t| t.grid());
     format!(
-        "Value table (Cortex-M4F, f32; `bench-table` image: `twocars::value_tables::table` \
-         reading `src/bench/table.tcv`, the paper's game on a {n} x {n} x {headings} grid, \
+        "Value table (Cortex-M4F, f32; `table` image: `twocars::value_tables::table` \
+         reading `bench/table.tcv`, the paper's game on a {n} x {n} x {headings} grid, \
          {} B, u16 per node; each read is V by trilinear interpolation and the pursuer's \
          optimal turn by the solver's one-step minimax, twelve exact steps and twelve more \
          interpolations; at the {} points of \
-         `twocars::bench::TABLE_POINTS`, every result equal to the host's bit for bit): \
+         `twocars_bench::TABLE_POINTS`, every result equal to the host's bit for bit): \
          **{:.0} instructions per read** ({:.0} - {:.0}; the call overhead, the same call \
          reading nothing, subtracted); stack {} B. A read costs the same on any grid size.\n",
         TABLE.len(),

@@ -72,8 +72,8 @@ impl Board {
             Board::QemuMavlink => "board-qemu,mavlink",
             Board::Stm32f405 => "board-stm32f405",
             Board::Stm32f405Mavlink => "board-stm32f405,mavlink",
-            Board::Microbit => "firmware-microbit",
-            Board::Rp2040 => "firmware-rp2040",
+            Board::Microbit => "board-microbit",
+            Board::Rp2040 => "board-rp2040",
             Board::QemuTables => "qemu-log,tables-in-flash",
             Board::Stm32f405Tables => "board-stm32f405,tables-in-flash",
         }
@@ -106,8 +106,8 @@ impl Board {
             Board::QemuMavlink => "board-qemu,mavlink,panic-never",
             Board::Stm32f405 => "board-stm32f405,panic-never",
             Board::Stm32f405Mavlink => "board-stm32f405,mavlink,panic-never",
-            Board::Microbit => "firmware-microbit,panic-never",
-            Board::Rp2040 => "firmware-rp2040,panic-never",
+            Board::Microbit => "board-microbit,panic-never",
+            Board::Rp2040 => "board-rp2040,panic-never",
             Board::QemuTables => "board-qemu,tables-in-flash,panic-never",
             Board::Stm32f405Tables => "board-stm32f405,tables-in-flash,panic-never",
         }
@@ -160,13 +160,21 @@ pub fn prove_panic_free(board: Board) -> Result<PathBuf, String> {
 fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
     let sets = board.table_sets();
     if sets.is_empty() {
-        return build_image(board.target(), features, board.bin(), Stdio::inherit(), &[])
-            .map_err(|e| format!("firmware build for {board:?} failed ({e})"));
+        return build_image(
+            CORE,
+            board.target(),
+            features,
+            board.bin(),
+            Stdio::inherit(),
+            &[],
+        )
+        .map_err(|e| format!("firmware build for {board:?} failed ({e})"));
     }
     // The same binary with its sets in flash, kept beside the one without as `<bin>-tables`.
     let files = crate::hj::solve::flash_sets(sets)?;
     let paths = std::env::join_paths(&files).map_err(|e| e.to_string())?;
     let elf = build_image(
+        CORE,
         board.target(),
         features,
         board.bin(),
@@ -179,11 +187,15 @@ fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
     Ok(kept)
 }
 
-/// Builds the core's binary `bin` for `target` with `features` (release), cargo's own output
-/// to `stdout`; returns the ELF's path. Only the core's own features: a workspace build would
+/// The package of the flight images.
+const CORE: &str = "twocars";
+
+/// Builds `package`'s binary `bin` for `target` with `features` (release), cargo's own output
+/// to `stdout`; returns the ELF's path. Only that package's features: a workspace build would
 /// unify in those the host crates enable (`value-tables`), and their code with them
 /// (docs/optimisation.md).
 pub fn build_image(
+    package: &str,
     target: &str,
     features: &str,
     bin: &str,
@@ -193,7 +205,7 @@ pub fn build_image(
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let status = Command::new(cargo)
         .current_dir(root())
-        .args(["build", "--package", "twocars", "--release"])
+        .args(["build", "--package", package, "--release"])
         .args(["--target", target, "--features", features, "--bin", bin])
         .env("DEFMT_LOG", "info")
         .envs(env.iter().copied())

@@ -4,7 +4,7 @@
 //! closed loop with the firmware, the host-only simulation of the same case, frames and counters.
 
 use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
-use host_tests::sim::{SimParams, SimStatus};
+use host_tests::sim::{SimParams, SimResult, SimStatus};
 use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::value_tables::ValueTables;
 use twocars::{evaluate_observation, Observation, Policy, Scalar};
@@ -284,28 +284,13 @@ pub fn run(args: &RunArgs) -> i32 {
     if args.link == RunLink::Mavlink {
         return crate::firmware::mavlink::run();
     }
-    let tables_board = args.board == RunBoard::QemuTables;
-    let mut options = args.law.options(if tables_board {
-        Policy::Table
-    } else {
-        Policy::Flight
-    });
-    let board = match args.board {
-        RunBoard::Qemu => Board::Qemu,
-        RunBoard::Microbit => {
-            // The image's law: the host simulates the same backend.
-            options.numeric = crate::host::options::Numeric::Fixed;
-            Board::Microbit
-        }
-        RunBoard::QemuTables => {
-            // The image's law is f32's; the tables are read in f32.
-            options.numeric = crate::host::options::Numeric::F32;
-            Board::QemuTables
-        }
-    };
+    let (board, options) = board_and_options(args);
     let options = &options;
-    let o = match parse(args) {
-        Ok(o) => o,
+    let (o, tables) = match parse(args).and_then(|o| {
+        let tables = tables_for(args, options, &o)?;
+        Ok((o, tables))
+    }) {
+        Ok(set_up) => set_up,
         Err(e) => {
             eprintln!("xtask run: {e}");
             return 2;
@@ -316,24 +301,9 @@ pub fn run(args: &RunArgs) -> i32 {
         "limits: v_pm = {v_pm} m/s, w_pm = {w_pm} 1/m, v_em = {v_em} m/s, w_em = {w_em} 1/m; variant {:?}, policy {:?}, numeric {:?}",
         options.variant, options.policy, options.numeric
     );
-    // The set the image plays at these limits (the same files it was built with).
-    let tables = if tables_board && options.policy == Policy::Table {
-        match crate::firmware::tables::table_set(o.limits, options.variant, o.dt) {
-            Ok(set) => Some(set),
-            Err(e) => {
-                eprintln!("xtask run: {e}");
-                return 2;
-            }
-        }
-    } else {
-        None
-    };
-    let mut ok = true;
     let mut session = None;
     if !o.host_only {
-        let started =
-            build::build_checked(board).and_then(|(elf, _)| Qemu::start(&elf, board, true));
-        match started {
+        match build::build_checked(board).and_then(|(elf, _)| Qemu::start(&elf, board, true)) {
             Ok(q) => session = Some(q),
             Err(e) => {
                 eprintln!("xtask run: {e}");
@@ -341,97 +311,23 @@ pub fn run(args: &RunArgs) -> i32 {
             }
         }
     }
+    let mut ok = true;
     let mut sequence = 0u16;
     for case in &o.cases {
         ok &= with_numeric!(options.numeric, S => show_matrix::<S>(&o, case, options));
-        let host = match tables {
-            Some(set) => {
-                print_table_value(&o, case, set);
-                host_tests::sim::simulate_with_turns::<f32>(
-                    &params(&o, case),
-                    options.variant,
-                    options.policy,
-                    None,
-                    false,
-                    [&|_, _| None, &|_, _| None],
-                    host_tests::sim::Setup {
-                        tables: Some(set),
-                        ..Default::default()
-                    },
-                )
-            }
-            None => crate::host::sim::run_one(&params(&o, case), options, None, false),
-        };
-        println!(
-            "  host simulation (dt = {} s): {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); {} switches, {} sign flips",
-            o.dt,
-            host.status.name(),
-            host.t_capture,
-            closing(&o, host.t_capture),
-            host.switches,
-            host.sign_flips
-        );
+        let host = host_case(&o, case, options, tables);
         let Some(q) = session.as_mut() else { continue };
-        match closed_loop::run_case(
-            q,
-            &mut sequence,
-            &params(&o, case),
-            o.roles,
-            (options.variant, options.policy),
-        ) {
-            Ok(fw) => {
-                let r = &fw.result;
-                let diff = r.t_capture - host.t_capture;
-                println!(
-                    "  firmware in QEMU: {}, captured at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s), firmware's prediction {:.4} s; \
-                     vs host: {:+.6} s ({:+.2} control periods); {} States sent, {} Commands and {} Errors received; {} switches, {} sign flips",
-                    r.status.name(),
-                    r.t_capture,
-                    closing(&o, r.t_capture),
-                    fw.predicted,
-                    diff,
-                    diff / o.dt,
-                    fw.states_sent,
-                    fw.commands_received,
-                    fw.errors_received,
-                    r.switches,
-                    r.sign_flips
-                );
-                let agree = r.status == host.status
-                    && (r.status != SimStatus::Captured || diff.abs() <= AGREEMENT_PERIODS * o.dt);
-                ok &= agree;
-                if board == Board::Microbit {
-                    ok &= twin_agrees(&o, case, options, r);
-                }
-            }
+        match firmware_case(q, &mut sequence, (&o, case, options), board, &host) {
+            Ok(agrees) => ok &= agrees,
             Err(e) => {
                 eprintln!("xtask run: {}: {e}", case.name);
                 return 1;
             }
         }
     }
-    if let Some(mut q) = session {
-        match closed_loop::counters(&mut q, &mut sequence) {
-            Ok(c) => println!(
-                "\nfirmware counters: {} messages accepted, {} refused {:?}, {} watchdog expiries; {} bytes sent, {} frames received",
-                c.accepted,
-                c.errors.iter().sum::<u32>(),
-                c.errors,
-                c.stale,
-                q.bytes_sent,
-                q.frames_received
-            ),
-            Err(e) => {
-                eprintln!("xtask run: {e}");
-                return 1;
-            }
-        }
-        match closed_loop::shutdown(q, &mut sequence) {
-            Ok(0) => println!("firmware exited with code 0"),
-            Ok(code) => {
-                println!("firmware exited with code {code}");
-                ok = false;
-            }
+    if let Some(q) = session {
+        match finish(q, &mut sequence) {
+            Ok(exited_cleanly) => ok &= exited_cleanly,
             Err(e) => {
                 eprintln!("xtask run: {e}");
                 return 1;
@@ -439,4 +335,137 @@ pub fn run(args: &RunArgs) -> i32 {
         }
     }
     i32::from(!ok)
+}
+
+/// The board `args` asks for, and the law's options there: the policy its image plays by
+/// default, and the numeric backend of its law, which the host simulates too.
+fn board_and_options(args: &RunArgs) -> (Board, Options) {
+    let tables_board = args.board == RunBoard::QemuTables;
+    let mut options = args.law.options(if tables_board {
+        Policy::Table
+    } else {
+        Policy::Flight
+    });
+    let board = match args.board {
+        RunBoard::Qemu => Board::Qemu,
+        RunBoard::Microbit => {
+            options.numeric = crate::host::options::Numeric::Fixed;
+            Board::Microbit
+        }
+        RunBoard::QemuTables => {
+            // The tables are read in f32.
+            options.numeric = crate::host::options::Numeric::F32;
+            Board::QemuTables
+        }
+    };
+    (board, options)
+}
+
+/// The value-table set the image plays at `o`'s limits (the files it was built with), where
+/// it plays one.
+fn tables_for(
+    args: &RunArgs,
+    options: &Options,
+    o: &RunOptions,
+) -> Result<Option<&'static ValueTables<'static>>, String> {
+    if args.board == RunBoard::QemuTables && options.policy == Policy::Table {
+        crate::firmware::tables::table_set(o.limits, options.variant, o.dt).map(Some)
+    } else {
+        Ok(None)
+    }
+}
+
+/// The host's simulation of `case` (with the image's tables, where it plays them), printed.
+fn host_case(
+    o: &RunOptions,
+    case: &Case,
+    options: &Options,
+    tables: Option<&'static ValueTables<'static>>,
+) -> SimResult {
+    let host = match tables {
+        Some(set) => {
+            print_table_value(o, case, set);
+            host_tests::sim::simulate_with_turns::<f32>(
+                &params(o, case),
+                options.variant,
+                options.policy,
+                None,
+                false,
+                [&|_, _| None, &|_, _| None],
+                host_tests::sim::Setup {
+                    tables: Some(set),
+                    ..Default::default()
+                },
+            )
+        }
+        None => crate::host::sim::run_one(&params(o, case), options, None, false),
+    };
+    println!(
+        "  host simulation (dt = {} s): {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); {} switches, {} sign flips",
+        o.dt,
+        host.status.name(),
+        host.t_capture,
+        closing(o, host.t_capture),
+        host.switches,
+        host.sign_flips
+    );
+    host
+}
+
+/// `case` flown in closed loop with the firmware, printed; whether it agrees with the host's
+/// simulation `host` (and on the micro:bit, with the same unit run on the host bit for bit).
+fn firmware_case(
+    q: &mut Qemu,
+    sequence: &mut u16,
+    (o, case, options): (&RunOptions, &Case, &Options),
+    board: Board,
+    host: &SimResult,
+) -> Result<bool, String> {
+    let fw = closed_loop::run_case(
+        q,
+        sequence,
+        &params(o, case),
+        o.roles,
+        (options.variant, options.policy),
+    )?;
+    let r = &fw.result;
+    let diff = r.t_capture - host.t_capture;
+    println!(
+        "  firmware in QEMU: {}, captured at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s), firmware's prediction {:.4} s; \
+         vs host: {:+.6} s ({:+.2} control periods); {} States sent, {} Commands and {} Errors received; {} switches, {} sign flips",
+        r.status.name(),
+        r.t_capture,
+        closing(o, r.t_capture),
+        fw.predicted,
+        diff,
+        diff / o.dt,
+        fw.states_sent,
+        fw.commands_received,
+        fw.errors_received,
+        r.switches,
+        r.sign_flips
+    );
+    let mut agree = r.status == host.status
+        && (r.status != SimStatus::Captured || diff.abs() <= AGREEMENT_PERIODS * o.dt);
+    if board == Board::Microbit {
+        agree &= twin_agrees(o, case, options, r);
+    }
+    Ok(agree)
+}
+
+/// Reads the firmware's counters, prints them, shuts it down; whether it exited with 0.
+fn finish(mut q: Qemu, sequence: &mut u16) -> Result<bool, String> {
+    let c = closed_loop::counters(&mut q, sequence)?;
+    println!(
+        "\nfirmware counters: {} messages accepted, {} refused {:?}, {} watchdog expiries; {} bytes sent, {} frames received",
+        c.accepted,
+        c.errors.iter().sum::<u32>(),
+        c.errors,
+        c.stale,
+        q.bytes_sent,
+        q.frames_received
+    );
+    let code = closed_loop::shutdown(q, sequence)?;
+    println!("firmware exited with code {code}");
+    Ok(code == 0)
 }

@@ -231,7 +231,7 @@ fn noisy_stream(elf: &std::path::Path) -> Outcome {
 /// value and commands equal to the host's fixed-point law bit for bit (integer arithmetic), and
 /// the paper's four values (the first four bench states) within 1e-3 s.
 fn fixed_point_on_cortex_m0() -> Outcome {
-    let m0 = crate::bench::image::build_and_run(crate::bench::image::M0, "bench-fixed")?;
+    let m0 = crate::bench::image::build_and_run(crate::bench::image::M0, "law_fixed")?;
     let host = crate::bench::law::host_outputs::<twocars::num::fixed::Fixed>();
     if m0.outputs.len() != host.len() {
         return Err(format!(
@@ -264,7 +264,7 @@ fn fixed_point_on_cortex_m0() -> Outcome {
     ))
 }
 
-/// The firmware's serial loop on the Cortex-M4F (the bench's `bench-loop` image, QEMU
+/// The firmware's serial loop on the Cortex-M4F (the bench's `serial` image, QEMU
 /// mps2-an386): the bench session's replies (their count and digest) and the unit's counters
 /// equal the host's.
 fn serial_loop_on_cortex_m4f() -> Outcome {

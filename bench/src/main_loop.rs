@@ -1,5 +1,5 @@
 //! The main loop's bench session: the firmware's serial path — the UART interrupt's handler
-//! ([`crate::serial::InterruptEnd::on_interrupt`]) and the loop ([`service`]) over the `heapless` queues — fed a
+//! ([`twocars::serial::InterruptEnd::on_interrupt`]) and the loop ([`service`]) over the `heapless` queues — fed a
 //! fixed byte script from memory by a scripted UART, so that `cargo xtask bench` can count its
 //! instructions per State frame and paint its stack in QEMU, and the host can run the same
 //! session and compare the replies.
@@ -12,17 +12,17 @@
 //! With the tables, one Configure selects the value tables (policy 2) and the states are the
 //! points where the bench reads them ([`TABLE_POINTS`], the pursuer at the origin heading +x).
 
-use crate::num::Scalar;
-use crate::protocol::endpoint::Unit;
-use crate::protocol::frame::{
+use twocars::num::Scalar;
+use twocars::protocol::endpoint::Unit;
+use twocars::protocol::frame::{
     cobs_encode, encode_frame, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME,
 };
-use crate::protocol::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
-use crate::serial::{service, Board, Line, RxFlags, UartRegisters};
+use twocars::protocol::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use twocars::serial::{service, Board, Line, RxFlags, UartRegisters};
 
-use crate::value_tables::ValueTables;
+use twocars::value_tables::ValueTables;
 
-use super::{DT, LIMITS, STATES, TABLE_POINTS};
+use crate::{DT, LIMITS, STATES, TABLE_POINTS};
 
 /// Bytes the longest script takes, with room to spare.
 pub const SCRIPT_CAPACITY: usize = 2048;
@@ -250,7 +250,7 @@ pub fn serve_script(
 /// [`serve_script`] with the fixed-point unit (the Cortex-M0 image).
 #[inline(never)]
 pub fn serve_script_fixed(line: &mut Line, script: &[u8]) -> Outcome {
-    serve_script_on::<crate::num::fixed::Fixed>(line, script, &[])
+    serve_script_on::<twocars::num::fixed::Fixed>(line, script, &[])
 }
 
 /// [`serve_script`] with the unit on backend `S`, with `tables`.

@@ -4,8 +4,8 @@
 //! runner of `.cargo/config.toml` and reported over semihosting; the exit code is the verdict.
 //!
 //! ```sh
-//! cargo test --release --target thumbv7em-none-eabihf --features on-target --test on_target
-//! cargo test --release --target thumbv6m-none-eabi --features on-target,board-microbit --test on_target
+//! cargo test --release --target thumbv7em-none-eabihf -p twocars-bench --features qemu,micromath --test on_target
+//! cargo test --release --target thumbv6m-none-eabi -p twocars-bench --features qemu,micromath --test on_target
 //! ```
 //!
 //! The expected values are the independent f64 derivation's (`cargo xtask eval --numeric f64`),

@@ -1,19 +1,19 @@
-//! The MAVLink endpoint's bench session (`cargo xtask bench`, `bench-mavlink` image): the bench
+//! The MAVLink endpoint's bench session (`cargo xtask bench`, the `mavlink` image): the bench
 //! states as an autopilot would report them, a target GLOBAL_POSITION_INT (system 2) and an own
 //! one (system 1, component 1) per control period, through the firmware's serial path (the UART
-//! interrupt's handler, the queues, [`crate::mavlink::service::service`]) with a scripted UART.
+//! interrupt's handler, the queues, [`twocars::mavlink::service::service`]) with a scripted UART.
 //! The same session with the positions from systems the endpoint ignores times their parsing
 //! alone; the empty session, the fixed cost (one heartbeat).
 
 use ::mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 
-use super::main_loop::ScriptedUart;
-use super::STATES;
-use crate::geodetic::LocalFrame;
-use crate::mavlink::outgoing::Outbox;
-use crate::mavlink::service::service;
-use crate::mavlink::Endpoint;
-use crate::serial::{Board, Line};
+use crate::main_loop::ScriptedUart;
+use crate::STATES;
+use twocars::geodetic::LocalFrame;
+use twocars::mavlink::outgoing::Outbox;
+use twocars::mavlink::service::service;
+use twocars::mavlink::Endpoint;
+use twocars::serial::{Board, Line};
 
 /// Script bytes: 24 position frames of at most 40 bytes.
 pub const SCRIPT_CAPACITY: usize = 1024;

@@ -1,0 +1,69 @@
+//! The bench and on-target test images of twocars, and what the host shares with them.
+//!
+//! `cargo xtask bench` builds one small image per measurement (`src/bin/`), runs it in QEMU with
+//! `-icount` so that SysTick counts instructions, and reads what it prints over semihosting;
+//! `cargo xtask test` runs `tests/on_target.rs` the same way. The images run on QEMU's
+//! mps2-an386 (Cortex-M4F) and micro:bit (Cortex-M0); `build.rs` picks the memory map from the
+//! target.
+//!
+//! This library holds the fixed inputs, which xtask and the host tests use too: the bench
+//! states ([`STATES`]), the paper's four cases and states that reach every branch of the law
+//! (tail chase with four tied options, no valid tangent, the overshoot entry, far and near
+//! states, both turn directions); with `serial`, the serial loop's session ([`main_loop`]);
+//! with `mavlink`, the MAVLink endpoint's ([`mavlink`]). With `qemu` on a Cortex-M target,
+//! `target` is the measuring harness the images share.
+//!
+//! Each state: pursuer (x, y, theta), evader (x, y, theta); metres, radians. Limits are the
+//! paper's (v_pm = 2, w_pm = 2, v_em = 1, w_em = 1), control period 10 ms. Every state lies
+//! inside every backend's envelope (fixed point: within 200 r_p = 100 m on each axis).
+#![no_std]
+#![deny(missing_docs)]
+
+#[cfg(feature = "serial")]
+pub mod main_loop;
+#[cfg(feature = "mavlink")]
+pub mod mavlink;
+#[cfg(all(feature = "qemu", target_os = "none"))]
+pub mod target;
+
+/// The paper's limits: v_pm, w_pm, v_em, w_em.
+pub const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];
+/// Control period of the bench, seconds.
+pub const DT: f32 = 0.01;
+
+const HALF_PI: f32 = core::f32::consts::FRAC_PI_2;
+
+/// The bench states.
+pub const STATES: [([f32; 3], [f32; 3]); 12] = [
+    ([0.0, 0.0, HALF_PI], [-3.0, -6.0, HALF_PI]),
+    ([0.0, 0.0, HALF_PI], [6.0, 3.0, HALF_PI]),
+    ([0.0, 0.0, HALF_PI], [0.0, -6.0, HALF_PI]),
+    ([0.0, 0.0, HALF_PI], [0.0, 6.0, 2.094_395_1]),
+    ([0.0, 0.0, 0.0], [20.0, 0.0, 0.0]),
+    ([0.0, 0.0, 0.0], [-1.1336, -0.3115, -2.9591]),
+    ([10.0, -4.0, 3.0], [-35.0, 22.0, -1.2]),
+    ([-60.0, 40.0, -2.5], [30.0, -45.0, 0.7]),
+    ([1.0, 1.0, 0.3], [2.5, 1.8, 2.9]),
+    ([0.0, 0.0, -3.1], [0.5, -40.0, 1.0]),
+    ([5.0, 5.0, 1.0], [4.0, 7.0, -2.0]),
+    ([-7.0, 3.0, 2.2], [9.0, 14.0, -0.4]),
+];
+
+/// The bench's value table: the paper's game on a 21 x 21 x 24 grid, as `cargo xtask hj
+/// --nodes 21 --eps 0.6 --table bench/table.tcv` writes it.
+pub static TABLE: &[u8] = include_bytes!("../table.tcv");
+
+/// Points of the reduced game (x, y in r_p, the relative heading in radians) where the bench
+/// reads the value table [`TABLE`] (the `table` image): inside its box (+-6 r_p),
+/// outside its capture disc, where it has a value, ahead and behind, both turn directions and
+/// one tail chase (no preferred turn).
+pub const TABLE_POINTS: [[f32; 3]; 8] = [
+    [2.0, 0.0, 0.0],
+    [1.2, -2.4, -2.0],
+    [4.1, 3.3, -0.7],
+    [0.4, 1.1, 1.6],
+    [3.0, -4.0, 0.3],
+    [-1.0, 2.0, 0.5],
+    [-0.5, -1.5, -1.0],
+    [3.5, 0.5, 3.0],
+];
