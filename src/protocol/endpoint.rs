@@ -282,89 +282,112 @@ impl<S: Scalar> Session<S> {
         reply: &mut Reply,
     ) -> Result<bool, (WireError, Option<u16>)> {
         let sequence = frame.sequence();
-        let refuse = |e: WireError| (e, Some(sequence));
-        match frame.message_type() {
-            kind::CONFIGURE => {
-                let message = Configure::parse(frame.payload()).map_err(refuse)?;
-                // Written in place; only its policy byte is read back (a copy of the whole
-                // configuration kept for the ack cost the M0's loop 264 B of stack).
-                let configured = self
-                    .configured
-                    .insert(configure(&message, self.tables).map_err(refuse)?);
-                let policy = configured.policy;
-                self.watchdog = Watchdog::Idle;
-                Ok(reply.write(kind::CONFIGURE_ACK, sequence, |w| w.u8(policy)))
+        let handled = match frame.message_type() {
+            kind::CONFIGURE => self.on_configure(frame.payload(), sequence, reply),
+            kind::STATE => self.on_state(frame.payload(), sequence, now_ms, reply),
+            request @ (kind::READ_COUNTERS | kind::RESET | kind::SHUTDOWN) => {
+                self.on_request(request, frame.payload(), sequence, reply)
             }
-            kind::STATE => {
-                let message = StateMsg::parse(frame.payload()).map_err(refuse)?;
-                let configured = self
-                    .configured
-                    .as_mut()
-                    .ok_or(refuse(WireError::NotConfigured))?;
-                // The contract's order: a non-finite field anywhere before any envelope check
-                // (on the bits: no float operation on a core without an FPU).
-                let mut fields = message.pursuer.iter().chain(message.evader.iter());
-                if fields.any(|v| !ieee::is_finite_bits(v.to_bits())) {
-                    return Err(refuse(WireError::NonFiniteField));
-                }
-                let limits = &configured.guidance.law().limits;
-                let (pursuer, evader) = limits.states(message.pursuer, message.evader).map_err(
-                    |status| match status {
-                        Status::NonFiniteInput => refuse(WireError::NonFiniteField),
-                        _ => refuse(WireError::OutOfRangeField),
-                    },
-                )?;
-                let roles = configured.roles;
-                // Staleness by the sender's own timestamps: a gap longer than the watchdog time
-                // (or a timestamp going backwards, which wraps to a huge gap) latches.
-                let stale = match self.watchdog {
-                    Watchdog::Latched => true,
-                    Watchdog::Armed { stamp_ms, .. } => {
-                        message.time_ms.wrapping_sub(stamp_ms) > configured.watchdog_ms
-                    }
-                    Watchdog::Idle => false,
-                };
-                if stale {
-                    if self.watchdog != Watchdog::Latched {
-                        self.latch();
-                    }
-                    return Ok(
-                        reply.write(kind::COMMAND, sequence, |w| stale_command(roles).emit(w))
-                    );
-                }
-                let decision = configured.guidance.decide(&pursuer, &evader);
-                let command = command_message(&decision, configured);
-                self.watchdog = Watchdog::Armed {
-                    arrived_ms: now_ms,
-                    stamp_ms: message.time_ms,
-                };
-                Ok(reply.write(kind::COMMAND, sequence, |w| command.emit(w)))
+            _ => Err(WireError::UnknownType),
+        };
+        handled.map_err(|e| (e, Some(sequence)))
+    }
+
+    /// Configure: the unit set up afresh, acknowledged with the policy it plays. Inlined, as
+    /// each handler is, so that the loop's stack holds one frame for all of them.
+    #[inline(always)]
+    fn on_configure(
+        &mut self,
+        payload: &[u8],
+        sequence: u16,
+        reply: &mut Reply,
+    ) -> Result<bool, WireError> {
+        let message = Configure::parse(payload)?;
+        // Written in place; only its policy byte is read back (a copy of the whole
+        // configuration kept for the ack cost the M0's loop 264 B of stack).
+        let configured = self.configured.insert(configure(&message, self.tables)?);
+        let policy = configured.policy;
+        self.watchdog = Watchdog::Idle;
+        Ok(reply.write(kind::CONFIGURE_ACK, sequence, |w| w.u8(policy)))
+    }
+
+    /// State: the law's Command for the configured roles, or the stale command once the
+    /// sender's timestamps show a gap longer than the watchdog time.
+    #[inline(always)]
+    fn on_state(
+        &mut self,
+        payload: &[u8],
+        sequence: u16,
+        now_ms: u32,
+        reply: &mut Reply,
+    ) -> Result<bool, WireError> {
+        let message = StateMsg::parse(payload)?;
+        let configured = self.configured.as_mut().ok_or(WireError::NotConfigured)?;
+        // The contract's order: a non-finite field anywhere before any envelope check
+        // (on the bits: no float operation on a core without an FPU).
+        let mut fields = message.pursuer.iter().chain(message.evader.iter());
+        if fields.any(|v| !ieee::is_finite_bits(v.to_bits())) {
+            return Err(WireError::NonFiniteField);
+        }
+        let limits = &configured.guidance.law().limits;
+        let (pursuer, evader) =
+            limits
+                .states(message.pursuer, message.evader)
+                .map_err(|status| match status {
+                    Status::NonFiniteInput => WireError::NonFiniteField,
+                    _ => WireError::OutOfRangeField,
+                })?;
+        let roles = configured.roles;
+        // Staleness by the sender's own timestamps: a gap longer than the watchdog time
+        // (or a timestamp going backwards, which wraps to a huge gap) latches.
+        let stale = match self.watchdog {
+            Watchdog::Latched => true,
+            Watchdog::Armed { stamp_ms, .. } => {
+                message.time_ms.wrapping_sub(stamp_ms) > configured.watchdog_ms
             }
+            Watchdog::Idle => false,
+        };
+        if stale {
+            if self.watchdog != Watchdog::Latched {
+                self.latch();
+            }
+            return Ok(reply.write(kind::COMMAND, sequence, |w| stale_command(roles).emit(w)));
+        }
+        let decision = configured.guidance.decide(&pursuer, &evader);
+        let command = command_message(&decision, configured);
+        self.watchdog = Watchdog::Armed {
+            arrived_ms: now_ms,
+            stamp_ms: message.time_ms,
+        };
+        Ok(reply.write(kind::COMMAND, sequence, |w| command.emit(w)))
+    }
+
+    /// ReadCounters, Reset and Shutdown: requests without a payload.
+    #[inline(always)]
+    fn on_request(
+        &mut self,
+        request: u8,
+        payload: &[u8],
+        sequence: u16,
+        reply: &mut Reply,
+    ) -> Result<bool, WireError> {
+        if !payload.is_empty() {
+            return Err(WireError::Oversized);
+        }
+        Ok(match request {
             kind::READ_COUNTERS => {
-                if !frame.payload().is_empty() {
-                    return Err(refuse(WireError::Oversized));
-                }
                 let counters = self.counters;
-                Ok(reply.write(kind::COUNTERS, sequence, |w| counters.emit(w)))
+                reply.write(kind::COUNTERS, sequence, |w| counters.emit(w))
             }
             kind::RESET => {
-                if !frame.payload().is_empty() {
-                    return Err(refuse(WireError::Oversized));
-                }
                 self.watchdog = Watchdog::Idle;
                 if let Some(c) = self.configured.as_mut() {
                     c.guidance.reset();
                 }
-                Ok(reply.write(kind::RESET_ACK, sequence, |_| Some(())))
+                reply.write(kind::RESET_ACK, sequence, |_| Some(()))
             }
-            kind::SHUTDOWN => {
-                if !frame.payload().is_empty() {
-                    return Err(refuse(WireError::Oversized));
-                }
-                Ok(reply.write(kind::SHUTDOWN_ACK, sequence, |_| Some(())))
-            }
-            _ => Err(refuse(WireError::UnknownType)),
-        }
+            _ => reply.write(kind::SHUTDOWN_ACK, sequence, |_| Some(())),
+        })
     }
 }
 
