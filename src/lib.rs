@@ -15,31 +15,39 @@
 //!
 //! The law is written once over [`num::Scalar`]; it is `no_std`, allocation-free and panic-free.
 //!
-//! A controller validates the limits once, then asks for a decision every control period with
-//! both vehicles' states (positions in a frame near the engagement: f32 resolves 1e-7 of the
-//! distance from the origin):
+//! A controller sets the law up once (limits, control period, policy), then every control
+//! period gives both vehicles' states in metres and radians (in a frame near the engagement:
+//! f32 resolves 1e-7 of the distance from the origin) and acts on the decision:
 //!
 //! ```
-//! use twocars::{Guidance, Law, Limits, Status, Variant};
+//! use twocars::{Guidance, Law, Limits, Policy, Status, Variant};
 //!
+//! # fn main() -> Result<(), twocars::Error> {
 //! // v_pm, w_pm, v_em, w_em: the paper's limits (m/s and 1/m).
-//! let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).expect("valid limits");
-//! let law = Law::new(limits, Variant::Paper);
-//! let mut guidance = Guidance::new(law, 0.01).expect("dt = 10 ms");
-//! // (x, y, theta) of the pursuer and the evader: the paper's case 1.
-//! let (pursuer, evader) = limits
-//!     .states([0.0, 0.0, core::f32::consts::FRAC_PI_2], [-3.0, -6.0, core::f32::consts::FRAC_PI_2])
-//!     .expect("inside the envelope");
+//! let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0)?;
+//! let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.01, Policy::Flight)?;
+//! // (x, y, theta) of the pursuer and the evader, metres and radians: the paper's case 1.
+//! let half_pi = core::f32::consts::FRAC_PI_2;
+//! let (pursuer, evader) = limits.states([0.0, 0.0, half_pi], [-3.0, -6.0, half_pi])?;
 //! let decision = guidance.decide(&pursuer, &evader);
 //! assert_eq!(decision.status, Status::Ok);
-//! let upper = decision.solution.and_then(|s| s.upper).expect("a finite value");
-//! assert!((upper - 5.6575).abs() < 1e-3); // seconds
-//! // Curvature commands (1/m), at most w_max: a turn rate is v_max w.
-//! assert!(decision.command.pursuer.abs() <= 2.0 && decision.command.evader.abs() <= 1.0);
+//! let seconds = decision.value_seconds().expect("a finite value");
+//! assert!((seconds - 5.6575).abs() < 1e-3);
+//! // The command as turn rates for a yaw-rate setpoint, rad/s (v_max w).
+//! let [pursuer_rate, evader_rate] = guidance.turn_rates(&decision);
+//! assert!(pursuer_rate.abs() <= 4.0 && evader_rate.abs() <= 1.0);
+//! # Ok(())
+//! # }
 //! ```
 //!
-//! [`Guidance::step`] returns the same with the per-pair report (tangents, arcs, the matrix),
-//! for tools that print or plot it.
+//! The same code runs on every backend: `Limits::<Fixed>` (Q17.14, for cores without an FPU)
+//! or `Limits::<Micro>` (micromath's f32 functions, feature `micromath`) in place of
+//! `Limits::<f32>`; [`Limits::states`] is the one way in from metres for each of them, and
+//! [`Decision::value_seconds`], [`Decision::curvatures`] and [`Guidance::turn_rates`] the way
+//! back to SI units as f32 (with integers on fixed point). [`Policy::Flight`] is the policy to
+//! fly; [`Policy::Paper`] is the paper's law everywhere, the reference. [`Guidance::step`]
+//! returns the decision with the per-pair report (tangents, arcs, the matrix) the host tools
+//! print.
 #![no_std]
 #![deny(missing_docs)]
 // Board shells need `unsafe` for registers; everything else is safe code.
@@ -52,6 +60,8 @@
     feature = "board-rp2040"
 ))]
 pub mod board;
+mod error;
+#[doc(hidden)]
 pub mod geodetic;
 pub mod guidance;
 pub mod law;
@@ -65,6 +75,12 @@ pub mod serial;
 pub mod status;
 pub mod value_tables;
 
+pub use error::Error;
+
+/// README's Rust blocks, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
 pub use guidance::{Guidance, Policy};
 pub use law::capture::{CaptureTime, Variant};
 pub use law::game::{GameSolution, MatrixGame};
@@ -73,5 +89,8 @@ pub use law::geometry::{
     VehicleState,
 };
 pub use law::{evaluate_observation, Command, Decision, Evaluation, GameReport, Law, Observation};
+pub use num::fixed::Fixed;
+#[cfg(feature = "micromath")]
+pub use num::micro::Micro;
 pub use num::Scalar;
 pub use status::Status;

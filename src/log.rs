@@ -2,6 +2,7 @@
 //! builds without a log transport).
 
 /// Logs at info level.
+#[doc(hidden)]
 #[macro_export]
 macro_rules! log_info {
     ($($arg:tt)*) => {{
@@ -11,6 +12,7 @@ macro_rules! log_info {
 }
 
 /// Logs at warn level.
+#[doc(hidden)]
 #[macro_export]
 macro_rules! log_warn {
     ($($arg:tt)*) => {{

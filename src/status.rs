@@ -3,6 +3,7 @@
 /// Outcome class of one evaluation of the law; every status other than `Ok` comes with a safe
 /// command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Status {
     /// Valid input and a finite upper value: the law's command.

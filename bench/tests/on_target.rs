@@ -197,7 +197,12 @@ fn scenarios<S: Scalar>(backend: &str, tolerance: Option<f64>, tally: &mut Tally
         return;
     };
     for policy in [twocars::Policy::Paper, twocars::Policy::Flight] {
-        let ok = Guidance::new(Law::new(limits, Variant::Paper), 0.01).is_ok_and(|g| {
+        let ok = Guidance::new(
+            Law::new(limits, Variant::Paper),
+            0.01,
+            twocars::Policy::Paper,
+        )
+        .is_ok_and(|g| {
             let mut g = g.with_policy(policy);
             SCENARIOS.iter().all(|s| {
                 limits.states(s.pursuer, s.evader).is_ok_and(|(p, e)| {

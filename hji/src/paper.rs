@@ -35,8 +35,9 @@ impl PaperValue {
         if x.hypot(y) < self.threshold {
             return None;
         }
-        let p = twocars::VehicleState::<f64>::new(0.0, 0.0, 0.0).ok()?;
-        let e = twocars::VehicleState::<f64>::new(x as f32, y as f32, phi as f32).ok()?;
+        let (p, e) = (self.law.limits)
+            .states([0.0; 3], [x as f32, y as f32, phi as f32])
+            .ok()?;
         let s = self.law.evaluate(&p, &e).report?.solution;
         let (upper, lower) = (s.upper?, s.lower?);
         ((upper - lower).abs() <= 1e-9 * upper).then_some(upper - self.eps_closing)

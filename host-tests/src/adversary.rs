@@ -180,7 +180,12 @@ impl Adversary {
     pub fn new(opponent: Opponent, limits: [f64; 4], dt: f64, eps: f64, seed: u64) -> Option<Self> {
         let [v_pm, w_pm, v_em, w_em] = limits.map(|v| v as f32);
         let scene = Limits::<f64>::new(v_pm, w_pm, v_em, w_em).ok()?;
-        let guidance = Guidance::new(Law::new(scene, Variant::Paper), dt as f32).ok()?;
+        let guidance = Guidance::new(
+            Law::new(scene, Variant::Paper),
+            dt as f32,
+            twocars::Policy::Paper,
+        )
+        .ok()?;
         Some(Adversary {
             opponent,
             rng: Rng::new(seed),

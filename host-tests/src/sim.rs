@@ -363,7 +363,11 @@ pub fn simulate_with_turns<S: Scalar>(
             }
         }
     };
-    let Ok(guidance) = Guidance::new(Law::new(scene.limits, variant), params.dt as f32) else {
+    let Ok(guidance) = Guidance::new(
+        Law::new(scene.limits, variant),
+        params.dt as f32,
+        twocars::Policy::Paper,
+    ) else {
         return idle;
     };
     let mut guidance = guidance.with_policy(policy);

@@ -31,7 +31,12 @@ fn check(limits: [f32; 4], p: [f32; 3], e: [f32; 3], want: &[Status]) -> Evaluat
         }
     }
     if let Ok(scene) = twocars::law::validate::<f32>(&observation) {
-        let mut g = Guidance::new(Law::new(scene.limits, Variant::Paper), 0.01).unwrap();
+        let mut g = Guidance::new(
+            Law::new(scene.limits, Variant::Paper),
+            0.01,
+            twocars::Policy::Paper,
+        )
+        .unwrap();
         let s = g.step(&scene.pursuer, &scene.evader);
         assert_eq!(s.status, ev.status);
         assert!(s.command.pursuer.is_finite() && s.command.pursuer.abs() <= limits[1]);
@@ -308,7 +313,9 @@ fn fixed_point_law_stays_in_range_at_the_corners_of_its_envelope() {
     let (mut played, mut periods) = (0, 0);
     for v_em in [v_pm / 16.0, v_pm / 2.0, v_pm * 15.0 / 16.0] {
         let limits = Limits::<Fixed>::new(v_pm, w_pm, v_em, w_pm / 16.0).expect("in the envelope");
-        let accepted = |dt: f32| Guidance::new(Law::new(limits, Variant::Paper), dt).is_ok();
+        let accepted = |dt: f32| {
+            Guidance::new(Law::new(limits, Variant::Paper), dt, twocars::Policy::Paper).is_ok()
+        };
         // The accepted periods form one interval: its ends by bisection on a log scale, from an
         // accepted period toward a refused one.
         let end = |mut inside: f32, mut outside: f32| {
@@ -331,7 +338,9 @@ fn fixed_point_law_stays_in_range_at_the_corners_of_its_envelope() {
             end(middle, 1.0e3)
         };
         for dt in [short, middle, long] {
-            let guidance = Guidance::new(Law::new(limits, Variant::Paper), dt).expect("accepted");
+            let guidance =
+                Guidance::new(Law::new(limits, Variant::Paper), dt, twocars::Policy::Paper)
+                    .expect("accepted");
             periods += 1;
             // Offsets up to 200 r_p, and up to 0.1 r_p, where the near field's homing divides
             // by the distance.
@@ -380,7 +389,9 @@ fn fixed_point_guidance_judges_every_period_within_its_range() {
         // dt from 1e-9 s to 1e3 s in 1,200 steps of 10^(1/100); the law's time unit is 1e-4 s.
         let verdicts: Vec<bool> = (0..=1200)
             .map(|k| 10f32.powf(-9.0 + k as f32 / 100.0))
-            .map(|dt| Guidance::new(Law::new(limits, Variant::Paper), dt).is_ok())
+            .map(|dt| {
+                Guidance::new(Law::new(limits, Variant::Paper), dt, twocars::Policy::Paper).is_ok()
+            })
             .collect();
         let first = verdicts
             .iter()

@@ -9,7 +9,7 @@ use host_tests::rng::Rng;
 use host_tests::scenarios::PAPER_LIMITS;
 use host_tests::sim::{simulate, simulate_with_turns, Setup, SimParams, SimResult, SimStatus};
 use std::f64::consts::PI;
-use twocars::{Guidance, Law, Limits, Policy, Status, Variant};
+use twocars::{Guidance, Law, Limits, Policy, Variant};
 
 /// Both players on `policy` from `pursuer` and `evader` (metres, radians) at the paper's
 /// limits, control period `dt`, capture radius `eps` (metres).
@@ -195,11 +195,11 @@ fn a_lead_point_behind_turns_the_law_s_way_on_the_first_period() {
 #[test]
 fn a_capture_radius_that_is_not_a_length_is_refused() {
     let law = Law::<f32>::new(Limits::new(2.0, 2.0, 1.0, 1.0).unwrap(), Variant::Paper);
-    let guidance = Guidance::new(law, 0.01).unwrap();
+    let guidance = Guidance::new(law, 0.01, twocars::Policy::Paper).unwrap();
     for bad in [f32::NAN, f32::INFINITY, -0.1, 1.0e7] {
         assert_eq!(
             guidance.with_capture_radius(bad).err(),
-            Some(Status::InvalidLimits),
+            Some(twocars::Error::InvalidLimits),
             "{bad}"
         );
     }

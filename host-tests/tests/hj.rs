@@ -115,9 +115,13 @@ fn the_table_pursuer_captures_a_meshing_circler() {
     let law_limits = Limits::<f32>::new(narrow[0], narrow[1], narrow[2], narrow[3]).unwrap();
     let played = std::cell::Cell::new(0u32);
     let with_table = {
-        let mut law = Guidance::new(Law::new(law_limits, Variant::Paper), 0.01)
-            .unwrap()
-            .with_policy(Policy::Flight);
+        let mut law = Guidance::new(
+            Law::new(law_limits, Variant::Paper),
+            0.01,
+            twocars::Policy::Paper,
+        )
+        .unwrap()
+        .with_policy(Policy::Flight);
         let circle = Opponent::Evader(EvaderKind::Circle {
             left: true,
             half: false,

@@ -5,7 +5,7 @@
 use host_tests::rng::Rng;
 use twocars::num::fixed::wire::{self, Reciprocal};
 use twocars::num::fixed::Fixed;
-use twocars::{Limits, Scalar, Status};
+use twocars::{Limits, Scalar};
 
 /// Mantissa fields to try in every binade: the edges, and seeded random ones.
 fn mantissas(rng: &mut Rng) -> Vec<u32> {
@@ -188,13 +188,16 @@ fn fixed_point_states_refuse_what_f32_states_refuse() {
     let limits = Limits::<Fixed>::new(2.0, 2.0, 1.0, 1.0).unwrap();
     let ok = [0.0, 0.0, 0.0];
     let cases = [
-        ([f32::NAN, 0.0, 0.0], Status::NonFiniteInput),
-        ([0.0, f32::INFINITY, 0.0], Status::NonFiniteInput),
-        ([0.0, 0.0, f32::NEG_INFINITY], Status::NonFiniteInput),
-        ([1.0e6f32.next_up(), 0.0, 0.0], Status::OutOfRange),
-        ([0.0, 0.0, 1.0e4f32.next_up()], Status::OutOfRange),
+        ([f32::NAN, 0.0, 0.0], twocars::Error::NonFiniteInput),
+        ([0.0, f32::INFINITY, 0.0], twocars::Error::NonFiniteInput),
+        (
+            [0.0, 0.0, f32::NEG_INFINITY],
+            twocars::Error::NonFiniteInput,
+        ),
+        ([1.0e6f32.next_up(), 0.0, 0.0], twocars::Error::OutOfRange),
+        ([0.0, 0.0, 1.0e4f32.next_up()], twocars::Error::OutOfRange),
         // 200 r_p = 100 m at w_pm = 2: just beyond.
-        ([100.01, 0.0, 0.0], Status::OutOfRange),
+        ([100.01, 0.0, 0.0], twocars::Error::OutOfRange),
     ];
     for (evader, status) in cases {
         assert_eq!(
@@ -203,7 +206,7 @@ fn fixed_point_states_refuse_what_f32_states_refuse() {
             "{evader:?}"
         );
         let f = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
-        if status == Status::NonFiniteInput {
+        if status == twocars::Error::NonFiniteInput {
             assert_eq!(f.states(ok, evader).map(|_| ()), Err(status));
         }
     }
@@ -214,6 +217,6 @@ fn fixed_point_states_refuse_what_f32_states_refuse() {
     // Apart by 1e-5 r_p (beyond the capture radius) but below half a raw unit: refused.
     assert_eq!(
         limits.states(ok, [5.0e-6, 0.0, 0.0]).map(|_| ()),
-        Err(Status::OutOfRange)
+        Err(twocars::Error::OutOfRange)
     );
 }

@@ -239,9 +239,13 @@ fn a_ground_vehicle_gets_the_laws_yaw_rate_and_the_capture_time() {
         [n as f32, e as f32, s[2] as f32]
     };
     let (p, e) = limits.states(f(pursuer), f(evader)).unwrap();
-    let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.1)
-        .unwrap()
-        .with_policy(Policy::Flight);
+    let mut guidance = Guidance::new(
+        Law::new(limits, Variant::Paper),
+        0.1,
+        twocars::Policy::Paper,
+    )
+    .unwrap()
+    .with_policy(Policy::Flight);
     let want = SCALED[0] * guidance.decide(&p, &e).command.pursuer;
     assert!(want != 0.0);
     assert!((rate - want).abs() <= 1e-3 * want.abs(), "{rate} vs {want}");

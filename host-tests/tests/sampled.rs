@@ -7,11 +7,13 @@ const PI: f32 = core::f32::consts::PI;
 
 fn guidance(dt: f32) -> Guidance<f32> {
     let limits = Limits::new(2.0, 2.0, 1.0, 1.0).expect("paper limits");
-    Guidance::new(Law::new(limits, Variant::Paper), dt).expect("valid period")
+    Guidance::new(Law::new(limits, Variant::Paper), dt, twocars::Policy::Paper)
+        .expect("valid period")
 }
 
+/// A state on the f32 backend, whose frame is metres and radians.
 fn state(x: f32, y: f32, theta: f32) -> VehicleState<f32> {
-    VehicleState::new(x, y, theta).expect("valid state")
+    VehicleState { x, y, theta }
 }
 
 #[test]
@@ -88,7 +90,7 @@ fn invalid_periods_are_refused() {
     let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).expect("paper limits");
     for dt in [0.0, -1.0, f32::NAN, f32::INFINITY, 1.0e4] {
         assert!(
-            Guidance::new(Law::new(limits, Variant::Paper), dt).is_err(),
+            Guidance::new(Law::new(limits, Variant::Paper), dt, twocars::Policy::Paper).is_err(),
             "{dt}"
         );
     }

@@ -39,7 +39,9 @@ fn tables_of(limits: [f64; 4]) -> (Vec<Solution>, ValueTables<'static>) {
 fn guidance(policy: Policy) -> Guidance<f32> {
     let l = LIMITS.map(|v| v as f32);
     let law = Law::new(Limits::new(l[0], l[1], l[2], l[3]).unwrap(), Variant::Paper);
-    Guidance::new(law, 0.01).unwrap().with_policy(policy)
+    Guidance::new(law, 0.01, twocars::Policy::Paper)
+        .unwrap()
+        .with_policy(policy)
 }
 
 /// Where the tables' reader has a turn for a player, the guidance commands that full turn (the
@@ -105,7 +107,7 @@ fn tables_of_other_ratios_are_refused() {
         Limits::<f32>::new(2.0, 2.0, 1.2, 1.0).unwrap(),
         Variant::Paper,
     );
-    let guidance_other = Guidance::new(other, 0.01).unwrap();
+    let guidance_other = Guidance::new(other, 0.01, twocars::Policy::Paper).unwrap();
     assert!(guidance_other.with_tables(set).is_err());
     let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
     let (ps, es) = limits.states([0.0, 0.0, 0.3], [0.8, 1.1, -2.0]).unwrap();

@@ -65,15 +65,19 @@ fn commands_equal_the_host_law_bit_for_bit() {
     let mut unit = Unit::<f32>::new();
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
     let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
-    let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.01).unwrap();
+    let mut guidance = Guidance::new(
+        Law::new(limits, Variant::Paper),
+        0.01,
+        twocars::Policy::Paper,
+    )
+    .unwrap();
     for case in 0..4 {
         let s = paper_state(case, 0);
         let replies = send(&mut unit, &link::state(2, &s), 0);
         let Reply::Command(_, c) = replies[0] else {
             panic!("{replies:?}")
         };
-        let p = VehicleState::new(s.pursuer[0], s.pursuer[1], s.pursuer[2]).unwrap();
-        let e = VehicleState::new(s.evader[0], s.evader[1], s.evader[2]).unwrap();
+        let (p, e) = si_states(s.pursuer, s.evader);
         let ev = guidance.step(&p, &e);
         assert_eq!(
             c.pursuer_rate.to_bits(),
@@ -90,7 +94,12 @@ fn the_fixed_point_unit_answers_with_the_fixed_point_law_in_wire_units() {
     let mut unit = Unit::<Fixed>::new();
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
     let limits = Limits::<Fixed>::new(2.0, 2.0, 1.0, 1.0).unwrap();
-    let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.01).unwrap();
+    let mut guidance = Guidance::new(
+        Law::new(limits, Variant::Paper),
+        0.01,
+        twocars::Policy::Paper,
+    )
+    .unwrap();
     let mut float = Unit::<f32>::new();
     send(&mut float, &link::configure(1, &paper_configure()), 0);
     for case in 0..4 {
@@ -220,9 +229,13 @@ fn a_gap_in_the_senders_timestamps_latches_even_when_frames_keep_arriving() {
 fn the_configure_message_selects_the_policy() {
     let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
     let guidance = |policy| {
-        Guidance::new(Law::new(limits, Variant::Paper), 0.01)
-            .unwrap()
-            .with_policy(policy)
+        Guidance::new(
+            Law::new(limits, Variant::Paper),
+            0.01,
+            twocars::Policy::Paper,
+        )
+        .unwrap()
+        .with_policy(policy)
     };
     // A near-field state (1 m apart, well below the threshold of 14.57 m) where the two
     // policies command the pursuer differently: its game is not a saddle.
@@ -236,15 +249,13 @@ fn the_configure_message_selects_the_policy() {
             }
         })
         .find(|s| {
-            let p = VehicleState::new(s.pursuer[0], s.pursuer[1], s.pursuer[2]).unwrap();
-            let e = VehicleState::new(s.evader[0], s.evader[1], s.evader[2]).unwrap();
+            let (p, e) = si_states(s.pursuer, s.evader);
             let paper = guidance(twocars::Policy::Paper).step(&p, &e).command;
             let near = guidance(twocars::Policy::Flight).step(&p, &e).command;
             paper.pursuer != near.pursuer
         })
         .expect("a state where the policies differ");
-    let p = VehicleState::new(state.pursuer[0], state.pursuer[1], state.pursuer[2]).unwrap();
-    let e = VehicleState::new(state.evader[0], state.evader[1], state.evader[2]).unwrap();
+    let (p, e) = si_states(state.pursuer, state.evader);
     for (byte, policy) in [(0, twocars::Policy::Paper), (1, twocars::Policy::Flight)] {
         let mut unit = Unit::<f32>::new();
         let config = twocars::protocol::message::Configure {
@@ -447,4 +458,10 @@ fn fallback_commands_name_the_circle_actually_turned() {
         }
     }
     assert!(fallbacks >= 10, "{fallbacks} fallback states");
+}
+
+/// Both states on an SI backend, metres and radians.
+fn si_states(pursuer: [f32; 3], evader: [f32; 3]) -> (VehicleState<f32>, VehicleState<f32>) {
+    let limits = twocars::Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).expect("the paper's limits");
+    limits.states(pursuer, evader).expect("in the envelope")
 }

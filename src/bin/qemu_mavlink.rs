@@ -1,6 +1,5 @@
-//! Firmware entry for QEMU `mps2-an386` speaking MAVLink 2 (`../shared/CONTRACTS.md`, "MAVLink
-//! endpoint"; docs/mavlink.md): board init, then the endpoint on UART0 for good. Exit code 1 over
-//! semihosting on a failed start or a panic.
+//! Firmware entry for QEMU `mps2-an386` speaking MAVLink 2 (docs/mavlink.md): board init, then
+//! the endpoint on UART0 for good. Exit code 1 over semihosting on a failed start or a panic.
 #![no_std]
 #![no_main]
 

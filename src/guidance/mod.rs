@@ -12,6 +12,7 @@
 
 mod homing;
 
+use crate::error::Error;
 use crate::law::geometry::{VehicleLimits, VehicleState};
 use crate::law::{
     fallback_command, steer_along, Command, Decision, Evaluation, GameReport, Law, Period, Sampling,
@@ -23,14 +24,17 @@ use crate::status::Status;
 use crate::value_tables::ValueTables;
 use homing::{NearFieldMemory, NearFieldTerms, Situation};
 
-/// Which feedback a [`Guidance`] applies.
+/// Which feedback a [`Guidance`] applies: [`Policy::Flight`] is the one to fly (the default);
+/// [`Policy::Paper`] is the reference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Policy {
-    /// The paper's law everywhere (the default).
-    #[default]
+    /// The paper's law everywhere: the reference, which the theorem covers only from beyond
+    /// its threshold.
     Paper,
     /// The paper's law while the players are at least the theorem's threshold apart
     /// ([`crate::Limits::theorem_threshold`]); below it the pursuer pursues (module docs).
+    #[default]
     Flight,
     /// The flight policy, and below the threshold, where the game's value tables play
     /// ([`Guidance::with_tables`], [`crate::value_tables`]), both players' optimal turns from
@@ -55,40 +59,34 @@ pub struct Guidance<S> {
     tables: Option<&'static ValueTables<'static>>,
 }
 
-/// Why value tables do not fit a guidance's limits.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TablesMismatch;
-
-/// Why a control period is not usable.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct InvalidPeriod;
-
 impl<S: Scalar> Guidance<S> {
-    /// Guidance with control period `dt` seconds.
+    /// Guidance playing `policy` with control period `dt` seconds ([`Policy::Flight`] is the
+    /// one to fly; [`Policy::Paper`] is the paper's law everywhere, the reference).
     ///
     /// # Errors
-    /// [`InvalidPeriod`] unless 0 < dt <= 1e3 s and finite, and its terms (dt plus the tie floor,
-    /// 2 pi / (v_max dt)) are within the backend's [`Scalar::MAX_PERIOD_TERM`] in the law's units.
-    pub fn new(law: Law<S>, dt: f32) -> Result<Self, InvalidPeriod> {
+    /// [`Error::InvalidPeriod`] unless 0 < dt <= 1e3 s and finite, and its terms (dt plus the
+    /// tie floor, 2 pi / (v_max dt)) are within the backend's [`Scalar::MAX_PERIOD_TERM`] in the
+    /// law's units.
+    pub fn new(law: Law<S>, dt: f32, policy: Policy) -> Result<Self, Error> {
         if !(dt.is_finite() && dt > 0.0 && dt <= 1.0e3) {
-            return Err(InvalidPeriod);
+            return Err(Error::InvalidPeriod);
         }
         let dt = S::from_f32(law.limits.units.time_from_seconds(dt));
         let bound = S::from_f32(S::MAX_PERIOD_TERM);
         if !(dt.is_valid() && dt > S::zero() && dt <= bound) {
-            return Err(InvalidPeriod);
+            return Err(Error::InvalidPeriod);
         }
         let pursuer_speed = law.limits.pursuer.v_max();
         let tie_floor = dt * pursuer_speed / (pursuer_speed - law.limits.evader.v_max());
         // Compared with bound - dt (>= 0 here): dt + tie_floor itself may leave the range.
         if !(tie_floor.is_valid() && tie_floor <= bound - dt) {
-            return Err(InvalidPeriod);
+            return Err(Error::InvalidPeriod);
         }
-        let period = Period::new(&law.limits, dt).ok_or(InvalidPeriod)?;
+        let period = Period::new(&law.limits, dt).ok_or(Error::InvalidPeriod)?;
         // A full turn's curvature, 2 pi / (v_max dt), within the bound as well.
         let per_radian_bound = bound / S::tau();
         if !(period.pursuer <= per_radian_bound && period.evader <= per_radian_bound) {
-            return Err(InvalidPeriod);
+            return Err(Error::InvalidPeriod);
         }
         // An arc within one period's full turn of 2 pi is a hair past the tangent.
         let largest_arc = |limits: &VehicleLimits<S>| {
@@ -96,7 +94,7 @@ impl<S: Scalar> Guidance<S> {
         };
         Ok(Guidance {
             law,
-            policy: Policy::Paper,
+            policy,
             dt,
             period,
             sampling: Sampling {
@@ -114,12 +112,9 @@ impl<S: Scalar> Guidance<S> {
     /// The same guidance with the game's value `tables`, which [`Policy::Table`] plays.
     ///
     /// # Errors
-    /// [`TablesMismatch`] unless the tables were solved for this law's ratios v_em / v_pm and
-    /// (v_em / v_pm) (w_em / w_pm), each within 1e-3 of its value.
-    pub fn with_tables(
-        mut self,
-        tables: &'static ValueTables<'static>,
-    ) -> Result<Self, TablesMismatch> {
+    /// [`Error::TablesMismatch`] unless the tables were solved for this law's ratios
+    /// v_em / v_pm and (v_em / v_pm) (w_em / w_pm), each within 1e-3 of its value.
+    pub fn with_tables(mut self, tables: &'static ValueTables<'static>) -> Result<Self, Error> {
         self.set_tables(tables)?;
         Ok(self)
     }
@@ -128,21 +123,18 @@ impl<S: Scalar> Guidance<S> {
     ///
     /// # Errors
     /// As [`Guidance::with_tables`]; the guidance is then unchanged.
-    pub fn set_tables(
-        &mut self,
-        tables: &'static ValueTables<'static>,
-    ) -> Result<(), TablesMismatch> {
+    pub fn set_tables(&mut self, tables: &'static ValueTables<'static>) -> Result<(), Error> {
         let limits = &self.law.limits;
         let ratio = |a: S, b: S| a.to_f32() / b.to_f32();
         let speed_ratio = ratio(limits.evader.v_max(), limits.pursuer.v_max());
         let evader_turn = speed_ratio * ratio(limits.evader.w_max(), limits.pursuer.w_max());
         let close = |table: f32, limit: f32| (table - limit).abs() <= 1e-3 * limit;
-        let table = tables.finest_table().ok_or(TablesMismatch)?;
+        let table = tables.finest_table().ok_or(Error::TablesMismatch)?;
         if close(table.speed_ratio, speed_ratio) && close(table.evader_turn, evader_turn) {
             self.tables = Some(tables);
             Ok(())
         } else {
-            Err(TablesMismatch)
+            Err(Error::TablesMismatch)
         }
     }
 
@@ -153,14 +145,14 @@ impl<S: Scalar> Guidance<S> {
     /// position itself (the paper's point capture).
     ///
     /// # Errors
-    /// `Status::InvalidLimits` unless 0 <= `metres` < the pursuer's turning radius times the
+    /// [`Error::InvalidLimits`] unless 0 <= `metres` < the pursuer's turning radius times the
     /// backend's coordinate range, finite.
-    pub fn with_capture_radius(mut self, metres: f32) -> Result<Self, Status> {
+    pub fn with_capture_radius(mut self, metres: f32) -> Result<Self, Error> {
         let units = self.law.limits.units;
         let radius = S::from_f32(metres / units.metres);
         let bound = S::from_f32(S::MAX_COORDINATE);
         if !(metres.is_finite() && metres >= 0.0 && radius.is_valid() && radius < bound) {
-            return Err(Status::InvalidLimits);
+            return Err(Error::InvalidLimits);
         }
         self.near_field_terms.capture = radius;
         Ok(self)
@@ -187,8 +179,8 @@ impl<S: Scalar> Guidance<S> {
     ///
     /// # Errors
     /// As [`Guidance::new`].
-    pub fn with_period(&self, dt: f32) -> Result<Self, InvalidPeriod> {
-        let mut next = Guidance::new(self.law, dt)?.with_policy(self.policy);
+    pub fn with_period(&self, dt: f32) -> Result<Self, Error> {
+        let mut next = Guidance::new(self.law, dt, self.policy)?;
         next.near_field_terms.capture = self.near_field_terms.capture;
         next.sampling.previous = self.sampling.previous;
         next.near_field = self.near_field;
@@ -199,6 +191,18 @@ impl<S: Scalar> Guidance<S> {
     /// The law this guidance evaluates.
     pub fn law(&self) -> &Law<S> {
         &self.law
+    }
+
+    /// `decision`'s command as turn rates, rad/s: [pursuer, evader], each v_max w, what a
+    /// yaw-rate setpoint takes. Fixed point forms them with integers (no soft-float product).
+    pub fn turn_rates(&self, decision: &Decision<S>) -> [f32; 2] {
+        let limits = &self.law.limits;
+        let units = limits.units;
+        let per_law_unit = units.metres_per_second / units.metres;
+        [
+            (decision.command.pursuer * limits.pursuer.v_max()).to_f32_scaled(per_law_unit),
+            (decision.command.evader * limits.evader.v_max()).to_f32_scaled(per_law_unit),
+        ]
     }
 
     /// Forgets the previous choice (a new engagement).

@@ -5,6 +5,7 @@ use crate::num::Scalar;
 
 /// Which reading of Algorithm 2's second branch to use.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Variant {
     /// The paper's literal value, also in the overshoot case (pursuer reaches the tangent first and
     /// would pass the evader's tangent point before the evader leaves its circle); it may be below
@@ -44,6 +45,7 @@ impl<S: Scalar> CaptureTime<S> {
 
 /// Algorithm 2: time to capture when both players turn through their arcs (radians) at full speed
 /// and then run along a tangent of length `tangent_length` (metres).
+#[doc(hidden)]
 pub fn capture_time<S: Scalar>(
     limits: &Limits<S>,
     tangent_length: S,

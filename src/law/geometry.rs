@@ -3,13 +3,14 @@
 //!
 //! Frames: metres, radians anticlockwise from +x. Curvature `w` in 1/m (theta_dot = v w).
 
+use crate::error::Error;
 use crate::num::fixed::wire::Reciprocal;
 use crate::num::{ieee, Scalar};
-use crate::status::Status;
 
 /// Turning direction of a minimum-radius circle. As a number (`as usize`), its index in Table 1's
 /// order: A = 0, C = 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Direction {
     /// The A circle: w = +w_max, sigma = +1.
     Anticlockwise = 0,
@@ -196,22 +197,22 @@ pub struct Limits<S> {
 /// The checks of [`Limits::new`], in the contract's order: non-finite, then the game's
 /// assumptions, then the envelope.
 #[inline(always)]
-fn validate<S: Scalar>(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<(), Status> {
+fn validate<S: Scalar>(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<(), Error> {
     if [v_pm, w_pm, v_em, w_em].iter().any(|v| !v.is_finite()) {
-        return Err(Status::NonFiniteInput);
+        return Err(Error::NonFiniteInput);
     }
     if !(v_pm > v_em && v_em > 0.0 && w_pm > w_em && w_em > 0.0) {
-        return Err(Status::InvalidLimits);
+        return Err(Error::InvalidLimits);
     }
     if v_pm > MAX_SPEED || v_em < MIN_SPEED || w_pm > MAX_CURVATURE || 1.0 / w_em > MAX_RADIUS {
-        return Err(Status::OutOfRange);
+        return Err(Error::OutOfRange);
     }
     let speed_ratio = v_em / v_pm;
     if w_pm / w_em > S::MAX_RADIUS_RATIO
         || speed_ratio < S::MIN_SPEED_RATIO
         || speed_ratio > S::MAX_SPEED_RATIO
     {
-        return Err(Status::OutOfRange);
+        return Err(Error::OutOfRange);
     }
     Ok(())
 }
@@ -253,7 +254,7 @@ impl<S: Scalar> Limits<S> {
     /// w_pm > w_em > 0, `OutOfRange` for speeds above [`MAX_SPEED`] or below [`MIN_SPEED`],
     /// curvatures above [`MAX_CURVATURE`], radii above [`MAX_RADIUS`], or ratios outside the
     /// backend's envelope (`S::MAX_RADIUS_RATIO`, `S::MIN_SPEED_RATIO`, `S::MAX_SPEED_RATIO`).
-    pub fn new(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<Self, Status> {
+    pub fn new(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<Self, Error> {
         validate::<S>(v_pm, w_pm, v_em, w_em)?;
         let units = if S::NORMALISED {
             Units {
@@ -289,7 +290,7 @@ impl<S: Scalar> Limits<S> {
             seconds_per_metre_closed,
         ];
         if !derived.iter().all(|v| v.is_valid()) {
-            return Err(Status::OutOfRange);
+            return Err(Error::OutOfRange);
         }
         Ok(Limits {
             pursuer,
@@ -320,13 +321,13 @@ impl<S: Scalar> Limits<S> {
         &self,
         pursuer: [f32; 3],
         evader: [f32; 3],
-    ) -> Result<(VehicleState<S>, VehicleState<S>), Status> {
+    ) -> Result<(VehicleState<S>, VehicleState<S>), Error> {
         let [x_p, y_p, theta_p] = pursuer;
         let [x_e, y_e, theta_e] = evader;
         if !S::NORMALISED {
             return Ok((
-                VehicleState::new(x_p, y_p, theta_p)?,
-                VehicleState::new(x_e, y_e, theta_e)?,
+                VehicleState::in_law_frame(x_p, y_p, theta_p)?,
+                VehicleState::in_law_frame(x_e, y_e, theta_e)?,
             ));
         }
         // The metres envelope first, on the bits (no float operation on a core without an
@@ -334,12 +335,12 @@ impl<S: Scalar> Limits<S> {
         let envelope = |s: [f32; 3]| {
             let bits = s.map(f32::to_bits);
             if !bits.iter().all(|&b| ieee::is_finite_bits(b)) {
-                return Err(Status::NonFiniteInput);
+                return Err(Error::NonFiniteInput);
             }
             let [x, y, theta] = bits.map(ieee::magnitude_bits);
             let coordinate = <f32 as Scalar>::MAX_COORDINATE.to_bits();
             if x > coordinate || y > coordinate || theta > <f32 as Scalar>::MAX_HEADING.to_bits() {
-                return Err(Status::OutOfRange);
+                return Err(Error::OutOfRange);
             }
             Ok(())
         };
@@ -354,7 +355,7 @@ impl<S: Scalar> Limits<S> {
         )?;
         let c = S::from_f32(S::MAX_COORDINATE);
         if dx.abs() > c || dy.abs() > c {
-            return Err(Status::OutOfRange);
+            return Err(Error::OutOfRange);
         }
         let at = |x, y, theta| VehicleState { x, y, theta };
         Ok((
@@ -421,12 +422,21 @@ fn length_unit(w_pm: f32) -> f32 {
     }
 }
 
-/// Position and heading of a vehicle: metres, radians anticlockwise from +x.
+/// Position and heading of a vehicle in the law's frame: metres and radians anticlockwise
+/// from +x on SI backends (f32, f64, micromath); on fixed point, relative to the pursuer in
+/// units of its turning radius. States come from metres through [`Limits::states`], which
+/// converts for each backend; there is no constructor that takes metres on one backend and
+/// something else on another:
+///
+/// ```compile_fail
+/// // Metres given to fixed point as if they were its frame: does not compile.
+/// let state = twocars::VehicleState::<twocars::Fixed>::new(3.0, 4.0, 0.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VehicleState<S> {
-    /// x, metres.
+    /// x in the law's frame (metres on SI backends).
     pub x: S,
-    /// y, metres.
+    /// y in the law's frame (metres on SI backends).
     pub y: S,
     /// Heading, radians anticlockwise from +x.
     pub theta: S,
@@ -434,18 +444,19 @@ pub struct VehicleState<S> {
 
 impl<S: Scalar> VehicleState<S> {
     /// Validates and converts a state given in the law's frame: metres and radians on SI
-    /// backends (for any backend, [`Limits::states`] converts from metres).
+    /// backends. Callers outside the crate give metres to [`Limits::states`], which converts
+    /// for every backend.
     ///
     /// # Errors
     /// `NonFiniteInput` for NaN or infinity; `OutOfRange` outside the backend's envelope
     /// (`S::MAX_COORDINATE`, `S::MAX_HEADING`).
-    pub fn new(x: f32, y: f32, theta: f32) -> Result<Self, Status> {
+    pub(crate) fn in_law_frame(x: f32, y: f32, theta: f32) -> Result<Self, Error> {
         if !(x.is_finite() && y.is_finite() && theta.is_finite()) {
-            return Err(Status::NonFiniteInput);
+            return Err(Error::NonFiniteInput);
         }
         let c = S::MAX_COORDINATE;
         if x.abs() > c || y.abs() > c || theta.abs() > S::MAX_HEADING {
-            return Err(Status::OutOfRange);
+            return Err(Error::OutOfRange);
         }
         Ok(VehicleState {
             x: S::from_f32(x),

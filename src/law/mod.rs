@@ -10,6 +10,7 @@ pub mod capture;
 pub mod game;
 pub mod geometry;
 
+use crate::error::Error;
 use crate::num::Scalar;
 use crate::status::Status;
 use capture::{capture_time, CaptureTime, Variant};
@@ -172,6 +173,23 @@ pub struct Decision<S> {
 }
 
 impl<S: Scalar> Decision<S> {
+    /// The game's upper value, seconds: the time to capture the pursuer's strategy guarantees
+    /// (`None` without a game or where it is infinite). Fixed point converts with integers.
+    pub fn value_seconds(&self) -> Option<f32> {
+        let upper = self.solution.and_then(|s| s.upper)?;
+        Some(upper.to_f32_scaled(self.units.metres / self.units.metres_per_second))
+    }
+
+    /// The command as curvatures, 1/m: [pursuer, evader] (a turn rate is v_max w:
+    /// [`Guidance::turn_rates`](crate::Guidance::turn_rates)).
+    pub fn curvatures(&self) -> [f32; 2] {
+        let per_law_unit = 1.0 / self.units.metres;
+        [
+            self.command.pursuer.to_f32_scaled(per_law_unit),
+            self.command.evader.to_f32_scaled(per_law_unit),
+        ]
+    }
+
     /// The decision of an evaluation whose game (valid where `status` has one) was written into
     /// `report`; without a game, the safe command.
     pub fn from_game(
@@ -217,6 +235,7 @@ pub struct Observation {
 }
 
 /// How the arcs to the tangent points are read and ties are broken.
+#[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sampling<S> {
     /// Largest arc (radians, 2 pi less a tolerance) the pursuer still turns through: beyond it,
@@ -421,6 +440,7 @@ impl<S: Scalar> Law<S> {
 
 /// Signed angle (radians, in [-pi, pi]) from a vehicle's heading to the direction of the point
 /// (x, y), anticlockwise positive.
+#[doc(hidden)]
 pub fn bearing<S: Scalar>(from: &VehicleState<S>, x: S, y: S) -> S {
     (S::atan2(y - from.y, x - from.x) - from.theta).wrap_signed()
 }
@@ -428,6 +448,7 @@ pub fn bearing<S: Scalar>(from: &VehicleState<S>, x: S, y: S) -> S {
 /// The documented fallback where no pursuer row has a finite value: the pursuer turns toward the
 /// evader's bearing, the evader toward the direction pointing away from the pursuer; with a
 /// control `period` each turns at most what one period needs (see [`steer`]).
+#[doc(hidden)]
 pub fn fallback_command<S: Scalar>(
     pursuer: &VehicleState<S>,
     evader: &VehicleState<S>,
@@ -448,6 +469,7 @@ pub fn fallback_command<S: Scalar>(
 /// still to go, 1 / (v_max dt) (1/m per radian; over one period a curvature w turns the vehicle
 /// through v_max w dt radians). Precomputed: a division on a core without a divider is a
 /// library call.
+#[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Period<S> {
     /// The pursuer's 1 / (v_pm dt).
@@ -472,6 +494,7 @@ impl<S: Scalar> Period<S> {
 /// sigma w_max, or with a control period at most what one period needs,
 /// sigma min(w_max, |to_go| / (v_max dt)), where `per_radian` is 1 / (v_max dt) ([`Period`]).
 /// Zero when nothing is left to turn.
+#[doc(hidden)]
 pub fn steer<S: Scalar>(to_go: S, limits: &VehicleLimits<S>, per_radian: Option<S>) -> S {
     let direction = if to_go > S::zero() {
         Direction::Anticlockwise
@@ -489,6 +512,7 @@ pub fn steer<S: Scalar>(to_go: S, limits: &VehicleLimits<S>, per_radian: Option<
 /// control period: sigma min(w_max, arc / (v_max dt)), `per_radian` being 1 / (v_max dt)
 /// ([`Period`]); +0 for a zero arc. The sampled command toward a chosen tangent, whose arc is
 /// already a magnitude: no sign to take apart and put back.
+#[doc(hidden)]
 pub fn steer_along<S: Scalar>(
     direction: Direction,
     arc: S,
@@ -511,11 +535,12 @@ pub fn evaluate_observation<S: Scalar>(
 ) -> Evaluation<S> {
     match validate::<S>(observation) {
         Ok(scene) => Law::new(scene.limits, variant).evaluate(&scene.pursuer, &scene.evader),
-        Err(status) => Evaluation::safe(status),
+        Err(error) => Evaluation::safe(error.status()),
     }
 }
 
 /// A validated observation in the backend's numbers.
+#[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Scene<S> {
     /// Both players' limits.
@@ -530,7 +555,8 @@ pub struct Scene<S> {
 ///
 /// # Errors
 /// `NonFiniteInput` if any field is NaN or infinite, then `InvalidLimits`, then `OutOfRange`.
-pub fn validate<S: Scalar>(observation: &Observation) -> Result<Scene<S>, Status> {
+#[doc(hidden)]
+pub fn validate<S: Scalar>(observation: &Observation) -> Result<Scene<S>, Error> {
     let Observation {
         limits: [v_pm, w_pm, v_em, w_em],
         pursuer: [x_p, y_p, theta_p],
@@ -540,7 +566,7 @@ pub fn validate<S: Scalar>(observation: &Observation) -> Result<Scene<S>, Status
         .iter()
         .all(|v| v.is_finite());
     if !finite {
-        return Err(Status::NonFiniteInput);
+        return Err(Error::NonFiniteInput);
     }
     let limits = Limits::new(v_pm, w_pm, v_em, w_em)?;
     let (pursuer, evader) = limits.states([x_p, y_p, theta_p], [x_e, y_e, theta_e])?;

@@ -1,6 +1,6 @@
-//! The MAVLink guidance endpoint (`../shared/CONTRACTS.md`, "MAVLink endpoint"): bytes from the
-//! autopilot's link in, frames for it out. Pure: the board feeds it received bytes and its
-//! millisecond clock, and queues what it hands to `send`.
+//! The MAVLink guidance endpoint (docs/mavlink.md): bytes from the autopilot's link in, frames
+//! for it out. Pure: the board feeds it received bytes and its millisecond clock, and queues what
+//! it hands to `send`.
 //!
 //! - Own state: GLOBAL_POSITION_INT from (TC_SYSID, component 1). Each one is a control period:
 //!   while the target is fresh the law runs for the pursuer and a SET_ATTITUDE_TARGET goes to
@@ -275,9 +275,7 @@ impl Session {
         };
         let period = self.period_ms as f32 / 1000.0;
         self.guidance = self.params.limits().and_then(|limits| {
-            Guidance::new(Law::new(limits, Variant::Paper), period)
-                .ok()
-                .map(|g| g.with_policy(policy))
+            Guidance::new(Law::new(limits, Variant::Paper), period, policy).ok()
         });
     }
 
@@ -484,7 +482,7 @@ impl Session {
         let limits = guidance.law().limits;
         let (pursuer, evader) = limits
             .states([xp, yp, own.heading], [xe, ye, target.fix.heading])
-            .map_err(Halt::Law)?;
+            .map_err(|e| Halt::Law(e.status()))?;
         let decision = guidance.decide(&pursuer, &evader);
         match decision.status {
             Status::Ok | Status::NoValidTangent | Status::Captured => Ok(decision),

@@ -1,13 +1,15 @@
-//! The MAVLink 2 guidance endpoint's pure core (docs/mavlink.md; the shared contract's "MAVLink
-//! endpoint"; docs/mavlink.md): frames found in the byte stream ([`frame`]), the messages we
-//! use decoded from them ([`messages`]) with the `mavlink` crate's common dialect, one message
-//! type at a time (its whole dialect costs 51 KB of flash; docs/mavlink.md), the parameters
-//! ([`params`]), the frames we send ([`outgoing`]) and the state machine that joins them
-//! ([`endpoint`]). The board shells feed it bytes and a clock.
+//! The MAVLink 2 guidance endpoint's pure core (docs/mavlink.md): frames found in the byte
+//! stream, the messages we use decoded from them with the `mavlink` crate's common dialect, one
+//! message type at a time (its whole dialect costs 51 KB of flash), the parameters
+//! ([`params`]), the frames we send, and the state machine that joins them ([`endpoint`]). The
+//! board shells feed it bytes and a clock (`service`, with the `firmware` feature).
 
 pub mod endpoint;
+#[doc(hidden)]
 pub mod frame;
+#[doc(hidden)]
 pub mod messages;
+#[doc(hidden)]
 pub mod outgoing;
 pub mod params;
 #[cfg(feature = "firmware")]

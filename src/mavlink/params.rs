@@ -1,4 +1,4 @@
-//! The endpoint's parameters (`../shared/CONTRACTS.md`, "MAVLink endpoint"): nine REAL32 values
+//! The endpoint's parameters (docs/mavlink.md): nine REAL32 values
 //! read and set by name or index, each checked against its range, the limits also as a whole.
 
 use crate::law::geometry::Limits;

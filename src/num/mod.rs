@@ -8,8 +8,10 @@
 //! host tests compare against), [`fixed::Fixed`] (Q17.14 for cores without an FPU, normalised)
 //! and, with the `micromath` feature, `micro::Micro` (micromath's approximations).
 
+#[doc(hidden)]
 pub mod f32_math;
 pub mod fixed;
+#[doc(hidden)]
 pub mod ieee;
 #[cfg(feature = "micromath")]
 pub mod micro;
@@ -17,7 +19,7 @@ pub mod micro;
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use crate::status::Status;
+use crate::error::Error;
 use fixed::wire::Reciprocal;
 
 /// A real number as one numeric backend represents it.
@@ -92,12 +94,12 @@ pub trait Scalar:
         metres: f32,
         per_metre: &Reciprocal,
         radius: f32,
-    ) -> Result<(Self, Self), Status> {
+    ) -> Result<(Self, Self), Error> {
         let _ = per_metre;
         let (dx, dy) = ((x.1 - x.0) / metres, (y.1 - y.0) / metres);
         let (sx, sy) = (Self::from_f32(dx), Self::from_f32(dy));
         if sx == Self::zero() && sy == Self::zero() && dx * dx + dy * dy > radius * radius {
-            return Err(Status::OutOfRange);
+            return Err(Error::OutOfRange);
         }
         Ok((sx, sy))
     }

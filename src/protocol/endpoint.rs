@@ -5,6 +5,7 @@
 //! Pure and allocation-free: the firmware feeds it UART bytes and its clock; the host tests and
 //! fuzzers feed it anything.
 
+use crate::error::Error;
 use crate::guidance::{Guidance, Policy};
 use crate::law::capture::Variant;
 use crate::law::geometry::{Direction, Limits};
@@ -21,9 +22,11 @@ use crate::status::Status;
 use crate::value_tables::ValueTables;
 
 /// Wire status code of the watchdog's safe command (the law's statuses are 0 to 5).
+#[doc(hidden)]
 pub const STATUS_STALE_INPUT: u8 = 6;
 
 /// Wire code of a law status.
+#[doc(hidden)]
 pub fn status_code(status: Status) -> u8 {
     match status {
         Status::Ok => 0,
@@ -333,8 +336,8 @@ impl<S: Scalar> Session<S> {
         let (pursuer, evader) =
             limits
                 .states(message.pursuer, message.evader)
-                .map_err(|status| match status {
-                    Status::NonFiniteInput => WireError::NonFiniteField,
+                .map_err(|error| match error {
+                    Error::NonFiniteInput => WireError::NonFiniteField,
                     _ => WireError::OutOfRangeField,
                 })?;
         let roles = configured.roles;
@@ -399,9 +402,9 @@ fn configure<S: Scalar>(
     tables: &'static [ValueTables<'static>],
 ) -> Result<Configured<S>, WireError> {
     let [v_pm, w_pm, v_em, w_em] = message.limits;
-    let limits = Limits::<S>::new(v_pm, w_pm, v_em, w_em).map_err(|status| match status {
-        Status::NonFiniteInput => WireError::NonFiniteField,
-        Status::InvalidLimits => WireError::InvalidLimits,
+    let limits = Limits::<S>::new(v_pm, w_pm, v_em, w_em).map_err(|error| match error {
+        Error::NonFiniteInput => WireError::NonFiniteField,
+        Error::InvalidLimits => WireError::InvalidLimits,
         _ => WireError::OutOfRangeField,
     })?;
     let variant = match message.variant {
@@ -420,9 +423,8 @@ fn configure<S: Scalar>(
     if !(roles_valid && watchdog.is_finite() && watchdog > 0.0 && watchdog <= MAX_WATCHDOG_S) {
         return Err(WireError::InvalidConfig);
     }
-    let mut guidance = Guidance::new(Law::new(limits, variant), message.dt)
-        .map_err(|_| WireError::InvalidConfig)?
-        .with_policy(policy);
+    let mut guidance = Guidance::new(Law::new(limits, variant), message.dt, policy)
+        .map_err(|_| WireError::InvalidConfig)?;
     // Tables asked for: those of the limits' ratios, or the flight policy, said in the ack.
     // In place: a second guidance on the stack cost the M0's loop over 200 B.
     let mut policy_byte = message.policy;

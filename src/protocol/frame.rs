@@ -10,8 +10,10 @@ pub const VERSION: u8 = 1;
 /// Largest decoded frame (header, payload and CRC), bytes.
 pub const MAX_FRAME: usize = 96;
 /// Largest encoded frame on the wire: COBS overhead and the 0x00 delimiter included.
+#[doc(hidden)]
 pub const MAX_ENCODED: usize = MAX_FRAME + MAX_FRAME / 254 + 2;
 /// Header bytes: version, type, sequence.
+#[doc(hidden)]
 pub const HEADER_LEN: usize = 4;
 /// CRC bytes.
 pub const CRC_LEN: usize = 2;
@@ -47,6 +49,7 @@ pub enum WireError {
 }
 
 /// Number of [`WireError`] kinds (codes 1 ..= ERROR_KINDS).
+#[doc(hidden)]
 pub const ERROR_KINDS: usize = 11;
 
 impl WireError {
@@ -96,6 +99,7 @@ const fn crc_table() -> [u16; 256] {
 /// CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection, no final xor) of `bytes`. Out of
 /// line: inlined into the serial loop, its table's address competed for registers there and was
 /// reloaded on every byte.
+#[doc(hidden)]
 #[inline(never)]
 pub fn crc16(bytes: &[u8]) -> u16 {
     bytes.iter().fold(0xFFFF, |crc: u16, &b| {
@@ -106,6 +110,7 @@ pub fn crc16(bytes: &[u8]) -> u16 {
 
 /// COBS-encodes `input` into `out` and appends the 0x00 delimiter; returns the encoded length,
 /// or `None` if `out` is too small.
+#[doc(hidden)]
 pub fn cobs_encode(input: &[u8], out: &mut [u8]) -> Option<usize> {
     // Indices only grow by one after a successful write into `out`, so `checked_add` never fails
     // in practice; it keeps the function free of overflow panics when overflow checks are on.
@@ -257,6 +262,7 @@ mod field {
 
 /// The sequence number in a decoded frame's header (0 where the frame is shorter): readable
 /// wherever the CRC held, a frame of another protocol version included.
+#[doc(hidden)]
 pub fn header_sequence(bytes: &[u8]) -> u16 {
     let s = bytes.get(field::SEQUENCE).unwrap_or(&[0, 0]);
     u16::from_le_bytes([
@@ -315,6 +321,7 @@ impl<'a> Frame<'a> {
 }
 
 /// Little-endian field reader over a payload; every read is bounds-checked.
+#[doc(hidden)]
 #[derive(Debug)]
 pub struct Reader<'a> {
     bytes: &'a [u8],
@@ -361,6 +368,7 @@ impl<'a> Reader<'a> {
 }
 
 /// Little-endian field writer into a frame buffer; fails rather than truncates.
+#[doc(hidden)]
 #[derive(Debug)]
 pub struct Writer<'a> {
     bytes: &'a mut [u8],

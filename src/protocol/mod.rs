@@ -2,7 +2,7 @@
 //! readers and writers), [`message`] (the payloads: Configure, State, Command, Error,
 //! Counters) and [`endpoint`] (the guidance unit: bytes in, replies out, its watchdog and
 //! counters). Byte-by-byte layout in `docs/protocol.md`; the MAVLink endpoint is
-//! [`crate::mavlink`].
+//! `twocars::mavlink` (feature `mavlink`).
 
 pub mod endpoint;
 pub mod frame;

@@ -6,6 +6,7 @@ mod firmware;
 mod fuzz;
 mod hj;
 mod host;
+mod package;
 mod progress;
 mod setup;
 mod test;

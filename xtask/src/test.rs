@@ -234,7 +234,7 @@ impl Step {
 }
 
 /// The suite, in order; the full run stops at the first step that fails.
-const STEPS: [Step; 13] = [
+const STEPS: [Step; 15] = [
     Step::quick("format", format),
     Step::quick("clippy-host", clippy_host),
     Step::full("clippy-core", clippy_core),
@@ -247,6 +247,16 @@ const STEPS: [Step; 13] = [
     Step::full("docs", docs),
     Step::full("qemu", qemu),
     Step::full("on-target", on_target_tests),
+    Step::full("readme", |suite| {
+        println!("== xtask test: README's commands, as written, from the root");
+        let counts = timed("README's commands", crate::package::run_readme);
+        suite.count(counts)
+    }),
+    Step::full("rust-version", |suite| {
+        println!("== xtask test: the core on the manifest's rust-version");
+        let counts = timed("the rust-version check", crate::package::check_rust_version);
+        suite.count(counts)
+    }),
     Step::full("fuzz", fuzz),
 ];
 

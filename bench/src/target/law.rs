@@ -25,7 +25,7 @@ fn prepare<N: Scalar>(i: usize) -> Option<Prepared<N>> {
     let limits = Limits::<N>::new(v_pm, w_pm, v_em, w_em).ok()?;
     let (p, e) = limits.states(p, e).ok()?;
     let law = Law::new(limits, Variant::Paper);
-    let guidance = Guidance::new(law, DT).ok()?;
+    let guidance = Guidance::new(law, DT, twocars::Policy::Paper).ok()?;
     Some((guidance, p, e))
 }
 

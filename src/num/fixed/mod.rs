@@ -30,11 +30,12 @@
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
+#[doc(hidden)]
 pub mod wire;
 
 use self::wire::Reciprocal;
 use super::{ieee, Scalar};
-use crate::status::Status;
+use crate::error::Error;
 
 /// Fractional bits.
 const FRAC: u32 = 14;
@@ -288,6 +289,7 @@ fn shift_below(m: u32, bits: u32) -> u32 {
 /// high is in [2^16, 2^17) (`shift_below`), then low times a reciprocal of high from a table
 /// of 128 and one Newton step r (2 - h r) (multiplications only: the 32-bit division is a
 /// library call of about 150 instructions).
+#[doc(hidden)]
 pub fn ratio_q15(low: u32, high: u32) -> u32 {
     debug_assert!(low <= high && high > 0, "ratio_q15({low}, {high})");
     let (mut h, mut l) = (high, low);
@@ -434,16 +436,16 @@ impl Scalar for Fixed {
         _metres: f32,
         per_metre: &Reciprocal,
         radius: f32,
-    ) -> Result<(Self, Self), Status> {
+    ) -> Result<(Self, Self), Error> {
         let (dx, dy) = (
             wire::offset(x.0, x.1, per_metre),
             wire::offset(y.0, y.1, per_metre),
         );
         if dx.is_invalid() || dy.is_invalid() {
-            return Err(Status::OutOfRange);
+            return Err(Error::OutOfRange);
         }
         if dx.0 == 0 && dy.0 == 0 && wire::apart_beyond(x, y, per_metre, radius) {
-            return Err(Status::OutOfRange);
+            return Err(Error::OutOfRange);
         }
         Ok((dx, dy))
     }

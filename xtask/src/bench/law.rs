@@ -140,7 +140,8 @@ pub fn host_outputs<S: Scalar>() -> Vec<Option<[f64; 3]>> {
         .map(|&(p, e)| {
             let limits = Limits::<S>::new(v_pm, w_pm, v_em, w_em).ok()?;
             let (p, e) = limits.states(p, e).ok()?;
-            let mut guidance = Guidance::new(Law::new(limits, Variant::Paper), DT).ok()?;
+            let mut guidance =
+                Guidance::new(Law::new(limits, Variant::Paper), DT, twocars::Policy::Paper).ok()?;
             let ev = guidance.step(&p, &e);
             let units = ev.units;
             let upper = ev.report.and_then(|r| r.solution.upper);

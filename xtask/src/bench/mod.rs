@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
 
-use twocars::{Law, Limits, Variant, VehicleState};
+use twocars::{Law, Limits, Variant};
 use twocars_bench::{LIMITS, STATES};
 
 use crate::bench::serial::LoopImage;
@@ -25,12 +25,7 @@ fn host_throughput() -> (f64, f64) {
     let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).ok();
     let states: Vec<_> = STATES
         .iter()
-        .filter_map(|(p, e)| {
-            Some((
-                VehicleState::new(p[0], p[1], p[2]).ok()?,
-                VehicleState::new(e[0], e[1], e[2]).ok()?,
-            ))
-        })
+        .filter_map(|&(p, e)| limits?.states(p, e).ok())
         .collect();
     let mut evaluations = 0u64;
     let start = Instant::now();

@@ -53,9 +53,7 @@ pub fn count(log: &str, bin: &str) -> Profile {
 /// Builds the bench image, runs it single-stepped with the exec log, and profiles it.
 pub fn profile(cpu: Cpu, bin: &str) -> Result<Profile, String> {
     let elf = image::build(cpu, bin)?;
-    let log = crate::workspace::root()
-        .join("target")
-        .join("profile-exec.log");
+    let log = crate::workspace::target_dir().join("profile-exec.log");
     let status = cpu
         .qemu(&elf)?
         .args(["-singlestep", "-d", "exec,nochain", "-D"])

@@ -215,7 +215,10 @@ pub fn build_image(
     if !status.success() {
         return Err(status.to_string());
     }
-    Ok(root().join("target").join(target).join("release").join(bin))
+    Ok(crate::workspace::target_dir()
+        .join(target)
+        .join("release")
+        .join(bin))
 }
 
 /// Builds `board`'s image and checks its vector table sits at the board's flash origin (a

@@ -10,7 +10,7 @@ use host_tests::sim::{closed_loop, SimParams, SimResult, StepCommand};
 use twocars::protocol::endpoint::Unit;
 use twocars::protocol::message::{Configure, Counters, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 use twocars::value_tables::ValueTables;
-use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant, VehicleState};
+use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant};
 
 use crate::firmware::qemu::Qemu;
 
@@ -143,10 +143,14 @@ pub fn run_against(
         other => return Err(format!("Configure refused or another policy: {other:?}")),
     }
     let [v_pm, w_pm, v_em, w_em] = limits32;
-    let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|s| s.name().to_string())?;
-    let mut host = Guidance::new(Law::new(limits, variant), params.dt as f32)
-        .map_err(|_| "invalid dt".to_string())?
-        .with_policy(policy);
+    let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|e| e.to_string())?;
+    let mut host = Guidance::new(
+        Law::new(limits, variant),
+        params.dt as f32,
+        twocars::Policy::Paper,
+    )
+    .map_err(|_| "invalid dt".to_string())?
+    .with_policy(policy);
     let mut run = FirmwareRun {
         result: SimResult::empty(host_tests::sim::SimStatus::Timeout, f64::INFINITY),
         predicted: f64::NAN,
@@ -200,12 +204,9 @@ pub fn run_against(
             other => return Err(format!("unexpected reply at t = {t}: {other:?}")),
         };
         // The host law plays any role the firmware does not compute.
-        let host_command = match (
-            VehicleState::<f32>::new(state.pursuer[0], state.pursuer[1], state.pursuer[2]),
-            VehicleState::<f32>::new(state.evader[0], state.evader[1], state.evader[2]),
-        ) {
-            (Ok(ps), Ok(es)) => host.step(&ps, &es).command,
-            _ => twocars::Command::straight(),
+        let host_command = match limits.states(state.pursuer, state.evader) {
+            Ok((ps, es)) => host.step(&ps, &es).command,
+            Err(_) => twocars::Command::straight(),
         };
         let pursuer = if roles & ROLE_PURSUER != 0 {
             f64::from(rate_p / v_pm)

@@ -15,7 +15,7 @@ use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use host_tests::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
 use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
 use host_tests::sim::{advance, closed_loop, wrap_pi, SimParams, SimStatus, StepCommand};
-use twocars::{Guidance, Law, Limits, Policy, Variant, VehicleState};
+use twocars::{Guidance, Law, Limits, Policy, Variant};
 
 use crate::firmware::build::{self, Board};
 use crate::firmware::qemu;
@@ -36,7 +36,7 @@ const REFERENCE: [f64; 4] = [5.6575, 6.6072, 5.1265, 5.9778];
 
 /// The virtual environment's Python with pymavlink, created on first use.
 pub fn python() -> Result<PathBuf, String> {
-    let venv = crate::workspace::root().join("target/mavlink-venv");
+    let venv = crate::workspace::target_dir().join("mavlink-venv");
     let python = venv.join("bin/python");
     let has_pymavlink = |p: &PathBuf| {
         Command::new(p)
@@ -212,8 +212,7 @@ pub fn run_cases() -> Result<bool, String> {
     }
     println!("PARAM_REQUEST_LIST: {}", peer.ask(r#"{"op": "list"}"#)?);
     let [v_pm, w_pm, v_em, w_em] = scaled;
-    let law_limits =
-        Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|s| s.name().to_string())?;
+    let law_limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|e| e.to_string())?;
     let plane = Plane::new(HOME);
     let mut clock_ms = 0_u32;
     for (case, reference) in paper_cases().into_iter().zip(REFERENCE) {
@@ -234,9 +233,13 @@ pub fn run_cases() -> Result<bool, String> {
             eps: EPS,
         };
         // The evader plays the paper's law on the exact states.
-        let mut evader_law = Guidance::new(Law::new(law_limits, Variant::Paper), DT as f32)
-            .map_err(|_| "invalid dt".to_string())?
-            .with_policy(Policy::Paper);
+        let mut evader_law = Guidance::new(
+            Law::new(law_limits, Variant::Paper),
+            DT as f32,
+            twocars::Policy::Paper,
+        )
+        .map_err(|_| "invalid dt".to_string())?
+        .with_policy(Policy::Paper);
         let mut pursuer = params.pursuer;
         let mut first_tc_t = None;
         let mut setpoints = 0_u64;
@@ -256,12 +259,13 @@ pub fn run_cases() -> Result<bool, String> {
             if first_tc_t.is_none() {
                 first_tc_t = field(&answer, "tc_t");
             }
-            let evader_w = match (
-                VehicleState::<f32>::new(local_p[0] as f32, local_p[1] as f32, local_p[2] as f32),
-                VehicleState::<f32>::new(local_e[0] as f32, local_e[1] as f32, local_e[2] as f32),
-            ) {
-                (Ok(p), Ok(e)) => f64::from(evader_law.step(&p, &e).command.evader),
-                _ => 0.0,
+            let evader_w = match evader_law
+                .law()
+                .limits
+                .states(local_p.map(|v| v as f32), local_e.map(|v| v as f32))
+            {
+                Ok((p, e)) => f64::from(evader_law.step(&p, &e).command.evader),
+                Err(_) => 0.0,
             };
             let pursuer_w = rate / params.limits[0];
             // The same step closed_loop takes: the pursuer's absolute state for the next fix.

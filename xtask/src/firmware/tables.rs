@@ -48,11 +48,11 @@ pub(crate) fn table_set(
     let sets = image_sets()?;
     let [v_pm, w_pm, v_em, w_em] = limits.map(|v| v as f32);
     let law = twocars::Law::new(
-        twocars::Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|s| s.name().to_string())?,
+        twocars::Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|e| e.to_string())?,
         variant,
     );
-    let guidance =
-        twocars::Guidance::new(law, dt as f32).map_err(|_| "invalid --dt".to_string())?;
+    let guidance = twocars::Guidance::new(law, dt as f32, twocars::Policy::Paper)
+        .map_err(|_| "invalid --dt".to_string())?;
     let carried: Vec<String> = crate::hj::sets::FLASH_SETS
         .iter()
         .map(|set| format!("{:?}", set.limits))

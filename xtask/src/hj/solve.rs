@@ -8,7 +8,6 @@ use hji::{solve, solve_with_boundary, Game, Grid, Solution, NEVER};
 
 use crate::hj::sets::FlashSet;
 use crate::progress::Progress;
-use crate::workspace::root;
 
 /// The game of `limits` (v_pm, w_pm, v_em, w_em) over its near field as nested tables
 /// (`hji::policy`) on `levels`, coarsest first; returned finest first. Capture
@@ -45,7 +44,7 @@ pub(crate) fn near_field(limits: [f64; 4], levels: &[Grid]) -> (Vec<Solution>, S
 /// The files of `sets`, solved (or read from the cache) and written to `target/value-tables/`
 /// (rewritten only where the bytes changed, so an image is not rebuilt for nothing).
 pub(crate) fn flash_sets(sets: &[FlashSet]) -> Result<Vec<std::path::PathBuf>, String> {
-    let dir = root().join("target/value-tables");
+    let dir = crate::workspace::target_dir().join("value-tables");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths = Vec::new();
     for set in sets {
@@ -129,7 +128,7 @@ fn cached(
     name: &str,
     solve: impl FnOnce(Grid) -> (Solution, f64),
 ) -> (Solution, String) {
-    let cache = root().join(format!("target/hj-cache/near-field-{name}.bin"));
+    let cache = crate::workspace::target_dir().join(format!("hj-cache/near-field-{name}.bin"));
     let stamp = solver_stamp();
     if let Some(solution) = read_cache(&cache, stamp, game, grid) {
         return (solution, "read from target/hj-cache".to_string());

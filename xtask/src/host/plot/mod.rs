@@ -37,7 +37,7 @@ fn paper_case(
     };
     let run = simulate::<f32>(&params, Variant::Paper, Policy::Paper, true);
     let scene = twocars::law::validate::<f64>(&observation(PAPER_LIMITS, pursuer, evader))
-        .map_err(|s| s.name().to_string())?;
+        .map_err(|e| e.to_string())?;
     let (p, e) = (state(pursuer), state(evader));
     let evaluation = Law::new(scene.limits, Variant::Paper).evaluate(&p, &e);
     let report = evaluation.report.ok_or("no game at t = 0")?;

@@ -1,0 +1,164 @@
+//! The crate as a user meets it: every command README shows, run as written from the
+//! repository's root, and the core's user features on the oldest Rust the manifest claims
+//! (`rust-version`). `cargo xtask test` runs both.
+
+use std::process::{Command, Stdio};
+
+use crate::workspace::root;
+
+/// What a README command must print, besides exiting with 0: (the command's start, the text).
+const EXPECTED: [(&str, &str); 4] = [
+    ("cargo run --example paper_case_1", "value: 5.6575 s"),
+    ("cargo run --example closed_loop", "captured at 5.6"),
+    ("cargo run --release --example cortex_m", "captured at 5.6"),
+    ("cargo xtask run", "firmware exited with code 0"),
+];
+
+/// The `cargo` commands README shows: the lines of its `sh` blocks and its inline code, without
+/// their comments, each once, in order.
+pub fn readme_commands(readme: &str) -> Vec<String> {
+    let mut commands: Vec<String> = Vec::new();
+    let mut in_sh = false;
+    for line in readme.lines() {
+        let trimmed = line.trim();
+        if trimmed.starts_with("```") {
+            in_sh = !in_sh && trimmed == "```sh";
+            continue;
+        }
+        let found: Vec<String> = if in_sh {
+            vec![trimmed.split(" #").next().unwrap_or("").trim().to_string()]
+        } else {
+            line.split('`')
+                .skip(1)
+                .step_by(2)
+                .map(|code| code.trim().to_string())
+                .collect()
+        };
+        for command in found {
+            if command.starts_with("cargo ") && !commands.contains(&command) {
+                commands.push(command);
+            }
+        }
+    }
+    commands
+}
+
+/// Runs README's commands from the root; (passed, failed). `cargo xtask test` itself (and its
+/// tiers) is the suite running this, so it is named and not run again.
+pub fn run_readme() -> (u64, u64) {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap_or_default();
+    let (mut passed, mut failed) = (0, 0);
+    for command in readme_commands(&readme) {
+        if command.starts_with("cargo xtask test") {
+            println!("readme: `{command}`: the suite itself, not run again");
+            continue;
+        }
+        match run_one(&command) {
+            Ok(()) => {
+                println!("readme: `{command}` ... ok");
+                passed += 1;
+            }
+            Err(e) => {
+                eprintln!("readme: `{command}` FAILED: {e}");
+                failed += 1;
+            }
+        }
+    }
+    if passed + failed == 0 {
+        eprintln!("readme: no commands found in README.md");
+        failed += 1;
+    }
+    (passed, failed)
+}
+
+/// Runs `command` through the shell from the root, its output captured; checks its exit code
+/// and what [`EXPECTED`] says it prints.
+fn run_one(command: &str) -> Result<(), String> {
+    let out = Command::new("sh")
+        .args(["-c", command])
+        .current_dir(root())
+        .stdin(Stdio::null())
+        .output()
+        .map_err(|e| e.to_string())?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        let tail: Vec<&str> = err.lines().rev().take(5).collect();
+        return Err(format!("{}: {}", out.status, tail.join(" | ")));
+    }
+    match EXPECTED
+        .iter()
+        .find(|(start, _)| command.starts_with(start))
+    {
+        Some((_, want)) if !text.contains(want) => Err(format!("no `{want}` in its output")),
+        _ => Ok(()),
+    }
+}
+
+/// The `rust-version` the core's manifest claims.
+fn rust_version() -> Option<String> {
+    let manifest = std::fs::read_to_string(root().join("Cargo.toml")).ok()?;
+    let value: toml::Table = manifest.parse().ok()?;
+    let version = value.get("package")?.get("rust-version")?.as_str()?;
+    Some(version.to_string())
+}
+
+/// Checks the core's user features (all but `mavlink`, whose crate needs a newer Rust) on the
+/// manifest's `rust-version`, installing that toolchain with rustup (minimal profile) if
+/// missing; (passed, failed).
+pub fn check_rust_version() -> (u64, u64) {
+    let Some(version) = rust_version() else {
+        eprintln!("rust-version: none in Cargo.toml");
+        return (0, 1);
+    };
+    let installed = Command::new("rustup")
+        .args(["toolchain", "list"])
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).contains(&format!("{version}-")))
+        .unwrap_or(false);
+    if !installed {
+        println!("rust-version: installing Rust {version} (minimal) with rustup");
+        let ok = Command::new("rustup")
+            .args(["toolchain", "install", &version, "--profile", "minimal"])
+            .status()
+            .is_ok_and(|s| s.success());
+        if !ok {
+            eprintln!("rust-version: could not install Rust {version}");
+            return (0, 1);
+        }
+    }
+    let features = "micromath,value-tables,firmware,defmt";
+    let ok = Command::new("cargo")
+        .arg(format!("+{version}"))
+        .args(["check", "-p", "twocars", "--lib", "--features", features])
+        .env(
+            "CARGO_TARGET_DIR",
+            crate::workspace::target_dir().join("rust-version"),
+        )
+        .current_dir(root())
+        .status()
+        .is_ok_and(|s| s.success());
+    if ok {
+        println!("rust-version: the core ({features}) builds on Rust {version} ... ok");
+        (1, 0)
+    } else {
+        eprintln!("rust-version: the core ({features}) does not build on Rust {version}");
+        (0, 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn readme_commands_come_from_sh_blocks_and_inline_code() {
+        let readme =
+            "Run `cargo run --example a` or `git log`.\n\n```sh\ncargo xtask run     # the job\n\
+                      cargo xtask run\n```\n\n```toml\ncargo = 1\n```\n| x | `cargo b` |\n";
+        assert_eq!(
+            readme_commands(readme),
+            ["cargo run --example a", "cargo xtask run", "cargo b"]
+        );
+    }
+}
