@@ -69,6 +69,8 @@ mod log;
 #[cfg(feature = "mavlink")]
 pub mod mavlink;
 pub mod num;
+#[cfg(feature = "polled")]
+pub mod polled;
 pub mod protocol;
 #[cfg(feature = "firmware")]
 pub mod serial;

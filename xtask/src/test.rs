@@ -325,7 +325,7 @@ fn clippy_core(suite: &mut Suite) -> bool {
             "twocars",
             "--release",
             "--features",
-            "mavlink",
+            "mavlink,polled",
             "--target",
             target,
             "--",
@@ -351,11 +351,18 @@ const FIRMWARE: [(&str, &str, &str); 8] = [
     ("board-stm32f405,tables-in-flash", "STM32F405 tables", M4F),
 ];
 
+/// The examples that run on a Cortex-M: their name, features and target.
+const TARGET_EXAMPLES: [(&str, &str, &str); 3] = [
+    ("cortex_m4f", "board-qemu", M4F),
+    ("cortex_m0", "board-microbit", "thumbv6m-none-eabi"),
+    ("stm32f4_hal", "board-stm32f405,polled", M4F),
+];
+
 fn clippy_firmware(suite: &mut Suite) -> bool {
     let Some(tables) = suite.tables() else {
         return false;
     };
-    FIRMWARE.iter().all(|(feature, name, target)| {
+    let examples = TARGET_EXAMPLES.iter().all(|(example, features, target)| {
         let clippy = [
             "clippy",
             "-p",
@@ -364,20 +371,40 @@ fn clippy_firmware(suite: &mut Suite) -> bool {
             "--target",
             target,
             "--features",
-            feature,
-            "--bins",
+            features,
+            "--example",
+            example,
             "--",
             "-D",
             "warnings",
         ];
-        let title = format!("clippy of the {name} firmware");
-        step(
-            &title,
-            &suite.cargo,
-            &clippy,
-            &[("TWOCARS_VALUE_TABLES", tables.as_str())],
-        )
-    })
+        let title = format!("clippy of the example {example}");
+        step(&title, &suite.cargo, &clippy, &[])
+    });
+    examples
+        && FIRMWARE.iter().all(|(feature, name, target)| {
+            let clippy = [
+                "clippy",
+                "-p",
+                "twocars",
+                "--release",
+                "--target",
+                target,
+                "--features",
+                feature,
+                "--bins",
+                "--",
+                "-D",
+                "warnings",
+            ];
+            let title = format!("clippy of the {name} firmware");
+            step(
+                &title,
+                &suite.cargo,
+                &clippy,
+                &[("TWOCARS_VALUE_TABLES", tables.as_str())],
+            )
+        })
 }
 
 /// The bench images and the on-target tests (`twocars-bench`, every image's features at once)
@@ -458,7 +485,7 @@ fn docs(suite: &mut Suite) -> bool {
         "-p",
         "twocars-bench",
         "--features",
-        "twocars/micromath,twocars/value-tables,twocars-bench/mavlink,twocars-bench/tables",
+        "twocars/micromath,twocars/value-tables,twocars/polled,twocars-bench/mavlink,twocars-bench/tables",
     ];
     step(
         "docs",
