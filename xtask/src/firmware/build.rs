@@ -94,10 +94,29 @@ impl Board {
                 Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"])
             }
             Board::Microbit => Some(&["-M", "microbit"]),
-            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Rp2040 | Board::Stm32f405Tables => {
-                None
+            // An STM32F405 SoC: its USART1 is the first serial port.
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => {
+                Some(&["-M", "netduinoplus2"])
             }
+            Board::Rp2040 => None,
         }
+    }
+    /// Whether the image's UART drops what arrives during its start-up (the STM32's USART
+    /// before it is enabled), so that a client waits until it answers.
+    pub(crate) fn drops_bytes_at_start(self) -> bool {
+        matches!(
+            self,
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables
+        )
+    }
+    /// Whether the image logs with defmt over semihosting (`qemu-log`), for `defmt-print`.
+    pub(crate) fn logs_with_defmt(self) -> bool {
+        matches!(self, Board::Qemu | Board::QemuTables)
+    }
+    /// Whether the image exits (over semihosting) once it has acknowledged a Shutdown; a
+    /// flight image keeps serving instead.
+    pub(crate) fn exits_on_shutdown(self) -> bool {
+        matches!(self, Board::Qemu | Board::QemuTables | Board::Microbit)
     }
     /// Features of the flight image: no logger, so panic freedom can be proven at link time.
     pub fn flight_features(self) -> &'static str {

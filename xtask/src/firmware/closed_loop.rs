@@ -253,6 +253,10 @@ pub fn shutdown(mut qemu: Qemu, sequence: &mut u16) -> Result<i32, String> {
             ))
         }
     }
+    if !qemu.exits_on_shutdown() {
+        // A flight image serves on after its ShutdownAck: QEMU is stopped (on drop).
+        return Ok(0);
+    }
     let status = qemu.wait_exit()?;
     Ok(status.code().unwrap_or(-1))
 }

@@ -11,7 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
-use host_tests::link::{Reply, ReplyDecoder};
+use host_tests::link::{self, Reply, ReplyDecoder};
+use twocars::protocol::message::Counters;
 
 use crate::firmware::build::Board;
 
@@ -129,6 +130,10 @@ pub struct Qemu {
     stream: TcpStream,
     replies: ReplyDecoder,
     pending: std::collections::VecDeque<Reply>,
+    /// Whether the image exits after a Shutdown ([`Board::exits_on_shutdown`]).
+    exits_on_shutdown: bool,
+    /// The counters the readiness probe found, where the image was probed.
+    before_session: Option<Counters>,
     /// Bytes sent to the firmware.
     pub bytes_sent: usize,
     /// Frames received from the firmware.
@@ -154,14 +159,52 @@ impl Qemu {
             .set_read_timeout(Some(Duration::from_secs(10)))
             .map_err(|e| e.to_string())?;
         stream.set_nodelay(true).map_err(|e| e.to_string())?;
-        Ok(Qemu {
+        let mut qemu = Qemu {
             launched,
             stream,
             replies: ReplyDecoder::default(),
             pending: Default::default(),
+            exits_on_shutdown: board.exits_on_shutdown(),
+            before_session: None,
             bytes_sent: 0,
             frames_received: 0,
-        })
+        };
+        if board.drops_bytes_at_start() {
+            qemu.wait_ready()?;
+        }
+        Ok(qemu)
+    }
+
+    /// Asks for the counters every 100 ms until they come (10 s at most): the image answers
+    /// once its UART is on, and bytes that came before were dropped (the STM32's USART drops
+    /// what arrives while it is disabled, on the chip as in QEMU's model).
+    fn wait_ready(&mut self) -> Result<(), String> {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let probe = Duration::from_millis(100);
+        self.stream
+            .set_read_timeout(Some(probe))
+            .map_err(|e| e.to_string())?;
+        let ready = loop {
+            self.send(&link::read_counters(0))?;
+            match self.reply() {
+                Ok(Reply::Counters(_, counters)) => {
+                    // The answers to earlier probes, if they come, are not the session's.
+                    while self.reply().is_ok() {}
+                    self.pending.clear();
+                    self.before_session = Some(counters);
+                    break Ok(());
+                }
+                // A probe cut by the UART's start: refused, and probed again.
+                Ok(Reply::Error(..)) => {}
+                Ok(other) => break Err(format!("expected Counters, got {other:?}")),
+                Err(_) if Instant::now() < deadline => {}
+                Err(e) => break Err(format!("the image never answered: {e}")),
+            }
+        };
+        self.stream
+            .set_read_timeout(Some(Duration::from_secs(10)))
+            .map_err(|e| e.to_string())?;
+        ready
     }
 
     /// Sends raw bytes.
@@ -193,6 +236,20 @@ impl Qemu {
         self.pending
             .pop_front()
             .ok_or_else(|| "no reply".to_string())
+    }
+
+    /// Messages accepted and inputs refused before the session: the readiness probes (the one
+    /// answered counts as accepted after its reply; a cut one is refused). Zero where the image
+    /// was not probed.
+    pub fn counted_before(&self) -> (u32, u32) {
+        self.before_session
+            .map_or((0, 0), |c| (c.accepted + 1, c.errors.iter().sum()))
+    }
+
+    /// Whether the image exits after a Shutdown; a flight image keeps serving, and QEMU is
+    /// stopped instead.
+    pub fn exits_on_shutdown(&self) -> bool {
+        self.exits_on_shutdown
     }
 
     /// Waits (10 s at most) for QEMU to exit after Shutdown; returns its exit status.

@@ -100,6 +100,8 @@ pub enum RunBoard {
     /// QEMU mps2-an386 with the value tables in flash: the policy defaults to the
     /// tables' (Configure's policy byte 2), and the host simulation plays the same tables.
     QemuTables,
+    /// The STM32F405 flight image in QEMU's netduinoplus2 (Cortex-M4F, f32; USART1).
+    Stm32f405,
 }
 
 /// A start below the theorem's threshold at the paper's limits, where the tables play: the
@@ -303,7 +305,9 @@ pub fn run(args: &RunArgs) -> i32 {
     );
     let mut session = None;
     if !o.host_only {
-        match build::build_checked(board).and_then(|(elf, _)| Qemu::start(&elf, board, true)) {
+        match build::build_checked(board)
+            .and_then(|(elf, _)| Qemu::start(&elf, board, board.logs_with_defmt()))
+        {
             Ok(q) => session = Some(q),
             Err(e) => {
                 eprintln!("xtask run: {e}");
@@ -357,6 +361,7 @@ fn board_and_options(args: &RunArgs) -> (Board, Options) {
             options.numeric = crate::host::options::Numeric::F32;
             Board::QemuTables
         }
+        RunBoard::Stm32f405 => Board::Stm32f405,
     };
     (board, options)
 }
@@ -465,7 +470,12 @@ fn finish(mut q: Qemu, sequence: &mut u16) -> Result<bool, String> {
         q.bytes_sent,
         q.frames_received
     );
+    let exits = q.exits_on_shutdown();
     let code = closed_loop::shutdown(q, sequence)?;
-    println!("firmware exited with code {code}");
+    if exits {
+        println!("firmware exited with code {code}");
+    } else {
+        println!("firmware acknowledged Shutdown (a flight image serves on; QEMU stopped)");
+    }
     Ok(code == 0)
 }
