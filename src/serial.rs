@@ -60,6 +60,11 @@ pub trait Board {
     fn sleep_while(&self, idle: &mut dyn FnMut() -> bool) {
         let _ = idle;
     }
+    /// The board's status flags for Counters ([`crate::protocol::message::BOARD_FALLBACK_CLOCK`]).
+    /// The default: none.
+    fn status_flags(&self) -> u32 {
+        0
+    }
 }
 
 /// Line fault counts. Each is written by one side only (the interrupt, or the loop for
@@ -310,6 +315,7 @@ pub fn service<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mu
         pass.replies += 1;
     }
     unit.record_line(line.faults());
+    unit.record_board(board.status_flags());
     loop {
         let LoopEnd {
             received,

@@ -268,11 +268,11 @@ fn deframing_slices_gives_what_deframing_bytes_gives() {
     }
 }
 
-/// Counters grew by the line's six fault counts (76 bytes) in protocol version 1: a payload of
-/// the first release's 52 bytes still parses (line counts 0), the first 52 bytes of the new one
-/// are the old layout, and any other length is refused.
+/// Counters grew by the line's six fault counts (76 bytes) and then the board's status (80
+/// bytes) in protocol version 1: payloads of 52 and 76 bytes still parse (what they lack is
+/// 0), each is a prefix of the new layout, and any other length is refused.
 #[test]
-fn counters_append_the_line_faults_and_still_read_the_old_length() {
+fn counters_append_the_line_faults_and_the_board_status_and_read_the_old_lengths() {
     use twocars::protocol::message::{Counters, LineCounts};
     let mut c = Counters {
         accepted: 7,
@@ -288,11 +288,15 @@ fn counters_append_the_line_faults_and_still_read_the_old_length() {
         rx_full: 6,
         tx_full: 8,
     };
+    c.board = 1;
     let mut buf = [0u8; Counters::LEN];
     let mut w = twocars::protocol::frame::Writer::new(&mut buf);
     c.emit(&mut w).unwrap();
-    assert_eq!(w.len(), 76);
+    assert_eq!(w.len(), 80);
     assert_eq!(Counters::parse(&buf), Ok(c));
+    assert_eq!(&buf[76..80], &1u32.to_le_bytes());
+    let v2 = Counters::parse(&buf[..Counters::LEN_V2]).unwrap();
+    assert_eq!((v2.line, v2.board), (c.line, 0));
     assert_eq!(&buf[52..56], &2u32.to_le_bytes());
     assert_eq!(&buf[72..76], &8u32.to_le_bytes());
     let old = Counters::parse(&buf[..Counters::LEN_V1]).unwrap();

@@ -197,6 +197,12 @@ impl Board for Stm32f405 {
     fn sleep_while(&self, idle: &mut dyn FnMut() -> bool) {
         super::sleep_while(idle);
     }
+    fn status_flags(&self) -> u32 {
+        match clock() {
+            Clock::Crystal => 0,
+            Clock::Internal => crate::protocol::message::BOARD_FALLBACK_CLOCK,
+        }
+    }
 }
 
 #[cortex_m_rt::exception]

@@ -173,6 +173,7 @@ impl<S: Scalar> Unit<S> {
                         rx_full: 0,
                         tx_full: 0,
                     },
+                    board: 0,
                 },
                 watchdog: Watchdog::Idle,
             },
@@ -196,6 +197,12 @@ impl<S: Scalar> Unit<S> {
     /// next Counters reply.
     pub fn record_line(&mut self, line: LineCounts) {
         self.session.counters.line = line;
+    }
+
+    /// Records the board's status flags ([`crate::protocol::message::BOARD_FALLBACK_CLOCK`]),
+    /// for the next Counters reply.
+    pub fn record_board(&mut self, flags: u32) {
+        self.session.counters.board = flags;
     }
 
     /// Feeds one received byte at device time `now_ms`; returns the reply to send, if any.

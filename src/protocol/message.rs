@@ -274,8 +274,8 @@ impl LineCounts {
 }
 
 /// Counters: valid messages handled, watchdog expiries, refused inputs per [`WireError`] code,
-/// then the line's faults (appended in the same protocol version: a reader of the first
-/// [`Counters::LEN_V1`] bytes keeps working).
+/// then the line's faults and the board's status (each appended in the same protocol version: a
+/// reader of the first [`Counters::LEN_V1`] or [`Counters::LEN_V2`] bytes keeps working).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     /// Valid messages handled.
@@ -286,13 +286,20 @@ pub struct Counters {
     pub errors: [u32; crate::protocol::frame::ERROR_KINDS],
     /// Faults of the serial line (0 where the unit has no UART of its own, as on the host).
     pub line: LineCounts,
+    /// The board's status flags ([`BOARD_FALLBACK_CLOCK`]; 0 on the host).
+    pub board: u32,
 }
+
+/// Board status flag: the board runs on its fallback clock (its crystal or PLL did not start).
+pub const BOARD_FALLBACK_CLOCK: u32 = 1;
 
 impl Counters {
     /// Payload length of the first release (no line faults), bytes.
     pub const LEN_V1: usize = 8 + 4 * crate::protocol::frame::ERROR_KINDS;
+    /// Payload length with the line's faults and without the board's status, bytes.
+    pub const LEN_V2: usize = Self::LEN_V1 + LineCounts::LEN;
     /// Payload length, bytes.
-    pub const LEN: usize = Self::LEN_V1 + LineCounts::LEN;
+    pub const LEN: usize = Self::LEN_V2 + 4;
 
     /// Counts one refused input.
     pub fn count(&mut self, error: WireError) {
@@ -308,8 +315,8 @@ impl Counters {
         self.errors.get(index).copied().unwrap_or(0)
     }
 
-    /// Parses a payload: [`Counters::LEN`] bytes, or the first release's [`Counters::LEN_V1`]
-    /// (line faults then 0).
+    /// Parses a payload: [`Counters::LEN`] bytes, or the earlier [`Counters::LEN_V1`] (line
+    /// faults and board status then 0) or [`Counters::LEN_V2`] (board status then 0).
     ///
     /// # Errors
     /// `Truncated` if short, `Oversized` if long.
@@ -326,6 +333,9 @@ impl Counters {
         if payload.len() > Self::LEN_V1 {
             m.line = LineCounts::parse(&mut r)?;
         }
+        if payload.len() > Self::LEN_V2 {
+            m.board = r.u32()?;
+        }
         r.finish()?;
         Ok(m)
     }
@@ -337,6 +347,7 @@ impl Counters {
         for c in self.errors {
             w.u32(c)?;
         }
-        self.line.emit(w)
+        self.line.emit(w)?;
+        w.u32(self.board)
     }
 }

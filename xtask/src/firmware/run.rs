@@ -462,11 +462,12 @@ fn firmware_case(
 fn finish(mut q: Qemu, sequence: &mut u16) -> Result<bool, String> {
     let c = closed_loop::counters(&mut q, sequence)?;
     println!(
-        "\nfirmware counters: {} messages accepted, {} refused {:?}, {} watchdog expiries; {} bytes sent, {} frames received",
+        "\nfirmware counters: {} messages accepted, {} refused {:?}, {} watchdog expiries, board status {} (1: fallback clock); {} bytes sent, {} frames received",
         c.accepted,
         c.errors.iter().sum::<u32>(),
         c.errors,
         c.stale,
+        c.board,
         q.bytes_sent,
         q.frames_received
     );
