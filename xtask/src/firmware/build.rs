@@ -54,7 +54,7 @@ impl Board {
             Board::Microbit | Board::Rp2040 => "thumbv6m-none-eabi",
         }
     }
-    fn bin(self) -> &'static str {
+    pub(crate) fn bin(self) -> &'static str {
         match self {
             Board::Qemu | Board::QemuTables => "twocars-qemu",
             Board::QemuMavlink => "twocars-qemu-mavlink",

@@ -74,11 +74,12 @@ fn peer_script() -> PathBuf {
     crate::workspace::root().join("xtask/mavlink_peer.py")
 }
 
-/// The MAVLink image in QEMU and the scripted pymavlink session against it; Err with what failed.
-pub fn scripted_session() -> Result<(), String> {
+/// `board`'s MAVLink image in QEMU and the scripted pymavlink session against it; Err with what
+/// failed.
+pub fn scripted_session(board: Board) -> Result<(), String> {
     let python = python()?;
-    let (elf, _) = build::build_checked(Board::QemuMavlink)?;
-    let launched = qemu::launch(&elf, Board::QemuMavlink, false)?;
+    let (elf, _) = build::build_checked(board)?;
+    let launched = qemu::launch(&elf, board, false)?;
     let status = Command::new(python)
         .arg(peer_script())
         .args(["session", &launched.port.to_string()])
@@ -163,10 +164,10 @@ fn report(plane: &Plane, time_ms: u32, state: [f64; 3], speed: f64) -> String {
     )
 }
 
-/// `cargo xtask run --link mavlink`: the paper's cases at ten times their scale with the
-/// firmware flying the pursuer over MAVLink; returns the exit code.
-pub fn run() -> i32 {
-    match run_cases() {
+/// `cargo xtask run --link mavlink`: the paper's cases at ten times their scale with `board`'s
+/// MAVLink image flying the pursuer; returns the exit code.
+pub fn run(board: Board) -> i32 {
+    match run_cases(board) {
         Ok(true) => 0,
         Ok(false) => 1,
         Err(e) => {
@@ -176,8 +177,8 @@ pub fn run() -> i32 {
     }
 }
 
-/// The closed loop of `run --link mavlink`: whether every capture was on time.
-pub fn run_cases() -> Result<bool, String> {
+/// The closed loop of `run --link mavlink` on `board`'s image: whether every capture was on time.
+pub fn run_cases(board: Board) -> Result<bool, String> {
     let limits = PAPER_LIMITS.map(|v| v as f32);
     // Speeds times the scale, curvatures divided by it.
     let scaled = [
@@ -186,12 +187,13 @@ pub fn run_cases() -> Result<bool, String> {
         limits[2] * SCALE as f32,
         limits[3] / SCALE as f32,
     ];
-    let (elf, size) = build::build_checked(Board::QemuMavlink)?;
+    let (elf, size) = build::build_checked(board)?;
     println!(
-        "twocars-qemu-mavlink: {} B flash; pymavlink plays the autopilot (system 1) and the target (system 2)",
+        "{}: {} B flash; pymavlink plays the autopilot (system 1) and the target (system 2)",
+        board.bin(),
         size.flash()
     );
-    let launched = qemu::launch(&elf, Board::QemuMavlink, false)?;
+    let launched = qemu::launch(&elf, board, false)?;
     let mut peer = Peer::start(launched.port)?;
     let heartbeat = peer.ask(r#"{"op": "heartbeat"}"#)?;
     println!("unit's heartbeat: {heartbeat}");

@@ -284,7 +284,14 @@ fn print_table_value(o: &RunOptions, case: &Case, set: &ValueTables<'_>) {
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
     if args.link == RunLink::Mavlink {
-        return crate::firmware::mavlink::run();
+        return match args.board {
+            RunBoard::Qemu => crate::firmware::mavlink::run(Board::QemuMavlink),
+            RunBoard::Stm32f405 => crate::firmware::mavlink::run(Board::Stm32f405Mavlink),
+            other => {
+                eprintln!("xtask run: no MAVLink image for {other:?}");
+                2
+            }
+        };
     }
     let (board, options) = board_and_options(args);
     let options = &options;

@@ -424,20 +424,29 @@ pub fn run() -> (u64, u64) {
         "qemu::fixed_point_law_on_cortex_m0_equals_the_host_and_the_paper",
         fixed_point_on_cortex_m0(),
     );
-    println!("== xtask test: the MAVLink image in QEMU, pymavlink the autopilot and the target");
+    println!("== xtask test: the MAVLink images in QEMU, pymavlink the autopilot and the target");
     record(
         "qemu::mavlink_scripted_session_passes_every_check",
-        crate::firmware::mavlink::scripted_session().map(|()| "every check passed".to_string()),
+        crate::firmware::mavlink::scripted_session(Board::QemuMavlink)
+            .map(|()| "every check passed".to_string()),
     );
-    record(
-        "qemu::mavlink_closed_loop_captures_the_paper_cases_on_time",
-        crate::firmware::mavlink::run_cases().and_then(|on_time| {
-            if on_time {
-                Ok("four captures within 5 control periods".to_string())
-            } else {
-                Err("a capture missed its reference by more than 5 periods".to_string())
-            }
-        }),
-    );
+    // The STM32F405 image closes the loop too. Its scripted session's timing checks do not
+    // hold in netduinoplus2: QEMU clocks SysTick at the model's own rate whatever the clock
+    // controller says, so the image's internal-oscillator millisecond runs 10.5 times fast.
+    for (board, name) in [
+        (Board::QemuMavlink, "mavlink"),
+        (Board::Stm32f405Mavlink, "stm32f405_mavlink"),
+    ] {
+        record(
+            &format!("qemu::{name}_closed_loop_captures_the_paper_cases_on_time"),
+            crate::firmware::mavlink::run_cases(board).and_then(|on_time| {
+                if on_time {
+                    Ok("four captures within 5 control periods".to_string())
+                } else {
+                    Err("a capture missed its reference by more than 5 periods".to_string())
+                }
+            }),
+        );
+    }
     (passed, failed)
 }
