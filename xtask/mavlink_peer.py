@@ -118,7 +118,8 @@ class Peer:
 
 
 def serve(port):
-    """JSON requests: {"op": "heartbeat"}, {"op": "set", "name", "value"}, {"op": "list"},
+    """JSON requests: {"op": "heartbeat"} (the first heartbeat and the STATUSTEXTs around it),
+    {"op": "set", "name", "value"}, {"op": "list"},
     {"op": "step", "own": [time_ms, [lat, lon], [vx, vy], hdg], "target": [...]},
     {"op": "quiet", "seconds"}."""
     peer = Peer(port)
@@ -126,10 +127,12 @@ def serve(port):
         request = json.loads(line)
         op = request["op"]
         if op == "heartbeat":
-            m, _ = peer.wait("HEARTBEAT", timeout=3.0)
+            m, seen = peer.wait("HEARTBEAT", timeout=3.0)
+            texts = [t.text for t in seen + peer.collect(0.3) if t.get_type() == "STATUSTEXT"]
             answer = None if m is None else {
                 "system": m.get_srcSystem(), "component": m.get_srcComponent(),
-                "type": m.type, "autopilot": m.autopilot, "version": m.mavlink_version}
+                "type": m.type, "autopilot": m.autopilot, "version": m.mavlink_version,
+                "texts": texts}
         elif op == "set":
             m, texts = peer.param_set(request["name"], request["value"])
             answer = None if m is None else {"name": m.param_id, "value": m.param_value,

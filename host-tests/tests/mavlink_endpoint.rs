@@ -144,6 +144,33 @@ fn the_heartbeat_names_an_onboard_controller_once_a_second() {
     assert_eq!(of(&link.poll(), HEARTBEAT).len(), 1);
 }
 
+/// A board on its fallback clock says so with the first heartbeat and every 30 s after; one on
+/// its crystal says nothing.
+#[test]
+fn a_fallback_clock_is_announced_with_the_first_heartbeat_and_every_30_s() {
+    use twocars::mavlink::{BOARD_NOTICE_MS, FALLBACK_CLOCK_TEXT};
+    let fallback = twocars::protocol::message::BOARD_FALLBACK_CLOCK;
+    let mut link = Link::new();
+    link.endpoint.set_board_status(fallback);
+    let mut notices = Vec::new();
+    for second in 0..=60 {
+        link.now_ms = second * 1000;
+        for s in of(&link.poll(), STATUSTEXT) {
+            assert_eq!(status(s), (WARNING, FALLBACK_CLOCK_TEXT.to_string()));
+            notices.push(link.now_ms);
+        }
+    }
+    assert_eq!(notices, [0, BOARD_NOTICE_MS, 2 * BOARD_NOTICE_MS]);
+    assert!(FALLBACK_CLOCK_TEXT.len() <= 50);
+
+    let mut crystal = Link::new();
+    crystal.endpoint.set_board_status(0);
+    for second in 0..=60 {
+        crystal.now_ms = second * 1000;
+        assert!(of(&crystal.poll(), STATUSTEXT).is_empty());
+    }
+}
+
 #[test]
 fn parameters_are_listed_read_and_set_as_the_contract_says() {
     let mut link = Link::new();

@@ -1,7 +1,7 @@
 //! Firmware entry for the Raspberry Pi Pico (RP2040, Cortex-M0+, no FPU): the board started
 //! (125 MHz from the 12 MHz crystal, UART0 on GP0/GP1 at 115200 8N1), then the guidance loop
-//! with the fixed-point (Q17.14) law. Flash it as a UF2 (`elf2uf2-rs`) or over SWD; no emulator
-//! models the RP2040.
+//! with the fixed-point (Q17.14) law. Flash it as a UF2 (`elf2uf2-rs`) or over SWD; rp2040js
+//! runs it too (`cargo xtask run --board rp2040`).
 #![no_std]
 #![no_main]
 

@@ -1,7 +1,8 @@
 //! Raspberry Pi Pico (RP2040, Cortex-M0+ at 125 MHz, no FPU): clocks from the 12 MHz crystal,
 //! UART0 on GP0 (TX) and GP1 (RX), 115200 8N1, interrupt-driven, and the RP2040's 1 MHz TIMER as
-//! the millisecond clock. No emulator models the RP2040: this image is built, sized and
-//! link-checked, not run.
+//! the millisecond clock, its ALARM0 waking the loop every millisecond so that the watchdog
+//! runs through the host's silences. The image runs in rp2040js (`cargo xtask run --board rp2040`); it has
+//! not run on a board yet.
 //!
 //! Set up with the PAC's registers, in the RP2040 datasheet's order (the pico-sdk's
 //! `clocks_init`). `rp2040-hal` does the same, but its clock and baud-rate set-up divide by
@@ -16,7 +17,7 @@
 //! transmit FIFO drains to its watermark.
 
 use cortex_m::peripheral::NVIC;
-use rp2040_pac::{self as pac, interrupt, Interrupt, UART0};
+use rp2040_pac::{self as pac, interrupt, Interrupt, TIMER, UART0};
 
 use crate::serial::{Board, LoopEnd, RxFlags, UartRegisters};
 
@@ -40,6 +41,11 @@ const RESET_PADS_BANK0: u32 = 1 << 8;
 const RESET_PLL_SYS: u32 = 1 << 12;
 const RESET_TIMER: u32 = 1 << 21;
 const RESET_UART0: u32 = 1 << 22;
+
+/// The loop's wake-up period, TIMER microseconds.
+const WAKE_US: u32 = 1_000;
+/// TIMER's INTR / INTE bit of ALARM0.
+const ALARM0: u32 = 1 << 0;
 
 /// UARTDR's flags beside the byte.
 const FRAMING: u32 = 1 << 8;
@@ -174,6 +180,28 @@ fn UART0_IRQ() {
     super::on_uart_interrupt(&mut Pl011);
 }
 
+/// Arms ALARM0 a wake-up period after the TIMER's count now (an alarm matches the low 32
+/// bits exactly, so it is set from the count, never from the last target, which may have
+/// passed).
+fn arm_wake_up() {
+    // SAFETY: ALARM0, INTR and INTE are written only here and at start, before the
+    // interrupt is unmasked.
+    let timer = unsafe { &*TIMER::ptr() };
+    let now = timer.timerawl().read().bits();
+    timer
+        .alarm0()
+        .write(|w| unsafe { w.bits(now.wrapping_add(WAKE_US)) });
+}
+
+/// ALARM0: clears the alarm and arms the next. Its work is to wake the loop from `wfi`.
+#[interrupt]
+fn TIMER_IRQ_0() {
+    // SAFETY: as in `arm_wake_up`.
+    let timer = unsafe { &*TIMER::ptr() };
+    timer.intr().write(|w| unsafe { w.bits(ALARM0) });
+    arm_wake_up();
+}
+
 /// The Pico's clocks, pins, UART0 and TIMER, started.
 pub struct Pico {
     timer: pac::TIMER,
@@ -181,8 +209,9 @@ pub struct Pico {
 
 impl Pico {
     /// Starts the clocks, takes UART0, the TIMER and the IO and pad banks out of reset, routes
-    /// GP0 and GP1 to UART0 and enables it (8N1, FIFOs on) with its receive interrupts; returns
-    /// the board and the loop's end of the UART's queues (`None` on a second call).
+    /// GP0 and GP1 to UART0 and enables it (8N1, FIFOs on) with its receive interrupts, and arms
+    /// ALARM0's millisecond wake-up; returns the board and the loop's end of the UART's queues
+    /// (`None` on a second call).
     pub fn start(p: pac::Peripherals) -> Option<(Self, LoopEnd<'static>)> {
         start_clocks(&p);
         unreset(
@@ -215,6 +244,10 @@ impl Pico {
         });
         // SAFETY: the handler only touches UART0 and the line's interrupt end.
         unsafe { NVIC::unmask(Interrupt::UART0_IRQ) };
+        p.TIMER.inte().write(|w| unsafe { w.bits(ALARM0) });
+        arm_wake_up();
+        // SAFETY: the handler only touches ALARM0 and its interrupt flag.
+        unsafe { NVIC::unmask(Interrupt::TIMER_IRQ_0) };
         Some((Pico { timer: p.TIMER }, line))
     }
 }

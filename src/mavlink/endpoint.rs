@@ -9,6 +9,8 @@
 //! - The control period is the own states' spacing on the autopilot's clock (`time_boot_ms`),
 //!   100 ms until two have arrived; the staleness limit TC_TIMEOUT runs on our clock.
 //! - HEARTBEAT at 1 Hz, with NAMED_VALUE_FLOAT "TC_BADFRM": the frames dropped so far.
+//! - A board on its fallback clock says so in a STATUSTEXT (WARNING) with the first heartbeat
+//!   and every [`BOARD_NOTICE_MS`] after, so that a station that joins later sees it too.
 //! - No setpoint from stale or invalid input: one STATUSTEXT (WARNING) saying why when that
 //!   begins, one (INFO) when setpoints resume.
 //! - A target fix that jumps farther than the evader could have gone since the last one (plus
@@ -47,6 +49,10 @@ pub const HEARTBEAT_MS: u32 = 1000;
 /// The NAMED_VALUE_FLOAT sent with each heartbeat: frames dropped so far (bad checksum,
 /// unsupported flags, fields that do not decode).
 pub const BAD_FRAMES: &str = "TC_BADFRM";
+/// The period of the fallback clock's STATUSTEXT, ms.
+pub const BOARD_NOTICE_MS: u32 = 30_000;
+/// The fallback clock's STATUSTEXT.
+pub const FALLBACK_CLOCK_TEXT: &str = "TC: fallback clock, crystal or PLL did not start";
 /// The local plane follows the own fix once it is this far (m) from the plane's reference:
 /// within it a 100 m baseline is off by at most 1.6e-4 (relative) at 45 degrees (docs/mavlink.md).
 pub const REANCHOR_M: f32 = 1_000.0;
@@ -170,6 +176,9 @@ struct Session {
     last_status: Status,
     outbox: Outbox,
     last_heartbeat_ms: Option<u32>,
+    /// The board's status flags (`crate::protocol::message::BOARD_FALLBACK_CLOCK`).
+    board: u32,
+    last_board_notice_ms: Option<u32>,
     counters: EndpointCounters,
 }
 
@@ -194,6 +203,8 @@ impl Endpoint {
             last_status: Status::Ok,
             outbox: Outbox::default(),
             last_heartbeat_ms: None,
+            board: 0,
+            last_board_notice_ms: None,
             counters: EndpointCounters::default(),
         };
         session.rebuild_guidance();
@@ -201,6 +212,12 @@ impl Endpoint {
             reader: FrameReader::new(),
             session,
         }
+    }
+
+    /// The board's status flags ([`crate::serial::Board::status_flags`]), for the STATUSTEXT
+    /// that announces a fallback clock.
+    pub fn set_board_status(&mut self, flags: u32) {
+        self.session.board = flags;
     }
 
     /// The parameters now.
@@ -253,6 +270,7 @@ impl Endpoint {
                 .wrapping_add(s.counters.malformed);
             s.outbox
                 .named_value(s.sysid(), now_ms, BAD_FRAMES, bad as f32, send);
+            s.board_notice(now_ms, send);
         }
         if s.health == Health::Active {
             if let Some(halt) = s.stale(now_ms) {
@@ -263,6 +281,21 @@ impl Endpoint {
 }
 
 impl Session {
+    /// The fallback clock's STATUSTEXT, where the board runs on it and the last one is
+    /// [`BOARD_NOTICE_MS`] old (or none went out yet).
+    fn board_notice(&mut self, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
+        let fallback = self.board & crate::protocol::message::BOARD_FALLBACK_CLOCK != 0;
+        let due = self
+            .last_board_notice_ms
+            .is_none_or(|last| now_ms.wrapping_sub(last) >= BOARD_NOTICE_MS);
+        if fallback && due {
+            self.last_board_notice_ms = Some(now_ms);
+            let severity = MavSeverity::MAV_SEVERITY_WARNING;
+            self.outbox
+                .status_text(self.sysid(), severity, FALLBACK_CLOCK_TEXT, send);
+        }
+    }
+
     fn sysid(&self) -> u8 {
         self.params.byte(index::SYSID)
     }

@@ -15,7 +15,7 @@ pub mod params;
 #[cfg(feature = "firmware")]
 pub mod service;
 
-pub use endpoint::{Endpoint, EndpointCounters, Halt};
+pub use endpoint::{Endpoint, EndpointCounters, Halt, BOARD_NOTICE_MS, FALLBACK_CLOCK_TEXT};
 pub use frame::{Frame, FrameCounters, FrameReader, Version};
 pub use messages::{decode, extra_crc, Message, MessageError};
 pub use params::{Params, Refusal, SPECS};

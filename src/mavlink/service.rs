@@ -6,8 +6,9 @@ use super::Endpoint;
 use crate::serial::{Board, LoopEnd};
 
 /// Serves the link for good. Sleeps while nothing was received (the board's millisecond tick
-/// wakes it for the heartbeat).
+/// wakes it for the heartbeat). The board's status flags go to the endpoint first.
 pub fn serve_mavlink<B: Board>(line: &mut LoopEnd<'_>, board: &B, endpoint: &mut Endpoint) -> ! {
+    endpoint.set_board_status(board.status_flags());
     loop {
         service(line, board, endpoint);
         board.sleep_while(&mut || line.nothing_received());

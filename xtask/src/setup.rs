@@ -192,3 +192,27 @@ pub fn python_venv() -> Result<(), String> {
             .to_string(),
     )
 }
+
+/// Node.js and npm (rp2040js, the RP2040's emulator): installed with apt-get where this runs as
+/// root; otherwise the command, as an error.
+pub fn node() -> Result<(), String> {
+    let works = |program: &str| {
+        Command::new(program)
+            .arg("--version")
+            .stdout(std::process::Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if works("node") && works("npm") {
+        return Ok(());
+    }
+    let root_with_apt = is_root() && qemu::on_path("apt-get").is_some();
+    if root_with_apt && apt_install(&["nodejs", "npm"]) && works("node") && works("npm") {
+        return Ok(());
+    }
+    Err(
+        "Node.js and npm are needed for rp2040js: run `sudo apt-get install nodejs npm` \
+         (or your system's Node.js 18 or later), then the command again"
+            .to_string(),
+    )
+}

@@ -14,19 +14,40 @@ pub enum Board {
     Qemu,
     /// QEMU mps2-an386 speaking MAVLink 2 (the guidance endpoint, docs/mavlink.md).
     QemuMavlink,
-    /// STM32F405 flight controller (Cortex-M4F): build and size only.
+    /// STM32F405 flight controller (Cortex-M4F), in QEMU's netduinoplus2.
     Stm32f405,
-    /// STM32F405 speaking MAVLink 2: build and size only.
+    /// STM32F405 speaking MAVLink 2, in QEMU's netduinoplus2.
     Stm32f405Mavlink,
     /// BBC micro:bit (nRF51822, Cortex-M0, the fixed-point law), in QEMU's `microbit` machine.
     Microbit,
-    /// Raspberry Pi Pico (RP2040, Cortex-M0+, the fixed-point law): build, size and link check
-    /// only (no emulator models it).
+    /// Raspberry Pi Pico (RP2040, Cortex-M0+, the fixed-point law), in rp2040js.
     Rp2040,
     /// QEMU mps2-an386 carrying the value tables of two pairs of ratios.
     QemuTables,
     /// STM32F405 carrying the value tables of the paper's ratios: build and size only.
     Stm32f405Tables,
+}
+
+/// An emulator of a board.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Machine {
+    /// `qemu-system-arm` with these machine options.
+    Qemu(&'static [&'static str]),
+    /// rp2040js under Node.js (xtask/rp2040js_harness.mjs).
+    Rp2040js,
+}
+
+impl Machine {
+    /// The emulator's name and model, as reports print it.
+    pub fn name(self) -> String {
+        match self {
+            Machine::Qemu(options) => match options {
+                [_, machine, ..] => format!("QEMU {machine}"),
+                _ => "QEMU".to_string(),
+            },
+            Machine::Rp2040js => format!("rp2040js {}", crate::firmware::rp2040js::VERSION),
+        }
+    }
 }
 
 impl Board {
@@ -87,18 +108,18 @@ impl Board {
             _ => &[],
         }
     }
-    /// QEMU's machine options for the board (`None`: no emulator).
-    pub(crate) fn machine(self) -> Option<&'static [&'static str]> {
+    /// The emulator that runs the board's images.
+    pub(crate) fn machine(self) -> Option<Machine> {
         match self {
             Board::Qemu | Board::QemuMavlink | Board::QemuTables => {
-                Some(&["-M", "mps2-an386", "-cpu", "cortex-m4"])
+                Some(Machine::Qemu(&["-M", "mps2-an386", "-cpu", "cortex-m4"]))
             }
-            Board::Microbit => Some(&["-M", "microbit"]),
+            Board::Microbit => Some(Machine::Qemu(&["-M", "microbit"])),
             // An STM32F405 SoC: its USART1 is the first serial port.
             Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => {
-                Some(&["-M", "netduinoplus2"])
+                Some(Machine::Qemu(&["-M", "netduinoplus2"]))
             }
-            Board::Rp2040 => None,
+            Board::Rp2040 => Some(Machine::Rp2040js),
         }
     }
     /// Whether the image's UART drops what arrives during its start-up (the STM32's USART
@@ -108,6 +129,16 @@ impl Board {
             self,
             Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables
         )
+    }
+    /// The board status flags (Counters' last field) its image reports in its emulator: QEMU
+    /// models no crystal for the STM32F405, which then runs on its fallback clock.
+    pub(crate) fn status_in_emulator(self) -> u32 {
+        match self {
+            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => {
+                twocars::protocol::message::BOARD_FALLBACK_CLOCK
+            }
+            _ => 0,
+        }
     }
     /// Whether the image logs with defmt over semihosting (`qemu-log`), for `defmt-print`.
     pub(crate) fn logs_with_defmt(self) -> bool {
@@ -269,11 +300,11 @@ pub fn build_checked(board: Board) -> Result<(PathBuf, crate::firmware::size::Im
 pub enum BoardArg {
     /// QEMU mps2-an386 (Cortex-M4F): the COBS and the MAVLink images.
     Qemu,
-    /// STM32F405 flight controller, both images (built and sized only).
+    /// STM32F405 flight controller, both images (QEMU netduinoplus2).
     Stm32f405,
     /// BBC micro:bit (nRF51822, Cortex-M0, fixed point).
     Microbit,
-    /// Raspberry Pi Pico (RP2040, Cortex-M0+, fixed point; built and sized only).
+    /// Raspberry Pi Pico (RP2040, Cortex-M0+, fixed point; rp2040js).
     Rp2040,
     /// QEMU mps2-an386 with the value tables of two pairs of ratios in flash (solved first,
     /// about a minute each, then cached).

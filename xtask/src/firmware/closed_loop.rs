@@ -12,9 +12,10 @@ use twocars::protocol::message::{Configure, Counters, StateMsg, ROLE_EVADER, ROL
 use twocars::value_tables::ValueTables;
 use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant};
 
-use crate::firmware::qemu::Qemu;
+use crate::firmware::emulator::Emulator;
 
-/// A serial link to a guidance unit: the firmware in QEMU, or the same unit in this process.
+/// A serial link to a guidance unit: the firmware in its emulator, or the same unit in this
+/// process.
 pub trait Link {
     /// Sends raw bytes.
     fn send(&mut self, bytes: &[u8]) -> Result<(), String>;
@@ -22,12 +23,12 @@ pub trait Link {
     fn reply(&mut self) -> Result<Reply, String>;
 }
 
-impl Link for Qemu {
+impl Link for Emulator {
     fn send(&mut self, bytes: &[u8]) -> Result<(), String> {
-        Qemu::send(self, bytes)
+        Emulator::send(self, bytes)
     }
     fn reply(&mut self) -> Result<Reply, String> {
-        Qemu::reply(self)
+        Emulator::reply(self)
     }
 }
 
@@ -101,19 +102,19 @@ fn circle(code: u8) -> Option<Direction> {
 
 /// Configures the firmware and runs one closed loop.
 pub fn run_case(
-    qemu: &mut impl Link,
+    unit: &mut impl Link,
     sequence: &mut u16,
     params: &SimParams,
     roles: u8,
     how: (Variant, Policy),
 ) -> Result<FirmwareRun, String> {
-    run_against(qemu, sequence, params, roles, how, None)
+    run_against(unit, sequence, params, roles, how, None)
 }
 
 /// [`run_case`] with the evader played by an adversary of the suite (`opponent`, its seed)
 /// in place of the firmware's or the host law's evader; the Configure's ack must say `policy`.
 pub fn run_against(
-    qemu: &mut impl Link,
+    unit: &mut impl Link,
     sequence: &mut u16,
     params: &SimParams,
     roles: u8,
@@ -137,8 +138,8 @@ pub fn run_against(
         },
     };
     *sequence = sequence.wrapping_add(1);
-    qemu.send(&link::configure(*sequence, &configure))?;
-    match qemu.reply()? {
+    unit.send(&link::configure(*sequence, &configure))?;
+    match unit.reply()? {
         Reply::ConfigureAck(s, Some(p)) if s == *sequence && p == configure.policy => {}
         other => return Err(format!("Configure refused or another policy: {other:?}")),
     }
@@ -182,9 +183,9 @@ pub fn run_against(
             pursuer: p.map(|v| v as f32),
             evader: e.map(|v| v as f32),
         };
-        qemu.send(&link::state(*sequence, &state))?;
+        unit.send(&link::state(*sequence, &state))?;
         run.states_sent += 1;
-        let reply = qemu.reply()?;
+        let reply = unit.reply()?;
         let (rate_p, rate_e, choice) = match reply {
             Reply::Command(s, c) if s == *sequence => {
                 run.commands_received += 1;
@@ -232,20 +233,21 @@ pub fn run_against(
 }
 
 /// Reads the firmware's counters.
-pub fn counters(qemu: &mut impl Link, sequence: &mut u16) -> Result<Counters, String> {
+pub fn counters(unit: &mut impl Link, sequence: &mut u16) -> Result<Counters, String> {
     *sequence = sequence.wrapping_add(1);
-    qemu.send(&link::read_counters(*sequence))?;
-    match qemu.reply()? {
+    unit.send(&link::read_counters(*sequence))?;
+    match unit.reply()? {
         Reply::Counters(_, c) => Ok(c),
         other => Err(format!("expected Counters, got {other:?}")),
     }
 }
 
-/// Ends the session: Shutdown, its acknowledgement, QEMU's exit code.
-pub fn shutdown(mut qemu: Qemu, sequence: &mut u16) -> Result<i32, String> {
+/// Ends the session: Shutdown, its acknowledgement, the emulator's exit code (0 for a flight
+/// image, which serves on and whose emulator is stopped).
+pub fn shutdown(mut emulator: Emulator, sequence: &mut u16) -> Result<i32, String> {
     *sequence = sequence.wrapping_add(1);
-    qemu.send(&link::shutdown(*sequence))?;
-    match qemu.reply()? {
+    emulator.send(&link::shutdown(*sequence))?;
+    match emulator.reply()? {
         Reply::ShutdownAck(s) if s == *sequence => {}
         other => {
             return Err(format!(
@@ -253,10 +255,10 @@ pub fn shutdown(mut qemu: Qemu, sequence: &mut u16) -> Result<i32, String> {
             ))
         }
     }
-    if !qemu.exits_on_shutdown() {
-        // A flight image serves on after its ShutdownAck: QEMU is stopped (on drop).
+    if !emulator.exits_on_shutdown() {
+        // A flight image serves on after its ShutdownAck: the emulator is stopped (on drop).
         return Ok(0);
     }
-    let status = qemu.wait_exit()?;
+    let status = emulator.wait_exit()?;
     Ok(status.code().unwrap_or(-1))
 }

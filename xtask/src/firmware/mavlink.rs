@@ -18,7 +18,7 @@ use host_tests::sim::{advance, closed_loop, wrap_pi, SimParams, SimStatus, StepC
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
 use crate::firmware::build::{self, Board};
-use crate::firmware::qemu;
+use crate::firmware::emulator;
 
 /// pymavlink's version in the virtual environment.
 const PYMAVLINK: &str = "pymavlink==2.4.49";
@@ -79,7 +79,7 @@ fn peer_script() -> PathBuf {
 pub fn scripted_session(board: Board) -> Result<(), String> {
     let python = python()?;
     let (elf, _) = build::build_checked(board)?;
-    let launched = qemu::launch(&elf, board, false)?;
+    let launched = emulator::launch(&elf, board, false)?;
     let status = Command::new(python)
         .arg(peer_script())
         .args(["session", &launched.port.to_string()])
@@ -193,11 +193,15 @@ pub fn run_cases(board: Board) -> Result<bool, String> {
         board.bin(),
         size.flash()
     );
-    let launched = qemu::launch(&elf, board, false)?;
+    let launched = emulator::launch(&elf, board, false)?;
     let mut peer = Peer::start(launched.port)?;
     let heartbeat = peer.ask(r#"{"op": "heartbeat"}"#)?;
     println!("unit's heartbeat: {heartbeat}");
     let mut ok = heartbeat.contains("\"component\": 191") && heartbeat.contains("\"type\": 18");
+    // The fallback clock's STATUSTEXT comes with the first heartbeat, where the board runs on it.
+    let fallback =
+        board.status_in_emulator() & twocars::protocol::message::BOARD_FALLBACK_CLOCK != 0;
+    ok &= heartbeat.contains(twocars::mavlink::FALLBACK_CLOCK_TEXT) == fallback;
     // Each step keeps the limits valid: speeds first, then the evader's curvature.
     for (name, value) in [
         ("TC_V_PM", scaled[0]),

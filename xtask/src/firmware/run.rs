@@ -1,5 +1,5 @@
-//! `cargo xtask run`: the main job. The firmware runs in QEMU (mps2-an386), its UART on a
-//! loopback TCP link to the host simulator, which integrates both vehicles exactly and sends a
+//! `cargo xtask run`: the main job. The firmware runs in its board's emulator (QEMU, or
+//! rp2040js for the RP2040), its UART on a loopback TCP link to the host simulator, which integrates both vehicles exactly and sends a
 //! State every control period; per case it prints the law's matrix at t = 0, the capture time in
 //! closed loop with the firmware, the host-only simulation of the same case, frames and counters.
 
@@ -11,7 +11,7 @@ use twocars::{evaluate_observation, Observation, Policy, Scalar};
 
 use crate::firmware::build::{self, Board};
 use crate::firmware::closed_loop;
-use crate::firmware::qemu::Qemu;
+use crate::firmware::emulator::Emulator;
 use crate::host::options::{with_numeric, LawArgs, Options};
 
 /// Capture distance, metres.
@@ -67,12 +67,12 @@ pub struct RunArgs {
     /// A custom start: the evader's x,y,theta (m, m, rad), with --pursuer.
     #[arg(long, value_parser = crate::workspace::numbers::<3>, requires = "pursuer")]
     evader: Option<[f64; 3]>,
-    /// The host simulation only, no QEMU.
+    /// The host simulation only, no emulator.
     #[arg(long)]
     pub host_only: bool,
-    /// The board QEMU runs: mps2-an386 (Cortex-M4F, f32) or the micro:bit (Cortex-M0, the
-    /// fixed-point law; the host then simulates fixed point too, and runs the same unit in this
-    /// process to compare bit for bit).
+    /// The emulated board: an f32 image (mps2-an386, STM32F405), or a fixed-point one (micro:bit,
+    /// RP2040; the host then simulates fixed point too, and runs the same unit in this process
+    /// to compare bit for bit).
     #[arg(long, value_enum, default_value = "qemu")]
     board: RunBoard,
     /// The firmware's link: our COBS protocol, or MAVLink 2 with pymavlink playing the
@@ -90,7 +90,7 @@ pub enum RunLink {
     Mavlink,
 }
 
-/// The boards `run` can put in QEMU.
+/// The boards `run` can emulate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum RunBoard {
     /// QEMU mps2-an386 (Cortex-M4F, f32 law).
@@ -102,6 +102,9 @@ pub enum RunBoard {
     QemuTables,
     /// The STM32F405 flight image in QEMU's netduinoplus2 (Cortex-M4F, f32; USART1).
     Stm32f405,
+    /// The Raspberry Pi Pico flight image in rp2040js (RP2040, Cortex-M0+, fixed-point law;
+    /// UART0), compared bit for bit with the same unit on the host, as the micro:bit is.
+    Rp2040,
 }
 
 /// A start below the theorem's threshold at the paper's limits, where the tables play: the
@@ -226,7 +229,7 @@ fn closing(o: &RunOptions, t: f64) -> f64 {
     t + EPS / (o.limits[0] - o.limits[2])
 }
 
-/// The micro:bit image's twin: the same fixed-point unit in this process, fed the same frames;
+/// A fixed-point image's twin: the same fixed-point unit in this process, fed the same frames;
 /// prints the difference of the capture times (0 when the M0 computes what the host does, bit
 /// for bit) and whether the two runs are identical.
 fn twin_agrees(
@@ -313,7 +316,7 @@ pub fn run(args: &RunArgs) -> i32 {
     let mut session = None;
     if !o.host_only {
         match build::build_checked(board)
-            .and_then(|(elf, _)| Qemu::start(&elf, board, board.logs_with_defmt()))
+            .and_then(|(elf, _)| Emulator::start(&elf, board, board.logs_with_defmt()))
         {
             Ok(q) => session = Some(q),
             Err(e) => {
@@ -369,6 +372,10 @@ fn board_and_options(args: &RunArgs) -> (Board, Options) {
             Board::QemuTables
         }
         RunBoard::Stm32f405 => Board::Stm32f405,
+        RunBoard::Rp2040 => {
+            options.numeric = crate::host::options::Numeric::Fixed;
+            Board::Rp2040
+        }
     };
     (board, options)
 }
@@ -427,7 +434,7 @@ fn host_case(
 /// `case` flown in closed loop with the firmware, printed; whether it agrees with the host's
 /// simulation `host` (and on the micro:bit, with the same unit run on the host bit for bit).
 fn firmware_case(
-    q: &mut Qemu,
+    q: &mut Emulator,
     sequence: &mut u16,
     (o, case, options): (&RunOptions, &Case, &Options),
     board: Board,
@@ -442,8 +449,9 @@ fn firmware_case(
     )?;
     let r = &fw.result;
     let diff = r.t_capture - host.t_capture;
+    let emulator = board.machine().map_or_else(String::new, |m| m.name());
     println!(
-        "  firmware in QEMU: {}, captured at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s), firmware's prediction {:.4} s; \
+        "  firmware in {emulator}: {}, captured at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s), firmware's prediction {:.4} s; \
          vs host: {:+.6} s ({:+.2} control periods); {} States sent, {} Commands and {} Errors received; {} switches, {} sign flips",
         r.status.name(),
         r.t_capture,
@@ -459,14 +467,14 @@ fn firmware_case(
     );
     let mut agree = r.status == host.status
         && (r.status != SimStatus::Captured || diff.abs() <= AGREEMENT_PERIODS * o.dt);
-    if board == Board::Microbit {
+    if matches!(board, Board::Microbit | Board::Rp2040) {
         agree &= twin_agrees(o, case, options, r);
     }
     Ok(agree)
 }
 
 /// Reads the firmware's counters, prints them, shuts it down; whether it exited with 0.
-fn finish(mut q: Qemu, sequence: &mut u16) -> Result<bool, String> {
+fn finish(mut q: Emulator, sequence: &mut u16) -> Result<bool, String> {
     let c = closed_loop::counters(&mut q, sequence)?;
     println!(
         "\nfirmware counters: {} messages accepted, {} refused {:?}, {} watchdog expiries, board status {} (1: fallback clock); {} bytes sent, {} frames received",
@@ -483,7 +491,7 @@ fn finish(mut q: Qemu, sequence: &mut u16) -> Result<bool, String> {
     if exits {
         println!("firmware exited with code {code}");
     } else {
-        println!("firmware acknowledged Shutdown (a flight image serves on; QEMU stopped)");
+        println!("firmware acknowledged Shutdown (a flight image serves on; its emulator stopped)");
     }
     Ok(code == 0)
 }

@@ -16,7 +16,7 @@ use twocars::{Policy, Variant};
 
 use crate::firmware::build::{self, Board};
 use crate::firmware::closed_loop::{self, HostUnit};
-use crate::firmware::qemu::Qemu;
+use crate::firmware::emulator::Emulator;
 
 /// Control period, s.
 const DT: f64 = 0.01;
@@ -68,7 +68,12 @@ pub(crate) fn table_set(
 }
 
 /// The Configure's policy byte in effect for `limits` asked with `policy`.
-fn ack(q: &mut Qemu, sequence: u16, limits: [f32; 4], policy: u8) -> Result<Option<u8>, String> {
+fn ack(
+    q: &mut Emulator,
+    sequence: u16,
+    limits: [f32; 4],
+    policy: u8,
+) -> Result<Option<u8>, String> {
     let configure = Configure {
         limits,
         policy,
@@ -86,7 +91,7 @@ fn ack(q: &mut Qemu, sequence: u16, limits: [f32; 4], policy: u8) -> Result<Opti
 /// Policy byte 2 selects the set of either pair of ratios (ack 2); limits of other ratios fall
 /// back to the flight policy (ack 1).
 fn configure_selects_each_set(elf: &std::path::Path) -> Result<String, String> {
-    let mut q = Qemu::start(elf, Board::QemuTables, false)?;
+    let mut q = Emulator::start(elf, Board::QemuTables, false)?;
     let mut got = Vec::new();
     let other = [2.0, 2.0, 1.2, 1.0];
     let cases = crate::hj::sets::FLASH_SETS
@@ -144,7 +149,7 @@ fn starts(limits: [f64; 4], set: &ValueTables<'_>, seed: u64) -> Vec<(SimParams,
 /// V(x0) within the bar.
 fn suite_below_the_threshold(elf: &std::path::Path) -> Result<String, String> {
     let sets = image_sets()?;
-    let mut q = Qemu::start(elf, Board::QemuTables, false)?;
+    let mut q = Emulator::start(elf, Board::QemuTables, false)?;
     let mut twin = HostUnit::<f32>::with_tables(sets);
     let (mut sequence, mut twin_sequence) = (0, 0);
     let mut over = Vec::new();

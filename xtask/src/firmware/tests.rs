@@ -10,12 +10,14 @@ use host_tests::session::{paper_configure, paper_state, script};
 use host_tests::sim::{simulate, SimParams};
 use twocars::num::fixed::Fixed;
 use twocars::protocol::endpoint::{Unit, STATUS_STALE_INPUT};
+use twocars::protocol::message::{Counters, LineCounts};
 use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::{Policy, Scalar, Variant};
 
 use crate::firmware::build::{self, Board};
 use crate::firmware::closed_loop;
-use crate::firmware::qemu::{self, Qemu};
+use crate::firmware::emulator::Emulator;
+use crate::firmware::qemu;
 
 type Outcome = Result<String, String>;
 type QemuTest = fn(&std::path::Path) -> Outcome;
@@ -50,13 +52,60 @@ fn scripted_session(elf: &std::path::Path) -> Outcome {
     scripted_session_on::<f32>(elf, Board::Qemu)
 }
 
-/// The scripted session on `board`'s image, each reply equal to the host unit's on backend `S`.
+/// `counters` less what the readiness probe counted before the session (`before`, and the
+/// probe's own message, counted after its reply), with the board's status flags checked
+/// against `board`'s and cleared: the host's unit has neither.
+fn since_probe(
+    counters: Counters,
+    before: Option<Counters>,
+    board: Board,
+) -> Result<Counters, String> {
+    if counters.board != board.status_in_emulator() {
+        return Err(format!(
+            "board status {}, expected {}",
+            counters.board,
+            board.status_in_emulator()
+        ));
+    }
+    let Some(b) = before else {
+        return Ok(Counters {
+            board: 0,
+            ..counters
+        });
+    };
+    let less = |x: u32, y: u32| x.wrapping_sub(y);
+    let (l, bl) = (counters.line, b.line);
+    Ok(Counters {
+        accepted: less(counters.accepted, b.accepted + 1),
+        stale: less(counters.stale, b.stale),
+        errors: core::array::from_fn(|i| less(counters.errors[i], b.errors[i])),
+        line: LineCounts {
+            overrun: less(l.overrun, bl.overrun),
+            framing: less(l.framing, bl.framing),
+            noise: less(l.noise, bl.noise),
+            parity: less(l.parity, bl.parity),
+            rx_full: less(l.rx_full, bl.rx_full),
+            tx_full: less(l.tx_full, bl.tx_full),
+        },
+        board: 0,
+    })
+}
+
+/// The scripted session on `board`'s image, each reply equal to the host unit's on backend `S`
+/// (counters taken from the readiness probe's, where the image was probed).
 fn scripted_session_on<S: Scalar>(elf: &std::path::Path, board: Board) -> Outcome {
-    let mut q = Qemu::start(elf, board, false)?;
+    let mut q = Emulator::start(elf, board, false)?;
     let mut unit = Unit::<S>::new();
     for step in script() {
         q.send(&step.bytes)?;
-        let got = q.reply().map_err(|e| format!("{}: {e}", step.name))?;
+        let got = match q.reply().map_err(|e| format!("{}: {e}", step.name))? {
+            Reply::Counters(s, c) => Reply::Counters(
+                s,
+                since_probe(c, q.before_session(), board)
+                    .map_err(|e| format!("{}: {e}", step.name))?,
+            ),
+            other => other,
+        };
         let want = host_replies(&step.bytes, &mut unit);
         match want.as_slice() {
             [w] if same(w, &got) => {}
@@ -69,13 +118,19 @@ fn scripted_session_on<S: Scalar>(elf: &std::path::Path, board: Board) -> Outcom
         }
     }
     let mut sequence = 1000;
+    let exits = q.exits_on_shutdown();
     let code = closed_loop::shutdown(q, &mut sequence)?;
     if code != 0 {
         return Err(format!("exit code {code} after Shutdown"));
     }
     Ok(format!(
-        "{} steps answered as the host unit does; exit code 0",
-        script().len()
+        "{} steps answered as the host unit does; {}",
+        script().len(),
+        if exits {
+            "exit code 0"
+        } else {
+            "Shutdown acknowledged"
+        }
     ))
 }
 
@@ -98,7 +153,7 @@ fn closed_loop(elf: &std::path::Path) -> Outcome {
 /// The paper's cases under both policies on `board`'s f32 image, each capture within a control
 /// period of the host simulation's.
 fn closed_loop_on(elf: &std::path::Path, board: Board) -> Outcome {
-    let mut q = Qemu::start(elf, board, false)?;
+    let mut q = Emulator::start(elf, board, false)?;
     let mut sequence = 0;
     let mut report = Vec::new();
     // Both policies: Configure's policy byte selects the firmware's, the host runs the same.
@@ -132,7 +187,13 @@ fn closed_loop_on(elf: &std::path::Path, board: Board) -> Outcome {
 }
 
 fn watchdog(elf: &std::path::Path) -> Outcome {
-    let mut q = Qemu::start(elf, Board::Qemu, false)?;
+    watchdog_on(elf, Board::Qemu)
+}
+
+/// Half a second of silence after a State on `board`'s image: the safe command, latched until
+/// Reset; the watchdog counted once.
+fn watchdog_on(elf: &std::path::Path, board: Board) -> Outcome {
+    let mut q = Emulator::start(elf, board, false)?;
     q.send(&host_tests::link::configure(1, &paper_configure()))?;
     q.reply()?;
     q.send(&host_tests::link::state(2, &paper_state(0, 0)))?;
@@ -190,7 +251,7 @@ fn noisy_stream(elf: &std::path::Path) -> Outcome {
 /// [`noisy_stream`] on `board`'s image.
 fn noisy_stream_on(elf: &std::path::Path, board: Board) -> Outcome {
     const STATES: u16 = 400;
-    let mut q = Qemu::start(elf, board, false)?;
+    let mut q = Emulator::start(elf, board, false)?;
     let (accepted_before, refused_before) = q.counted_before();
     q.send(&host_tests::link::configure(1, &paper_configure()))?;
     match q.reply()? {
@@ -226,13 +287,7 @@ fn noisy_stream_on(elf: &std::path::Path, board: Board) -> Outcome {
     let counters = closed_loop::counters(&mut q, &mut sequence)?;
     let refused: u32 = counters.errors.iter().sum();
     // Accepted: the Configure and the States (the ReadCounters counts after its reply).
-    // Only the STM32F405's crystal is missing in QEMU: it alone reports its fallback clock.
-    let fallback = twocars::protocol::message::BOARD_FALLBACK_CLOCK;
-    let board_status = if board == Board::Stm32f405 {
-        fallback
-    } else {
-        0
-    };
+    let board_status = board.status_in_emulator();
     if refused != refused_before + errors
         || counters.accepted != accepted_before + 1 + u32::from(STATES)
         || counters.board != board_status
@@ -298,11 +353,11 @@ fn serial_loop_on_cortex_m4f() -> Outcome {
     ))
 }
 
-/// The micro:bit image (Cortex-M0, fixed point) in closed loop on the paper's four cases under
-/// both policies: every run identical to the same unit's on the host (`HostUnit<Fixed>` fed the
-/// same frames), bit for bit: capture time, switches and sign flips.
-fn microbit_closed_loop(elf: &std::path::Path) -> Outcome {
-    let mut q = Qemu::start(elf, Board::Microbit, false)?;
+/// A fixed-point image (micro:bit, RP2040) in closed loop on the paper's four cases under both
+/// policies: every run identical to the same unit's on the host (`HostUnit<Fixed>` fed the same
+/// frames), bit for bit: capture time, switches and sign flips.
+fn fixed_point_closed_loop(elf: &std::path::Path, board: Board) -> Outcome {
+    let mut q = Emulator::start(elf, board, false)?;
     let (mut sequence, mut twin_sequence) = (0, 0);
     let mut twin = closed_loop::HostUnit::<Fixed>::new();
     let mut times = Vec::new();
@@ -347,7 +402,40 @@ fn run_microbit(record: &mut impl FnMut(&str, Outcome)) {
     );
     record(
         "qemu::microbit_closed_loop_equals_the_same_unit_on_the_host_bit_for_bit",
-        microbit_closed_loop(&elf),
+        fixed_point_closed_loop(&elf, Board::Microbit),
+    );
+}
+
+/// The Raspberry Pi Pico flight image, as `cargo xtask build --board rp2040` builds it, in
+/// rp2040js: the micro:bit's checks and the line-noise burst.
+fn run_rp2040(record: &mut impl FnMut(&str, Outcome)) {
+    println!(
+        "== xtask test: firmware in rp2040js (RP2040, Cortex-M0+, fixed point, the flight image)"
+    );
+    let elf = match crate::firmware::rp2040js::installed()
+        .and_then(|_| build::build_checked(Board::Rp2040))
+    {
+        Ok((elf, _)) => elf,
+        Err(e) => {
+            record("rp2040js::rp2040_image_runs", Err(e));
+            return;
+        }
+    };
+    record(
+        "rp2040js::rp2040_scripted_session_matches_the_host_fixed_point_unit",
+        scripted_session_on::<Fixed>(&elf, Board::Rp2040),
+    );
+    record(
+        "rp2040js::rp2040_closed_loop_equals_the_same_unit_on_the_host_bit_for_bit",
+        fixed_point_closed_loop(&elf, Board::Rp2040),
+    );
+    record(
+        "rp2040js::rp2040_watchdog_latches_the_safe_command_until_reset",
+        watchdog_on(&elf, Board::Rp2040),
+    );
+    record(
+        "rp2040js::rp2040_states_through_line_noise_are_all_answered_in_order",
+        noisy_stream_on(&elf, Board::Rp2040),
     );
 }
 
@@ -362,6 +450,10 @@ fn run_stm32f405(record: &mut impl FnMut(&str, Outcome)) {
             return;
         }
     };
+    record(
+        "qemu::stm32f405_scripted_session_matches_the_host_unit",
+        scripted_session_on::<f32>(&elf, Board::Stm32f405),
+    );
     record(
         "qemu::stm32f405_closed_loop_matches_the_host_simulation",
         closed_loop_on(&elf, Board::Stm32f405),
@@ -413,6 +505,7 @@ pub fn run() -> (u64, u64) {
     }
     run_microbit(&mut record);
     run_stm32f405(&mut record);
+    run_rp2040(&mut record);
     crate::firmware::tables::run(&mut record);
     println!("== xtask test: the serial loop's bench session in QEMU (mps2-an386)");
     record(
