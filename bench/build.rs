@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 fn main() {
+    capture();
     let target = std::env::var("TARGET").unwrap_or_default();
     let map = if target.starts_with("thumbv6m") {
         "../src/board/microbit.x"
@@ -20,4 +21,21 @@ fn main() {
         panic!("copying {map}: {e}");
     }
     println!("cargo:rustc-link-search={}", out.display());
+}
+
+/// The MAVLink capture the `replay` image carries: the file `TWOCARS_MAVLINK_CAPTURE` names,
+/// or none.
+fn capture() {
+    println!("cargo:rerun-if-env-changed=TWOCARS_MAVLINK_CAPTURE");
+    let out = PathBuf::from(std::env::var_os("OUT_DIR").unwrap_or_default()).join("capture.bin");
+    let written = match std::env::var_os("TWOCARS_MAVLINK_CAPTURE") {
+        Some(path) => {
+            println!("cargo:rerun-if-changed={}", PathBuf::from(&path).display());
+            std::fs::copy(&path, &out).map(|_| ())
+        }
+        None => std::fs::write(&out, []),
+    };
+    if let Err(e) = written {
+        panic!("writing {}: {e}", out.display());
+    }
 }

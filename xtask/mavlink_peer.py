@@ -193,15 +193,16 @@ def session(port):
 
     peer.send_as(GCS, mavlink.MAVLink_param_request_list_message(*UNIT))
     values = []
-    for _ in range(9):
+    for _ in range(11):
         m, _ = peer.wait("PARAM_VALUE", timeout=1.0)
         if m is not None:
             values.append(m)
     want = {"TC_V_PM": 2, "TC_W_PM": 2, "TC_V_EM": 1, "TC_W_EM": 1, "TC_TGT_SYSID": 2,
-            "TC_VEHICLE": 0, "TC_POLICY": 1, "TC_TIMEOUT": 1, "TC_SYSID": 1}
+            "TC_VEHICLE": 0, "TC_POLICY": 1, "TC_TIMEOUT": 1, "TC_SYSID": 1, "TC_CAPTURE": 0,
+            "TC_PERIOD": 0}
     got = {m.param_id: m.param_value for m in values}
-    check("PARAM_REQUEST_LIST: nine REAL32 parameters at their defaults",
-          got == want and all(m.param_count == 9 and m.param_type ==
+    check("PARAM_REQUEST_LIST: eleven REAL32 parameters at their defaults",
+          got == want and all(m.param_count == 11 and m.param_type ==
                               mavlink.MAV_PARAM_TYPE_REAL32 for m in values), got)
     peer.send_as(GCS, mavlink.MAVLink_param_request_read_message(*UNIT, b"TC_TIMEOUT", -1))
     m, _ = peer.wait("PARAM_VALUE", timeout=1.0)

@@ -10,7 +10,8 @@
 //! states ([`STATES`]), the paper's four cases and states that reach every branch of the law
 //! (tail chase with four tied options, no valid tangent, the overshoot entry, far and near
 //! states, both turn directions); with `serial`, the serial loop's session ([`main_loop`]);
-//! with `mavlink`, the MAVLink endpoint's ([`mavlink`]). With `qemu` on a Cortex-M target,
+//! with `mavlink`, the MAVLink endpoint's ([`mavlink`]) and a captured stream's replay
+//! ([`replay`]). With `qemu` on a Cortex-M target,
 //! `target` is the measuring harness the images share.
 //!
 //! Each state: pursuer (x, y, theta), evader (x, y, theta); metres, radians. Limits are the
@@ -19,10 +20,15 @@
 #![no_std]
 #![deny(missing_docs)]
 
+#[cfg(not(target_os = "none"))]
+extern crate std;
+
 #[cfg(feature = "serial")]
 pub mod main_loop;
 #[cfg(feature = "mavlink")]
 pub mod mavlink;
+#[cfg(feature = "mavlink")]
+pub mod replay;
 #[cfg(all(feature = "qemu", target_os = "none"))]
 pub mod target;
 

@@ -107,16 +107,40 @@ pub fn serve_script(line: &mut Line, script: &[u8]) -> Outcome {
     let (mut interrupt, mut main) = line.split();
     let mut uart = ScriptedUart::new(script);
     let mut endpoint = Endpoint::new();
+    serve_bytes(
+        &mut interrupt,
+        &mut main,
+        &mut uart,
+        &StillBoard,
+        &mut endpoint,
+    );
+    Outcome {
+        frames: endpoint.frames_sent(),
+        digest: uart.digest,
+    }
+}
+
+/// The serial path over what `uart` has still to receive: `BURST` bytes raised as receive
+/// interrupts, a pass of the loop, transmit interrupts until the queue is empty; again until
+/// the script is over.
+#[inline(always)]
+pub(crate) fn serve_bytes<B: Board>(
+    interrupt: &mut twocars::serial::InterruptEnd<'_>,
+    main: &mut twocars::serial::LoopEnd<'_>,
+    uart: &mut ScriptedUart<'_>,
+    board: &B,
+    endpoint: &mut Endpoint,
+) {
     loop {
         let mut arrived = 0;
         while arrived < BURST && uart.arrive().is_some() {
-            interrupt.on_interrupt(&mut uart);
+            interrupt.on_interrupt(uart);
             arrived += 1;
         }
-        service(&mut main, &StillBoard, &mut endpoint);
+        service(main, board, endpoint);
         loop {
             uart.tx_empty = true;
-            interrupt.on_interrupt(&mut uart);
+            interrupt.on_interrupt(uart);
             if uart.tx_empty {
                 break;
             }
@@ -124,9 +148,5 @@ pub fn serve_script(line: &mut Line, script: &[u8]) -> Outcome {
         if arrived == 0 {
             break;
         }
-    }
-    Outcome {
-        frames: endpoint.frames_sent(),
-        digest: uart.digest,
     }
 }

@@ -190,11 +190,13 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
         ("TC_POLICY", 1.0),
         ("TC_TIMEOUT", 1.0),
         ("TC_SYSID", 1.0),
+        ("TC_CAPTURE", 0.0),
+        ("TC_PERIOD", 0.0),
     ];
     assert_eq!(got, want.map(|(n, v)| (n.to_string(), v)));
     for (i, s) in list.iter().enumerate() {
         // param_count, param_index, param_type REAL32.
-        assert_eq!((s.u16(4), s.u16(6), s.u8(24)), (9, i as u16, 9));
+        assert_eq!((s.u16(4), s.u16(6), s.u8(24)), (11, i as u16, 9));
     }
     let by_name = link.send(
         (255, 190),
@@ -276,6 +278,89 @@ fn a_ground_vehicle_gets_the_laws_yaw_rate_and_the_capture_time() {
     let want = SCALED[0] * guidance.decide(&p, &e).command.pursuer;
     assert!(want != 0.0);
     assert!((rate - want).abs() <= 1e-3 * want.abs(), "{rate} vs {want}");
+}
+
+/// TC_CAPTURE tells the flight policy the capture radius: near the pursuer its setpoint is the
+/// law's told that radius, which differs from point capture there; out-of-range values are
+/// refused.
+#[test]
+fn tc_capture_gives_the_flight_policy_its_capture_radius() {
+    const RADIUS: f32 = 4.0;
+    let limits = Limits::<f32>::new(SCALED[0], SCALED[1], SCALED[2], SCALED[3]).unwrap();
+    let plane = Plane::new(HOME);
+    let f = |s: [f64; 3]| {
+        let (n, e) = plane.local(plane.fix(s[0], s[1]));
+        [n as f32, e as f32, s[2] as f32]
+    };
+    let rate = |radius: f32, pursuer: [f64; 3], evader: [f64; 3]| {
+        let (p, e) = limits.states(f(pursuer), f(evader)).unwrap();
+        let guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.1, Policy::Flight)
+            .unwrap()
+            .with_capture_radius(radius)
+            .unwrap();
+        SCALED[0] * { guidance }.decide(&p, &e).command.pursuer
+    };
+    // The first evader on a ring about the pursuer where the radius changes the command.
+    let pursuer = [0.0, 0.0, 0.0];
+    let evader = (0..360)
+        .map(|k| {
+            let a = f64::from(k).to_radians();
+            [9.0 * a.cos(), 9.0 * a.sin(), a + 1.0]
+        })
+        .find(|&e| (rate(RADIUS, pursuer, e) - rate(0.0, pursuer, e)).abs() > 1e-3)
+        .expect("a state where the capture radius matters");
+
+    let mut link = Link::new();
+    link.scale_tenfold();
+    for bad in [-1.0, f32::NAN, 101.0] {
+        let refused = link.set("TC_CAPTURE", bad);
+        assert_eq!(param(&refused[0]), ("TC_CAPTURE".to_string(), 0.0));
+    }
+    assert_eq!(param(&link.set("TC_CAPTURE", RADIUS)[0]).1, RADIUS);
+    link.position(TARGET, 0, evader, 10.0);
+    let sent = link.position(OWN, 0, pursuer, 20.0);
+    let got = attitude(of(&sent, SET_ATTITUDE_TARGET)[0]).3;
+    let want = rate(RADIUS, pursuer, evader);
+    assert!(
+        (got - want).abs() <= 1e-3 * want.abs().max(1.0),
+        "{got} vs {want}"
+    );
+}
+
+/// TC_PERIOD sets the guidance's period where it is longer than the own states' spacing: the
+/// setpoint is the law's at that period (a turn planned over TC_PERIOD), not over the spacing.
+#[test]
+fn tc_period_plans_turns_over_the_longer_period() {
+    let limits = Limits::<f32>::new(SCALED[0], SCALED[1], SCALED[2], SCALED[3]).unwrap();
+    let plane = Plane::new(HOME);
+    let f = |s: [f64; 3]| {
+        let (n, e) = plane.local(plane.fix(s[0], s[1]));
+        [n as f32, e as f32, s[2] as f32]
+    };
+    let rate = |dt: f32, pursuer: [f64; 3], evader: [f64; 3]| {
+        let (p, e) = limits.states(f(pursuer), f(evader)).unwrap();
+        let guidance = Guidance::new(Law::new(limits, Variant::Paper), dt, Policy::Flight).unwrap();
+        SCALED[0] * { guidance }.decide(&p, &e).command.pursuer
+    };
+    // Nearly on the law's tangent: a short alignment, sampled over 0.1 s or over 0.5 s.
+    let pursuer = [0.0, 0.0, 0.0];
+    let evader = (1..200)
+        .map(|k| [80.0, 0.02 * f64::from(k), 0.3])
+        .find(|&e| (rate(0.5, pursuer, e) - rate(0.1, pursuer, e)).abs() > 1e-3)
+        .expect("a state where the period matters");
+
+    let mut link = Link::new();
+    link.scale_tenfold();
+    assert_eq!(param(&link.set("TC_PERIOD", 1.5)[0]).1, 0.0);
+    assert_eq!(param(&link.set("TC_PERIOD", 0.5)[0]).1, 0.5);
+    link.position(TARGET, 0, evader, 10.0);
+    let sent = link.position(OWN, 0, pursuer, 20.0);
+    let got = attitude(of(&sent, SET_ATTITUDE_TARGET)[0]).3;
+    let want = rate(0.5, pursuer, evader);
+    assert!(
+        (got - want).abs() <= 1e-3 * want.abs().max(1.0),
+        "{got} vs {want}"
+    );
 }
 
 #[test]

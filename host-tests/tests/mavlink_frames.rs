@@ -144,6 +144,49 @@ fn corrupt_unknown_and_flagged_frames_are_counted_and_dropped() {
     assert!(reader.counters.bad_checksum >= 1, "{:?}", reader.counters);
 }
 
+/// An autopilot's clean stream of messages the endpoint does not read, their payloads full of
+/// start bytes, between positions: each unknown frame skipped whole, no phantom frame, and each
+/// position handed out on its own last byte (nothing holds it up).
+#[test]
+fn unknown_frames_of_a_clean_stream_are_skipped_whole() {
+    let mut reader = FrameReader::new();
+    let mut rng = Rng::new(31);
+    for k in 0..500_u32 {
+        // An AHRS-like frame (id 163) of 28 bytes, a third of them start bytes.
+        let payload: Vec<u8> = (0..28)
+            .map(|_| match rng.next_u64() % 3 {
+                0 => 0xFD,
+                1 => 0xFE,
+                _ => rng.next_u64() as u8,
+            })
+            .collect();
+        let unknown = v2(k as u8, 1, (163, 127), &payload, false);
+        assert!(read_all(&mut reader, &unknown).is_empty());
+        let frame = v2(
+            k as u8,
+            1,
+            GLOBAL_POSITION_INT,
+            &position_payload(k as i32, 0, 0, 0, 1),
+            false,
+        );
+        let (last, head) = frame.split_last().unwrap();
+        assert!(
+            read_all(&mut reader, head).is_empty(),
+            "frame {k} came early"
+        );
+        let got = read_all(&mut reader, &[*last]);
+        assert_eq!(got.len(), 1, "frame {k}: {:?}", reader.counters);
+        assert_eq!(position(&got[0].2).0, k as i32);
+    }
+    let c = reader.counters;
+    assert_eq!((c.frames, c.unknown), (500, 500), "{c:?}");
+    assert_eq!(
+        (c.bad_checksum, c.bad_flags, c.skipped_bytes),
+        (0, 0, 0),
+        "{c:?}"
+    );
+}
+
 /// Random bytes with good frames among them: no panic, and every good frame found (noise would
 /// have to form a frame with a good checksum, 1 in 65,536 per start byte, to hide one).
 #[test]

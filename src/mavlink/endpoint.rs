@@ -300,15 +300,26 @@ impl Session {
         self.params.byte(index::SYSID)
     }
 
+    /// The guidance's period for own states `spacing_ms` apart: TC_PERIOD where longer, s.
+    fn guidance_period(&self, spacing_ms: u32) -> f32 {
+        let spacing = spacing_ms as f32 / 1000.0;
+        self.params
+            .get(index::PERIOD)
+            .map_or(spacing, |p| p.max(spacing))
+    }
+
     /// The guidance for the parameters' limits and policy, with the current period.
     fn rebuild_guidance(&mut self) {
         let policy = match self.params.byte(index::POLICY) {
             0 => Policy::Paper,
             _ => Policy::Flight,
         };
-        let period = self.period_ms as f32 / 1000.0;
+        let period = self.guidance_period(self.period_ms);
+        let capture = self.params.get(index::CAPTURE).unwrap_or(0.0);
         self.guidance = self.params.limits().and_then(|limits| {
-            Guidance::new(Law::new(limits, Variant::Paper), period, policy).ok()
+            let guidance = Guidance::new(Law::new(limits, Variant::Paper), period, policy).ok()?;
+            // In range by `Params::set`; a radius the law could not hold plays point capture.
+            Some(guidance.with_capture_radius(capture).unwrap_or(guidance))
         });
     }
 
@@ -368,7 +379,8 @@ impl Session {
         };
         match self.params.set(i, value) {
             Ok(()) => {
-                if i <= index::W_EM || i == index::POLICY {
+                let rebuilds = [index::POLICY, index::CAPTURE, index::PERIOD];
+                if i <= index::W_EM || rebuilds.contains(&i) {
                     self.rebuild_guidance();
                 }
                 self.outbox.param_value(self.sysid(), &self.params, i, send);
@@ -472,10 +484,8 @@ impl Session {
         if !(1..=1000).contains(&interval_ms) || interval_ms.abs_diff(current) * 4 <= current {
             return;
         }
-        if let Some(next) = self
-            .guidance
-            .and_then(|g| g.with_period(interval_ms as f32 / 1000.0).ok())
-        {
+        let period = self.guidance_period(interval_ms);
+        if let Some(next) = self.guidance.and_then(|g| g.with_period(period).ok()) {
             self.guidance = Some(next);
             self.period_ms = interval_ms;
         }

@@ -1,4 +1,4 @@
-//! The endpoint's parameters (docs/mavlink.md): nine REAL32 values
+//! The endpoint's parameters (docs/mavlink.md): eleven REAL32 values
 //! read and set by name or index, each checked against its range, the limits also as a whole.
 
 use crate::law::geometry::Limits;
@@ -59,11 +59,16 @@ pub mod index {
     pub const TIMEOUT: usize = 7;
     /// Our system id (the autopilot's).
     pub const SYSID: usize = 8;
+    /// The capture radius the flight policy homes to, m (0: the paper's point capture).
+    pub const CAPTURE: usize = 9;
+    /// The guidance period, s: the shortest time a turn is planned over (0: the own states'
+    /// spacing).
+    pub const PERIOD: usize = 10;
 }
 
 /// Every parameter, in index order. Speeds and curvatures span the law's envelope
 /// ([`crate::law::geometry::MAX_SPEED`] and its kin); the limits are also checked together.
-pub const SPECS: [Spec; 9] = [
+pub const SPECS: [Spec; 11] = [
     real("TC_V_PM", 2.0, 1.0e-3, 1.0e4),
     real("TC_W_PM", 2.0, 1.0e-4, 1.0e4),
     real("TC_V_EM", 1.0, 1.0e-3, 1.0e4),
@@ -73,6 +78,8 @@ pub const SPECS: [Spec; 9] = [
     whole("TC_POLICY", 1.0, 0.0, 1.0),
     real("TC_TIMEOUT", 1.0, 0.01, 60.0),
     whole("TC_SYSID", 1.0, 1.0, 255.0),
+    real("TC_CAPTURE", 0.0, 0.0, 100.0),
+    real("TC_PERIOD", 0.0, 0.0, 1.0),
 ];
 
 /// Why a PARAM_SET was refused (the STATUSTEXT says which).
@@ -100,7 +107,7 @@ impl Refusal {
 /// The parameters' values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Params {
-    values: [f32; 9],
+    values: [f32; SPECS.len()],
 }
 
 impl Default for Params {
@@ -112,7 +119,7 @@ impl Default for Params {
 impl Params {
     /// Every parameter at its default.
     pub const fn new() -> Self {
-        let mut values = [0.0; 9];
+        let mut values = [0.0; SPECS.len()];
         let mut i = 0;
         while i < SPECS.len() {
             values[i] = SPECS[i].default;

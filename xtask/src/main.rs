@@ -1,6 +1,7 @@
 //! The project's own commands, parsed by clap. `cargo xtask help` lists them; `cargo xtask
 //! <command> --help` gives each one's options and units.
 
+mod ardupilot;
 mod bench;
 mod firmware;
 mod fuzz;

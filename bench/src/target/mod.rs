@@ -5,6 +5,8 @@ pub mod law;
 #[cfg(feature = "mavlink")]
 pub mod mavlink;
 pub mod probe;
+#[cfg(feature = "mavlink")]
+pub mod replay;
 #[cfg(feature = "serial")]
 pub mod serial;
 #[cfg(feature = "tables")]

@@ -103,7 +103,16 @@ pub fn build_and_run(cpu: Cpu, bin: &str) -> Result<Measured, String> {
 /// Builds the bench image `bin` for `cpu` and runs it in QEMU with `-icount`: what it printed,
 /// and its flash.
 pub(crate) fn build_and_print(cpu: Cpu, bin: &str) -> Result<(String, u64), String> {
-    let elf = build(cpu, bin)?;
+    build_and_print_with(cpu, bin, &[])
+}
+
+/// [`build_and_print`] with environment variables for the build (`TWOCARS_MAVLINK_CAPTURE`).
+pub(crate) fn build_and_print_with(
+    cpu: Cpu,
+    bin: &str,
+    env: &[(&str, &std::ffi::OsStr)],
+) -> Result<(String, u64), String> {
+    let elf = build_with(cpu, bin, env)?;
     let flash = crate::firmware::size::of(&elf)?.flash();
     let mut child = cpu
         .qemu(&elf)?
@@ -135,7 +144,7 @@ pub(crate) fn build_and_print(cpu: Cpu, bin: &str) -> Result<(String, u64), Stri
 }
 
 /// The bench images (`bench/src/bin/`) and the features of `twocars-bench` each needs.
-const IMAGES: [(&str, &str); 13] = [
+const IMAGES: [(&str, &str); 14] = [
     ("law", "qemu"),
     ("empty", "qemu"),
     ("law_fixed", "qemu"),
@@ -148,12 +157,17 @@ const IMAGES: [(&str, &str); 13] = [
     ("serial_fixed", "qemu,serial"),
     ("serial_tables", "qemu,serial,tables"),
     ("mavlink", "qemu,mavlink"),
+    ("replay", "qemu,mavlink"),
     ("table", "qemu,tables"),
 ];
 
 /// Builds the bench image `bin` for `cpu`, with only the features it needs (so that the core
 /// carries no code the image does not use); returns the ELF's path.
 pub fn build(cpu: Cpu, bin: &str) -> Result<PathBuf, String> {
+    build_with(cpu, bin, &[])
+}
+
+fn build_with(cpu: Cpu, bin: &str, env: &[(&str, &std::ffi::OsStr)]) -> Result<PathBuf, String> {
     let features = IMAGES
         .iter()
         .find(|(name, _)| *name == bin)
@@ -165,7 +179,7 @@ pub fn build(cpu: Cpu, bin: &str) -> Result<PathBuf, String> {
         features,
         bin,
         Stdio::null(),
-        &[],
+        env,
     )
     .map_err(|e| format!("bench build of {bin} for {} failed: {e}", cpu.name))
 }

@@ -92,3 +92,54 @@ pub fn paragraph(m: &MavlinkMeasured) -> String {
         m.frames, m.per_period, m.fixed, PERIODS, m.per_parse, m.stack
     )
 }
+
+/// What a captured stream cost on the Cortex-M4F (the `replay` image).
+#[derive(Clone, Copy, Debug)]
+pub struct ReplayMeasured {
+    /// Instructions over the whole capture.
+    pub instructions: f64,
+    /// The capture's span, s.
+    pub seconds: f64,
+    /// Stack high-water mark, bytes.
+    pub stack: u64,
+    /// Frames the endpoint sent (equal to the host's).
+    pub frames: u32,
+    /// Setpoints among them.
+    pub setpoints: u32,
+}
+
+/// Replays `capture` (records of `twocars_bench::replay`) on the Cortex-M4F and on the host; an
+/// error where what the two sent differs.
+pub fn measure_replay(capture: &std::path::Path) -> Result<ReplayMeasured, String> {
+    let bytes = std::fs::read(capture).map_err(|e| format!("{}: {e}", capture.display()))?;
+    let host =
+        twocars_bench::replay::serve_replay(&mut twocars::serial::Line::new(), &bytes, &|| 0);
+    let env = [("TWOCARS_MAVLINK_CAPTURE", capture.as_os_str())];
+    let (out, _) = crate::bench::image::build_and_print_with(M4F, "replay", &env)?;
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("replay "))
+        .ok_or_else(|| format!("the replay image printed no figures:\n{out}"))?;
+    let bad = || format!("bad line {line}");
+    let f: Vec<&str> = line.split_whitespace().collect();
+    let [_, ticks, span, stack, frames, setpoints, digest] = f.as_slice() else {
+        return Err(bad());
+    };
+    let got = (
+        frames.parse::<u32>().map_err(|_| bad())?,
+        setpoints.parse::<u32>().map_err(|_| bad())?,
+        u32::from_str_radix(digest, 16).map_err(|_| bad())?,
+    );
+    if got != (host.frames, host.setpoints, host.digest)
+        || span.parse::<u32>().ok() != Some(host.span_ms)
+    {
+        return Err(format!("replay: Cortex-M4F {line}, host {host:?}"));
+    }
+    Ok(ReplayMeasured {
+        instructions: ticks.parse::<f64>().map_err(|_| bad())? / M4F.ticks_per_instruction,
+        seconds: f64::from(host.span_ms) / 1000.0,
+        stack: stack.parse().map_err(|_| bad())?,
+        frames: got.0,
+        setpoints: got.1,
+    })
+}

@@ -79,6 +79,10 @@ pub struct RunArgs {
     /// autopilot and the target (the paper's cases at ten times their scale; docs/mavlink.md).
     #[arg(long, value_enum, default_value = "cobs")]
     link: RunLink,
+    /// With `--link ardupilot`: the `ardurover` SITL binary (default: TWOCARS_ARDUROVER, then
+    /// ../shared/ardupilot/ardurover).
+    #[arg(long)]
+    ardurover: Option<std::path::PathBuf>,
 }
 
 /// The links `run` can fly the firmware over.
@@ -88,6 +92,8 @@ pub enum RunLink {
     Cobs,
     /// MAVLink 2 (the `twocars-qemu-mavlink` image).
     Mavlink,
+    /// MAVLink 2 with ArduPilot Rover SITL flying the pursuer (docs/ardupilot.md).
+    Ardupilot,
 }
 
 /// The boards `run` can emulate.
@@ -286,6 +292,13 @@ fn print_table_value(o: &RunOptions, case: &Case, set: &ValueTables<'_>) {
 
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
+    if args.link == RunLink::Ardupilot {
+        let options = crate::ardupilot::Options {
+            ardurover: args.ardurover.clone(),
+            short: false,
+        };
+        return crate::ardupilot::run(&options);
+    }
     if args.link == RunLink::Mavlink {
         return match args.board {
             RunBoard::Qemu => crate::firmware::mavlink::run(Board::QemuMavlink),

@@ -541,5 +541,6 @@ pub fn run() -> (u64, u64) {
             }),
         );
     }
+    crate::ardupilot::record_tests(&mut record);
     (passed, failed)
 }

@@ -1,0 +1,326 @@
+//! One chase: the simulated target (an evader of the adversary suite, a Dubins car at the
+//! law's evader limits) placed relative to the rover, its fix on the unit's link before each of
+//! the rover's; the unit flies the rover; capture when the rover's fix is within the capture
+//! radius; then the target goes silent and the failsafe chain is timed: the unit's last
+//! setpoint, ArduPilot's "target not received" and the rover at a standstill.
+
+use std::time::Duration;
+
+use host_tests::adversary::{Adversary, EvaderKind, Opponent};
+use host_tests::autopilot::{hdg_cdeg, velocity_cm_s};
+use host_tests::kinematics::{advance, distance};
+use host_tests::sim::{simulate_with_turns, Setup, SimParams, SimStatus};
+use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
+use twocars::{Policy, Variant};
+
+use super::harness::{Harness, Injector, RoverFix};
+use super::router::Source;
+use super::vehicle::wait_stopped;
+
+/// A start: the evader's position and heading in the rover's frame at the start (metres ahead,
+/// metres to the right, heading relative to the rover's, rad), and its strategy.
+#[derive(Clone, Copy, Debug)]
+pub struct Start {
+    pub name: &'static str,
+    pub ahead: f64,
+    pub right: f64,
+    pub heading: f64,
+    pub evader: EvaderKind,
+}
+
+/// The evader as the host simulates it.
+struct Target {
+    adversary: Adversary,
+    state: [f64; 3],
+    command: (f64, f64),
+    last_ms: u32,
+    start_ms: u32,
+    eps: f64,
+    t_max: f64,
+    /// The rover's time at capture, ms.
+    captured_ms: Option<u32>,
+    /// Whether the target is still on (not captured, not timed out).
+    on: bool,
+    plane: host_tests::autopilot::Plane,
+}
+
+impl Injector for Target {
+    fn before(&mut self, rover: &RoverFix) -> Option<GLOBAL_POSITION_INT_DATA> {
+        if !self.on {
+            return None;
+        }
+        let dt = f64::from(rover.time_ms.wrapping_sub(self.last_ms)) / 1000.0;
+        let (w, speed) = self.command;
+        self.state = advance(self.state, speed, w, dt);
+        self.last_ms = rover.time_ms;
+        let t = f64::from(rover.time_ms.wrapping_sub(self.start_ms)) / 1000.0;
+        if distance(rover.state, self.state) <= self.eps {
+            self.captured_ms = Some(rover.time_ms);
+            self.on = false;
+            return None;
+        }
+        if t > self.t_max {
+            self.on = false;
+            return None;
+        }
+        self.command = self.adversary.command(t, rover.state, self.state);
+        let (lat, lon) = self.plane.fix(self.state[0], self.state[1]);
+        let (vx, vy) = velocity_cm_s(self.command.1, self.state[2]);
+        Some(GLOBAL_POSITION_INT_DATA {
+            time_boot_ms: rover.time_ms,
+            lat,
+            lon,
+            alt: 584_000,
+            relative_alt: 0,
+            vx,
+            vy,
+            vz: 0,
+            hdg: hdg_cdeg(self.state[2]),
+        })
+    }
+}
+
+/// What one chase showed.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub start: Start,
+    /// The distance at the start, m.
+    pub distance: f64,
+    /// The law's upper value at the start (the host's f32 law, the full speed assumed), s.
+    pub predicted: f64,
+    /// The unit's first TC_T, s.
+    pub unit_predicted: Option<f32>,
+    /// The host's closed loop from the same start against the same evader, the pursuer a Dubins
+    /// car at full speed from t = 0, s (infinite if it never captured).
+    pub ideal: f64,
+    /// Capture time on the rover's clock, s (None: never captured).
+    pub captured: Option<f64>,
+    /// The distance the rover fell short of v_pm t by capture, m.
+    pub speed_deficit: f64,
+    /// The rover's speed at 1 s, m/s.
+    pub speed_at_1s: f64,
+    /// RMS of (rover yaw rate - setpoint yaw rate) over the chase, rad/s; and the same over the
+    /// periods more than 0.5 s after a setpoint changed sign.
+    pub tracking_rms: f64,
+    /// The RMS away from the switches.
+    pub tracking_rms_settled: f64,
+    /// Setpoints sent during the chase.
+    pub setpoints: usize,
+    /// From the unit's last setpoint: ArduPilot's "target not received" and the standstill, s.
+    pub to_stop_message: Option<f64>,
+    /// From the unit's last setpoint to the standstill, s.
+    pub to_standstill: Option<f64>,
+    /// The unit's "target stale" STATUSTEXT after capture, s after capture.
+    pub unit_stale_after: Option<f64>,
+}
+
+/// Where the evader starts: `start`'s offsets in the frame of the rover at `rover`.
+fn place(rover: [f64; 3], start: &Start) -> [f64; 3] {
+    let [rx, ry, rt] = rover;
+    let (s, c) = rt.sin_cos();
+    [
+        rx + start.ahead * c - start.right * s,
+        ry + start.ahead * s + start.right * c,
+        rt + start.heading,
+    ]
+}
+
+/// The host's closed loop of `params` against `evader`: the pursuer a Dubins car at full speed
+/// from t = 0 with the unit's law (f32, flight policy, told the capture radius).
+fn ideal_run(params: &SimParams, evader: EvaderKind, seed: u64) -> host_tests::sim::SimResult {
+    let none = |_: [f64; 3], _: [f64; 3]| None;
+    simulate_with_turns::<f32>(
+        params,
+        Variant::Paper,
+        Policy::Flight,
+        Some((Opponent::Evader(evader), seed)),
+        false,
+        [&none, &none],
+        Setup {
+            capture_radius: true,
+            ..Setup::default()
+        },
+    )
+}
+
+/// Where the harness's records stood when a chase began.
+struct Marks {
+    setpoints: usize,
+    tc_t: usize,
+    texts: usize,
+    fixes: usize,
+    rates: usize,
+}
+
+impl Marks {
+    fn now(h: &Harness) -> Marks {
+        Marks {
+            setpoints: h.setpoints.len(),
+            tc_t: h.tc_t.len(),
+            texts: h.texts.len(),
+            fixes: h.fixes.len(),
+            rates: h.yaw_rates.len(),
+        }
+    }
+}
+
+/// Flies `start` from where the rover stands; `limits` are the law's (v_pm, w_pm, v_em, w_em).
+pub fn fly(
+    h: &mut Harness,
+    start: Start,
+    limits: [f64; 4],
+    eps: f64,
+    seed: u64,
+) -> Result<Outcome, String> {
+    let rover = h.rover.ok_or("no fix from the rover")?;
+    let evader0 = place(rover.state, &start);
+    let params = SimParams {
+        limits,
+        pursuer: rover.state,
+        evader: evader0,
+        dt: f64::from(super::vehicle::STREAM_INTERVAL_US) * 1e-6,
+        t_max: 120.0,
+        eps,
+    };
+    let ideal = ideal_run(&params, start.evader, seed);
+    let adversary = Adversary::new(Opponent::Evader(start.evader), limits, params.dt, eps, seed)
+        .ok_or("the adversary's limits are invalid")?;
+    let mut target = Target {
+        adversary,
+        state: evader0,
+        command: (0.0, limits[2]),
+        last_ms: rover.time_ms,
+        start_ms: rover.time_ms,
+        eps,
+        t_max: params.t_max,
+        captured_ms: None,
+        on: true,
+        plane: *h.plane(),
+    };
+    let marks = Marks::now(h);
+    let wall = std::time::Instant::now() + Duration::from_secs_f64(params.t_max * 2.0 + 10.0);
+    while target.on {
+        if std::time::Instant::now() > wall {
+            return Err("the chase outran its wall-clock limit".to_string());
+        }
+        h.pump_until(&mut target, Duration::from_millis(100), &mut |_| false)?;
+    }
+    let end_ms = h.now_ms();
+    // The failsafe: the target is silent from here; the rover must come to a standstill.
+    let stopped_ms = wait_stopped(h, &mut target, 15.0).ok();
+    let ended = Ended {
+        start,
+        rover,
+        evader0,
+        ideal,
+        captured_ms: target.captured_ms,
+        end_ms,
+        stopped_ms,
+        v_pm: limits[0],
+    };
+    Ok(outcome(h, &marks, &ended))
+}
+
+/// A chase as it ended.
+struct Ended {
+    start: Start,
+    /// The rover's fix and the evader's state at the start.
+    rover: RoverFix,
+    evader0: [f64; 3],
+    ideal: host_tests::sim::SimResult,
+    /// The rover's time at capture, at the chase's end (capture or time-out) and at the
+    /// standstill after it, ms.
+    captured_ms: Option<u32>,
+    end_ms: u32,
+    stopped_ms: Option<u32>,
+    v_pm: f64,
+}
+
+/// The chase `e` as the harness recorded it since `marks`.
+fn outcome(h: &Harness, marks: &Marks, e: &Ended) -> Outcome {
+    let Ended {
+        rover,
+        end_ms,
+        stopped_ms,
+        ..
+    } = *e;
+    let last_setpoint = h.setpoints[marks.setpoints..].last().map(|s| s.time_ms);
+    let seconds = |from: u32, to: u32| f64::from(to.wrapping_sub(from)) / 1000.0;
+    let stop_message = h.text_since(marks.texts, Source::Autopilot, "target not received");
+    let unit_stale = h.text_since(marks.texts, Source::Unit, "target stale");
+    let chase_fixes: Vec<RoverFix> = h.fixes[marks.fixes..]
+        .iter()
+        .copied()
+        .filter(|f| f.time_ms <= end_ms)
+        .collect();
+    let (tracking_rms, tracking_rms_settled) = tracking(
+        &h.setpoints[marks.setpoints..],
+        &h.yaw_rates[marks.rates..],
+        end_ms,
+    );
+    Outcome {
+        start: e.start,
+        distance: distance(rover.state, e.evader0),
+        predicted: e.ideal.predicted,
+        unit_predicted: h.tc_t.get(marks.tc_t).map(|(_, v)| *v),
+        ideal: if e.ideal.status == SimStatus::Captured {
+            e.ideal.t_capture
+        } else {
+            f64::INFINITY
+        },
+        captured: e.captured_ms.map(|t| seconds(rover.time_ms, t)),
+        speed_deficit: speed_deficit(&chase_fixes, rover.time_ms, e.v_pm),
+        speed_at_1s: chase_fixes
+            .iter()
+            .find(|f| f.time_ms >= rover.time_ms + 1000)
+            .map_or(f64::NAN, |f| f.speed),
+        tracking_rms,
+        tracking_rms_settled,
+        setpoints: h.setpoints.len() - marks.setpoints,
+        to_stop_message: last_setpoint.zip(stop_message).map(|(a, b)| seconds(a, b)),
+        to_standstill: last_setpoint.zip(stopped_ms).map(|(a, b)| seconds(a, b)),
+        unit_stale_after: unit_stale.map(|t| seconds(end_ms, t)),
+    }
+}
+
+/// The distance the rover fell short of `v_pm` t over `fixes` (trapezoids), m.
+fn speed_deficit(fixes: &[RoverFix], start_ms: u32, v_pm: f64) -> f64 {
+    let mut deficit = 0.0;
+    let mut last = (start_ms, fixes.first().map_or(0.0, |f| f.speed));
+    for f in fixes {
+        let dt = f64::from(f.time_ms.wrapping_sub(last.0)) / 1000.0;
+        deficit += dt * (v_pm - 0.5 * (f.speed + last.1));
+        last = (f.time_ms, f.speed);
+    }
+    deficit
+}
+
+/// RMS of the rover's yaw rate less the setpoint in force, over every ATTITUDE up to
+/// `end_ms`; and over those more than 0.5 s after the setpoint last changed sign.
+fn tracking(
+    setpoints: &[super::harness::Setpoint],
+    rates: &[(u32, f32)],
+    end_ms: u32,
+) -> (f64, f64) {
+    let (mut all, mut settled) = (Vec::new(), Vec::new());
+    let mut k = 0;
+    let mut flipped_ms = None;
+    for &(t, rate) in rates.iter().filter(|(t, _)| *t <= end_ms) {
+        while k + 1 < setpoints.len() && setpoints[k + 1].time_ms <= t {
+            if setpoints[k + 1].yaw_rate.signum() != setpoints[k].yaw_rate.signum() {
+                flipped_ms = Some(setpoints[k + 1].time_ms);
+            }
+            k += 1;
+        }
+        let Some(sp) = setpoints.get(k).filter(|s| s.time_ms <= t) else {
+            continue;
+        };
+        let e = f64::from(rate - sp.yaw_rate);
+        all.push(e * e);
+        if flipped_ms.is_none_or(|f: u32| t.wrapping_sub(f) > 500) {
+            settled.push(e * e);
+        }
+    }
+    let rms = |v: &[f64]| (v.iter().sum::<f64>() / v.len().max(1) as f64).sqrt();
+    (rms(&all), rms(&settled))
+}

@@ -1,0 +1,255 @@
+//! The harness's view of the link: every frame forwarded, and what the chase needs read from it
+//! (the rover's fixes and yaw rate, its mode and arming, the unit's setpoints and TC_T, both
+//! sides' STATUSTEXTs), with the target's fix injected before each of the rover's.
+
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+use host_tests::autopilot::Plane;
+use mavlink::dialects::common::{MavMessage, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA};
+
+use super::router::{RawFrame, Router, Source};
+
+/// The autopilot's system and component (SYSID_THISMAV 1, the autopilot).
+pub const AUTOPILOT: (u8, u8) = (1, 1);
+/// The unit's component (MAV_COMP_ID_ONBOARD_COMPUTER).
+pub const UNIT_COMPONENT: u8 = 191;
+/// Rover's GUIDED mode number.
+pub const GUIDED: u32 = 15;
+/// HEARTBEAT base_mode's armed flag.
+const ARMED: u8 = 128;
+
+/// The rover as its GLOBAL_POSITION_INT reports it, in the plane about home.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoverFix {
+    /// The autopilot's `time_boot_ms`.
+    pub time_ms: u32,
+    /// North, east (m) and heading (rad, clockwise from north).
+    pub state: [f64; 3],
+    /// Ground speed, m/s.
+    pub speed: f64,
+}
+
+/// Puts the target's fix on the unit's link before each of the rover's.
+pub trait Injector {
+    /// The target's GLOBAL_POSITION_INT for the rover's fix `rover`, if the target is on.
+    fn before(&mut self, rover: &RoverFix) -> Option<GLOBAL_POSITION_INT_DATA>;
+}
+
+/// No target.
+pub struct NoTarget;
+
+impl Injector for NoTarget {
+    fn before(&mut self, _: &RoverFix) -> Option<GLOBAL_POSITION_INT_DATA> {
+        None
+    }
+}
+
+/// The unit's setpoint as the autopilot gets it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Setpoint {
+    /// The rover's time at its arrival (its last fix), ms.
+    pub time_ms: u32,
+    /// Body yaw rate, rad/s (positive clockwise).
+    pub yaw_rate: f32,
+    pub thrust: f32,
+}
+
+/// What the harness has read so far.
+pub struct Harness {
+    pub router: Router,
+    plane: Plane,
+    /// The target's system id.
+    pub target_system: u8,
+    pub rover: Option<RoverFix>,
+    /// The rover's yaw rate (ATTITUDE.yawspeed, rad/s) at the rover's time.
+    pub yaw_rates: Vec<(u32, f32)>,
+    pub fixes: Vec<RoverFix>,
+    pub armed: bool,
+    pub mode: Option<u32>,
+    /// STATUSTEXTs with the rover's time and their source.
+    pub texts: Vec<(u32, Source, String)>,
+    pub setpoints: Vec<Setpoint>,
+    /// The unit's TC_T at the rover's time.
+    pub tc_t: Vec<(u32, f32)>,
+    /// The unit's last TC_BADFRM.
+    pub bad_frames: Option<f32>,
+    /// PARAM_VALUEs (source, name, value).
+    pub params: Vec<(Source, String, f32)>,
+    /// COMMAND_ACKs from the autopilot (command, result).
+    pub acks: Vec<(u32, u8)>,
+    /// Frames from the autopilot by message id, and their bytes.
+    pub autopilot_frames: BTreeMap<u32, (u64, u64)>,
+    last_gcs_heartbeat: Option<Instant>,
+}
+
+impl Harness {
+    pub fn new(router: Router, home: (i32, i32), target_system: u8) -> Self {
+        Harness {
+            router,
+            plane: Plane::new(home),
+            target_system,
+            rover: None,
+            yaw_rates: Vec::new(),
+            fixes: Vec::new(),
+            armed: false,
+            mode: None,
+            texts: Vec::new(),
+            setpoints: Vec::new(),
+            tc_t: Vec::new(),
+            bad_frames: None,
+            params: Vec::new(),
+            acks: Vec::new(),
+            autopilot_frames: BTreeMap::new(),
+            last_gcs_heartbeat: None,
+        }
+    }
+
+    /// The plane about home.
+    pub fn plane(&self) -> &Plane {
+        &self.plane
+    }
+
+    /// The rover's time now (its last fix), ms.
+    pub fn now_ms(&self) -> u32 {
+        self.rover.map_or(0, |r| r.time_ms)
+    }
+
+    /// Forwards frames for `duration` (wall clock) or until `done` holds; whether it held.
+    pub fn pump_until(
+        &mut self,
+        injector: &mut dyn Injector,
+        duration: Duration,
+        done: &mut dyn FnMut(&Harness) -> bool,
+    ) -> Result<bool, String> {
+        let deadline = Instant::now() + duration;
+        loop {
+            if done(self) {
+                return Ok(true);
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Ok(false);
+            }
+            self.gcs_heartbeat()?;
+            if let Some((source, frame)) = self.router.next(left.min(Duration::from_millis(50)))? {
+                self.handle(source, &frame, injector)?;
+            }
+        }
+    }
+
+    /// A ground station's heartbeat to the autopilot, once a second.
+    fn gcs_heartbeat(&mut self) -> Result<(), String> {
+        if self
+            .last_gcs_heartbeat
+            .is_some_and(|t| t.elapsed() < Duration::from_secs(1))
+        {
+            return Ok(());
+        }
+        self.last_gcs_heartbeat = Some(Instant::now());
+        let heartbeat = HEARTBEAT_DATA {
+            mavtype: mavlink::dialects::common::MavType::MAV_TYPE_GCS,
+            autopilot: mavlink::dialects::common::MavAutopilot::MAV_AUTOPILOT_INVALID,
+            ..Default::default()
+        };
+        self.router.send_to_autopilot(&heartbeat)
+    }
+
+    fn handle(
+        &mut self,
+        source: Source,
+        frame: &RawFrame,
+        injector: &mut dyn Injector,
+    ) -> Result<(), String> {
+        let message = frame.message();
+        if source == Source::Autopilot {
+            let entry = self.autopilot_frames.entry(frame.message_id).or_default();
+            entry.0 += 1;
+            entry.1 += frame.bytes.len() as u64;
+            if (frame.system, frame.component) == AUTOPILOT {
+                if let Some(MavMessage::GLOBAL_POSITION_INT(p)) = &message {
+                    let fix = self.rover_fix(p);
+                    self.rover = Some(fix);
+                    self.fixes.push(fix);
+                    if let Some(target) = injector.before(&fix) {
+                        let sender = (self.target_system, 1);
+                        self.router.send_to_unit_as(sender, &target)?;
+                    }
+                }
+            }
+        }
+        self.router.forward(source, frame)?;
+        if let Some(message) = message {
+            self.observe(source, frame, message);
+        }
+        Ok(())
+    }
+
+    fn rover_fix(&self, p: &GLOBAL_POSITION_INT_DATA) -> RoverFix {
+        let (north, east) = self.plane.local((p.lat, p.lon));
+        let (vn, ve) = (f64::from(p.vx) / 100.0, f64::from(p.vy) / 100.0);
+        let heading = if p.hdg == u16::MAX {
+            ve.atan2(vn)
+        } else {
+            (f64::from(p.hdg) / 100.0).to_radians()
+        };
+        RoverFix {
+            time_ms: p.time_boot_ms,
+            state: [north, east, heading],
+            speed: vn.hypot(ve),
+        }
+    }
+
+    fn observe(&mut self, source: Source, frame: &RawFrame, message: MavMessage) {
+        let now = self.now_ms();
+        let from_unit = source == Source::Unit && frame.component == UNIT_COMPONENT;
+        let from_autopilot = (frame.system, frame.component) == AUTOPILOT;
+        match message {
+            MavMessage::HEARTBEAT(h) if from_autopilot => {
+                self.armed = h.base_mode.bits() & ARMED != 0;
+                self.mode = Some(h.custom_mode);
+            }
+            MavMessage::ATTITUDE(a) if from_autopilot => self.yaw_rates.push((now, a.yawspeed)),
+            MavMessage::COMMAND_ACK(a) if from_autopilot => {
+                self.acks.push((a.command as u32, a.result as u8));
+            }
+            MavMessage::STATUSTEXT(t) => {
+                let text = String::from_utf8_lossy(&t.text[..])
+                    .trim_end_matches('\0')
+                    .to_string();
+                self.texts.push((now, source, text));
+            }
+            MavMessage::PARAM_VALUE(p) => {
+                let name = String::from_utf8_lossy(&p.param_id[..])
+                    .trim_end_matches('\0')
+                    .to_string();
+                self.params.push((source, name, p.param_value));
+            }
+            MavMessage::SET_ATTITUDE_TARGET(s) if from_unit => self.setpoints.push(Setpoint {
+                time_ms: now,
+                yaw_rate: s.body_yaw_rate,
+                thrust: s.thrust,
+            }),
+            MavMessage::NAMED_VALUE_FLOAT(n) if from_unit => {
+                let name = String::from_utf8_lossy(&n.name[..])
+                    .trim_end_matches('\0')
+                    .to_string();
+                match name.as_str() {
+                    "TC_T" => self.tc_t.push((now, n.value)),
+                    "TC_BADFRM" => self.bad_frames = Some(n.value),
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Whether a STATUSTEXT from `source` containing `needle` came at or after index `from`.
+    pub fn text_since(&self, from: usize, source: Source, needle: &str) -> Option<u32> {
+        self.texts
+            .iter()
+            .skip(from)
+            .find(|(_, s, t)| *s == source && t.contains(needle))
+            .map(|(time, _, _)| *time)
+    }
+}

@@ -1,0 +1,352 @@
+//! `cargo xtask run --link ardupilot`: a real autopilot in the loop. ArduPilot Rover SITL flies
+//! the pursuer; the `twocars-qemu-mavlink` image in QEMU is its companion computer; the host is
+//! the ground station, the router between them and the target: an evader of the adversary suite
+//! simulated as a Dubins car and reported as system 2's GLOBAL_POSITION_INT (docs/ardupilot.md).
+
+mod chase;
+mod harness;
+mod router;
+mod sitl;
+mod telemetry;
+mod vehicle;
+
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use host_tests::adversary::EvaderKind;
+use host_tests::autopilot::HOME;
+
+use crate::firmware::build::{self, Board};
+use crate::firmware::emulator;
+use chase::{Outcome, Start};
+use harness::{Harness, NoTarget, UNIT_COMPONENT};
+use router::{Router, Source};
+
+/// The pursuer's speed asked of the rover (WP_SPEED: the speed at thrust 1), m/s.
+const WP_SPEED: f32 = 3.0;
+/// The share of the rover's largest turn rate the law may command: the rest is the rate
+/// controller's room to track.
+const TURN_MARGIN: f64 = 0.8;
+/// Capture radius, m: a rover's length.
+const CAPTURE_RADIUS: f64 = 1.0;
+/// The target's system id (TC_TGT_SYSID's default).
+const TARGET_SYSTEM: u8 = 2;
+
+/// `cargo xtask run --link ardupilot`'s options.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// The `ardurover` SITL binary (default: `TWOCARS_ARDUROVER`, then
+    /// `../shared/ardupilot/ardurover`).
+    pub ardurover: Option<PathBuf>,
+    /// One short chase instead of the whole set (what `cargo xtask test` flies).
+    pub short: bool,
+}
+
+/// The law's limits for the measured rover: v_pm its top speed, w_pm the curvature of
+/// [`TURN_MARGIN`] of its largest turn rate at that speed, the evader at half of each (the
+/// paper's ratios).
+fn law_limits(m: &vehicle::Measured) -> [f64; 4] {
+    let v_pm = (m.speed * 100.0).round() / 100.0;
+    let w_pm = (TURN_MARGIN * m.turn_rate / m.speed * 100.0).floor() / 100.0;
+    [v_pm, w_pm, v_pm / 2.0, w_pm / 2.0]
+}
+
+/// The theorem's threshold 2 r_e + 2 pi r_e v_pm / v_em, m.
+fn threshold(limits: [f64; 4]) -> f64 {
+    let r_e = 1.0 / limits[3];
+    2.0 * r_e + std::f64::consts::TAU * r_e * limits[0] / limits[2]
+}
+
+/// The starts: below the threshold (the paper's case 1 at the rover's scale) and beyond it (1.1
+/// threshold ahead and to the right), each against the straight, the circling and the
+/// law-playing evader; `short`: the first only.
+fn starts(limits: [f64; 4], short: bool) -> Vec<Start> {
+    // The paper's case 1 (the evader 6 m behind and 3 m to the right, same heading, with
+    // r_p = 0.5 m), scaled by the law's r_p / 0.5 m.
+    let scale = 2.0 / limits[1];
+    let beyond = 1.1 * threshold(limits);
+    let evaders = [
+        EvaderKind::Straight,
+        EvaderKind::Circle {
+            left: true,
+            half: false,
+        },
+        EvaderKind::Law,
+    ];
+    let mut out = Vec::new();
+    for evader in evaders {
+        out.push(Start {
+            name: "below",
+            ahead: -6.0 * scale,
+            right: 3.0 * scale,
+            heading: 0.0,
+            evader,
+        });
+    }
+    for evader in evaders {
+        out.push(Start {
+            name: "beyond",
+            ahead: beyond * 0.8,
+            right: beyond * 0.6,
+            heading: std::f64::consts::FRAC_PI_2,
+            evader,
+        });
+    }
+    if short {
+        out.truncate(1);
+    }
+    out
+}
+
+/// Sets the unit's TC_* parameters (speeds first, so each step keeps the limits valid); Err
+/// where one is not echoed.
+fn configure_unit(h: &mut Harness, limits: [f64; 4], period: f64) -> Result<(), String> {
+    let unit = (1, UNIT_COMPONENT);
+    for (name, value) in [
+        ("TC_V_PM", limits[0]),
+        ("TC_V_EM", limits[2]),
+        ("TC_W_EM", limits[3]),
+        ("TC_W_PM", limits[1]),
+        ("TC_CAPTURE", CAPTURE_RADIUS),
+        ("TC_PERIOD", period),
+    ] {
+        let value = value as f32;
+        let from = h.params.len();
+        let message = vehicle::param_set(unit, name, value);
+        h.router.send_to_unit_as(router::GCS, &message)?;
+        let echoed = |h: &Harness| {
+            h.params[from..]
+                .iter()
+                .any(|(s, n, v)| *s == Source::Unit && n == name && *v == value)
+        };
+        if !h.pump_until(&mut NoTarget, Duration::from_secs(3), &mut |h| echoed(h))? {
+            return Err(format!("the unit did not take {name} = {value}"));
+        }
+    }
+    Ok(())
+}
+
+/// Runs the chases; the outcomes, the measured limits, the law's and the harness (for the
+/// telemetry's figures).
+pub fn fly(options: &Options) -> Result<Flown, String> {
+    let binary = sitl::find(options.ardurover.as_deref()).ok_or(
+        "ArduPilot Rover SITL not found: give --ardurover PATH or set TWOCARS_ARDUROVER \
+         (docs/ardupilot.md says how to build it)",
+    )?;
+    let (elf, _) = build::build_checked(Board::QemuMavlink)?;
+    let launched = emulator::launch(&elf, Board::QemuMavlink, false)?;
+    let unit = connect(launched.port)?;
+    let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
+    let (_sitl, autopilot) = sitl::Sitl::start(&binary, 0, home)?;
+    let mut h = Harness::new(Router::new(autopilot, unit)?, HOME, TARGET_SYSTEM);
+    println!("ArduPilot Rover SITL: {}", binary.display());
+    let ready = vehicle::make_ready(&mut h, WP_SPEED)?;
+    println!(
+        "ready: EKF using GPS after {:.1} s, GUIDED and armed after {:.1} s",
+        ready.ekf_s, ready.armed_s
+    );
+    let measured = vehicle::measure(&mut h)?;
+    let limits = law_limits(&measured);
+    println!(
+        "the rover, driven: {:.2} m/s at thrust 1 (WP_SPEED {WP_SPEED}), largest turn rate {:.2} rad/s, radius {:.2} m, yaw-rate response {:.2} s",
+        measured.speed, measured.turn_rate, measured.radius, measured.response
+    );
+    println!(
+        "the law: v_pm {} m/s, w_pm {} 1/m ({:.0} % of the largest turn rate), v_em {} m/s, w_em {} 1/m; threshold {:.1} m; TC_CAPTURE {CAPTURE_RADIUS} m, TC_PERIOD {:.2} s (the yaw-rate response)",
+        limits[0],
+        limits[1],
+        100.0 * limits[0] * limits[1] / measured.turn_rate,
+        limits[2],
+        limits[3],
+        threshold(limits),
+        (measured.response * 100.0).round() / 100.0
+    );
+    // The law plans each turn over the rover's yaw-rate response: planned over the 50 ms
+    // between its fixes, the rate controller's lag makes the rover weave (docs/ardupilot.md).
+    let period = (measured.response * 100.0).round() / 100.0;
+    configure_unit(&mut h, limits, period)?;
+    let mut outcomes = Vec::new();
+    for (i, start) in starts(limits, options.short).into_iter().enumerate() {
+        let outcome = chase::fly(&mut h, start, limits, CAPTURE_RADIUS, 7 + i as u64)?;
+        println!("{}", report(&outcome, limits));
+        outcomes.push(outcome);
+    }
+    let telemetry = telemetry::summary(&h);
+    drop(launched);
+    let capture = telemetry::write_capture(&h)?;
+    let cost = crate::bench::mavlink::measure_replay(&capture)?;
+    Ok(Flown {
+        outcomes,
+        measured,
+        limits,
+        telemetry,
+        cost,
+    })
+}
+
+/// What `fly` flew.
+pub struct Flown {
+    pub outcomes: Vec<Outcome>,
+    pub measured: vehicle::Measured,
+    pub limits: [f64; 4],
+    pub telemetry: telemetry::Summary,
+    /// The unit's cost on the Cortex-M4F over the run's stream (the bench's `replay` image).
+    pub cost: crate::bench::mavlink::ReplayMeasured,
+}
+
+/// The cost paragraph.
+fn cost_line(c: &crate::bench::mavlink::ReplayMeasured) -> String {
+    let per_second = c.instructions / c.seconds.max(1e-9);
+    format!(
+        "the unit's cost on the Cortex-M4F (the whole stream replayed through its serial path in QEMU with -icount, \
+         the bench's `replay` image; {} frames and {} setpoints sent, as on the host): {:.0} instructions per second \
+         ({:.2} % of a 168 MHz STM32F405 at one instruction a cycle), stack {} B",
+        c.frames,
+        c.setpoints,
+        per_second,
+        100.0 * per_second / 168e6,
+        c.stack
+    )
+}
+
+fn connect(port: u16) -> Result<TcpStream, String> {
+    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    loop {
+        match TcpStream::connect(("127.0.0.1", port)) {
+            Ok(s) => return Ok(s),
+            Err(e) if std::time::Instant::now() > deadline => {
+                return Err(format!("could not connect to the unit on port {port}: {e}"))
+            }
+            Err(_) => std::thread::sleep(Duration::from_millis(50)),
+        }
+    }
+}
+
+/// One chase in one paragraph.
+fn report(o: &Outcome, limits: [f64; 4]) -> String {
+    let captured = o.captured.map_or("NEVER CAPTURED".to_string(), |t| {
+        format!(
+            "captured at {t:.2} s, {:+.2} s against the ideal Dubins pursuer's {:.2} s",
+            t - o.ideal,
+            o.ideal
+        )
+    });
+    format!(
+        "{} vs {:?}: start {:.1} m; the law's value at t = 0 {:.2} s (the unit's first TC_T {}); {captured}\n  \
+         causes: speed {:.2} m/s at 1 s, {:.1} m short of v_pm t by capture (~{:.2} s of delay at v_pm); \
+         turn-rate tracking rms {:.2} rad/s ({:.2} away from the switches); {} setpoints\n  \
+         failsafe: the unit's \"target stale\" {} after capture; from its last setpoint, ArduPilot's stop {} and standstill {}",
+        o.start.name,
+        o.start.evader,
+        o.distance,
+        o.predicted,
+        o.unit_predicted.map_or("none".to_string(), |v| format!("{v:.2} s")),
+        o.speed_at_1s,
+        o.speed_deficit,
+        o.speed_deficit / limits[0],
+        o.tracking_rms,
+        o.tracking_rms_settled,
+        o.setpoints,
+        seconds(o.unit_stale_after),
+        seconds(o.to_stop_message),
+        seconds(o.to_standstill),
+    )
+}
+
+fn seconds(s: Option<f64>) -> String {
+    s.map_or("never".to_string(), |s| format!("{s:.2} s"))
+}
+
+/// `cargo xtask run --link ardupilot`; the exit code.
+pub fn run(options: &Options) -> i32 {
+    match fly(options) {
+        Ok(flown) => {
+            println!("{}", flown.telemetry);
+            println!("{}", cost_line(&flown.cost));
+            i32::from(!flown.outcomes.iter().all(|o| o.captured.is_some()))
+        }
+        Err(e) => {
+            eprintln!("xtask run --link ardupilot: {e}");
+            1
+        }
+    }
+}
+
+/// `cargo xtask test`'s chase: one start below the threshold against the straight evader, with
+/// ArduPilot Rover SITL where it is found (said plainly where not).
+pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
+    println!(
+        "== xtask test: ArduPilot Rover SITL flying the pursuer, the MAVLink image its companion"
+    );
+    if sitl::find(None).is_none() {
+        println!(
+            "   SKIPPED: ArduPilot Rover SITL not found (TWOCARS_ARDUROVER or \
+             ../shared/ardupilot/ardurover); docs/ardupilot.md says how to build it"
+        );
+        return;
+    }
+    let options = Options {
+        ardurover: None,
+        short: true,
+    };
+    let flown = fly(&options);
+    record(
+        "ardupilot::rover_sitl_captures_and_stops_when_the_target_goes_stale",
+        flown.as_ref().map_err(Clone::clone).and_then(check_chase),
+    );
+    record(
+        "ardupilot::the_unit_parses_ardupilots_telemetry_with_nothing_dropped",
+        flown
+            .as_ref()
+            .map_err(Clone::clone)
+            .and_then(check_telemetry),
+    );
+}
+
+/// Captured no later than the ideal Dubins pursuer + 3 s (the rover starts from rest: about
+/// 1.5 s of that); the unit's "target stale" within TC_TIMEOUT of capture; ArduPilot's stop 3 s
+/// after the unit's last setpoint and a standstill within 8 s of it.
+fn check_chase(flown: &Flown) -> Result<String, String> {
+    let o = flown.outcomes.first().ok_or("no chase flown")?;
+    let captured = o.captured.ok_or("never captured")?;
+    let stop = o.to_stop_message.ok_or("ArduPilot never said it stopped")?;
+    let still = o.to_standstill.ok_or("the rover never stood still")?;
+    let stale = o
+        .unit_stale_after
+        .ok_or("the unit never said the target was stale")?;
+    if captured > o.ideal + 3.0 || !(2.9..=3.2).contains(&stop) || still > 8.0 || stale > 1.05 {
+        return Err(format!(
+            "captured {captured:.2} s (ideal {:.2} s), stop {stop:.2} s, standstill {still:.2} s, stale {stale:.2} s",
+            o.ideal
+        ));
+    }
+    Ok(format!(
+        "rover {:.2} m/s, {:.2} rad/s, response {:.2} s; law {:?}; captured at {captured:.2} s (ideal {:.2} s); \
+         target stale {stale:.2} s after capture; ArduPilot stopped {stop:.2} s and stood still {still:.2} s after the last setpoint",
+        flown.measured.speed, flown.measured.turn_rate, flown.measured.response, flown.limits, o.ideal
+    ))
+}
+
+/// Every frame of ArduPilot's stream taken or skipped whole, none dropped, by the unit and by
+/// its replay on the host; the replay's setpoints are the unit's but for one per chase (at the
+/// end of each, the unit's clock and the router's tell the target stale a few ms apart).
+fn check_telemetry(flown: &Flown) -> Result<String, String> {
+    let t = &flown.telemetry;
+    let dropped = t.frames.bad_checksum + t.frames.bad_flags;
+    let setpoints_apart = (t.endpoint.setpoints as usize).abs_diff(t.unit_setpoints);
+    if dropped != 0
+        || t.frames.skipped_bytes != 0
+        || t.unit_bad_frames != Some(0.0)
+        || setpoints_apart > flown.outcomes.len()
+    {
+        return Err(t.to_string());
+    }
+    Ok(format!(
+        "{} frames parsed, {} skipped, 0 dropped; TC_BADFRM 0; {} setpoints; {}",
+        t.frames.frames,
+        t.frames.unknown,
+        t.unit_setpoints,
+        cost_line(&flown.cost)
+    ))
+}

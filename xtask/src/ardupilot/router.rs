@@ -1,0 +1,257 @@
+//! The MAVLink router between ArduPilot SITL (TCP), the unit's UART (the emulator's TCP port)
+//! and the host (the ground station and the target): whole frames only, so that a frame the
+//! host injects never lands inside one of the autopilot's.
+//!
+//! Frames are split by their headers' lengths (TCP carries no noise), which needs no message's
+//! CRC_EXTRA: ArduPilot's own dialect passes through untouched. The messages the harness reads
+//! are decoded with the `mavlink` crate's common dialect.
+
+use std::io::{ErrorKind, Read, Write};
+use std::net::TcpStream;
+use std::time::{Duration, Instant};
+
+use mavlink::dialects::common::MavMessage;
+use mavlink::{MavlinkVersion, Message, MessageData};
+use twocars::mavlink::outgoing::Outbox;
+
+/// MAVLink 1 and 2 start bytes.
+const STX_V1: u8 = 0xFE;
+const STX_V2: u8 = 0xFD;
+/// MAVLink 2's incompatibility flag for a signed frame (13 more bytes).
+const SIGNED: u8 = 0x01;
+
+/// One whole frame and what its header says.
+#[derive(Clone, Debug)]
+pub struct RawFrame {
+    /// The frame's bytes, start byte to checksum (and signature).
+    pub bytes: Vec<u8>,
+    /// Sender's system and component ids.
+    pub system: u8,
+    pub component: u8,
+    /// The message id.
+    pub message_id: u32,
+}
+
+impl RawFrame {
+    /// The message, where the common dialect knows it.
+    pub fn message(&self) -> Option<MavMessage> {
+        let (version, start) = if self.bytes.first() == Some(&STX_V2) {
+            (MavlinkVersion::V2, 10)
+        } else {
+            (MavlinkVersion::V1, 6)
+        };
+        let length = usize::from(*self.bytes.get(1)?);
+        let payload = self.bytes.get(start..start + length)?;
+        MavMessage::parse(version, self.message_id, payload).ok()
+    }
+}
+
+/// Splits a byte stream into whole frames by their headers' lengths.
+#[derive(Default)]
+pub struct Splitter {
+    buffer: Vec<u8>,
+}
+
+impl Splitter {
+    /// Appends received bytes.
+    pub fn push(&mut self, bytes: &[u8]) {
+        self.buffer.extend_from_slice(bytes);
+    }
+
+    /// The next whole frame, if one has arrived (bytes before a start byte are dropped).
+    pub fn next_frame(&mut self) -> Option<RawFrame> {
+        let start = self
+            .buffer
+            .iter()
+            .position(|&b| b == STX_V1 || b == STX_V2)
+            .unwrap_or(self.buffer.len());
+        self.buffer.drain(..start);
+        let b = &self.buffer;
+        let (stx, length) = (*b.first()?, usize::from(*b.get(1)?));
+        let total = if stx == STX_V2 {
+            10 + length + 2 + if b.get(2)? & SIGNED != 0 { 13 } else { 0 }
+        } else {
+            6 + length + 2
+        };
+        if b.len() < total {
+            return None;
+        }
+        let (system, component, message_id) = if stx == STX_V2 {
+            (b[5], b[6], u32::from_le_bytes([b[7], b[8], b[9], 0]))
+        } else {
+            (b[3], b[4], u32::from(b[5]))
+        };
+        let bytes = self.buffer.drain(..total).collect();
+        Some(RawFrame {
+            bytes,
+            system,
+            component,
+            message_id,
+        })
+    }
+}
+
+/// Where a frame came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    Autopilot,
+    Unit,
+}
+
+/// The two links, their splitters, and the host's own sender (system 255, component 190, as a
+/// ground station; or another system id for the target).
+pub struct Router {
+    autopilot: TcpStream,
+    unit: TcpStream,
+    from_autopilot: Splitter,
+    from_unit: Splitter,
+    outbox: Outbox,
+    /// Every byte written to the unit's UART, with our clock (ms since the router started) at
+    /// each write: the stream the unit parsed, for replays.
+    pub to_unit_log: Vec<(u32, Vec<u8>)>,
+    started: Instant,
+}
+
+/// The host's ground-station identity.
+pub const GCS: (u8, u8) = (255, 190);
+
+impl Router {
+    /// Joins the autopilot's and the unit's TCP links.
+    pub fn new(autopilot: TcpStream, unit: TcpStream) -> Result<Router, String> {
+        for s in [&autopilot, &unit] {
+            s.set_nonblocking(true).map_err(|e| e.to_string())?;
+            s.set_nodelay(true).map_err(|e| e.to_string())?;
+        }
+        Ok(Router {
+            autopilot,
+            unit,
+            from_autopilot: Splitter::default(),
+            from_unit: Splitter::default(),
+            outbox: Outbox::default(),
+            to_unit_log: Vec::new(),
+            started: Instant::now(),
+        })
+    }
+
+    /// The next whole frame from either link, waiting up to `timeout`; not forwarded (the
+    /// caller forwards with [`Router::forward`], after what it injects before it).
+    pub fn next(&mut self, timeout: Duration) -> Result<Option<(Source, RawFrame)>, String> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            if let Some(f) = self.from_autopilot.next_frame() {
+                return Ok(Some((Source::Autopilot, f)));
+            }
+            if let Some(f) = self.from_unit.next_frame() {
+                return Ok(Some((Source::Unit, f)));
+            }
+            let got = read_into(&mut self.autopilot, &mut self.from_autopilot, "autopilot")?
+                | read_into(&mut self.unit, &mut self.from_unit, "unit")?;
+            if !got {
+                if Instant::now() >= deadline {
+                    return Ok(None);
+                }
+                std::thread::sleep(Duration::from_micros(500));
+            }
+        }
+    }
+
+    /// Passes a frame on to the other side.
+    pub fn forward(&mut self, source: Source, frame: &RawFrame) -> Result<(), String> {
+        match source {
+            Source::Autopilot => self.send_to_unit(&frame.bytes),
+            Source::Unit => write_all(&mut self.autopilot, &frame.bytes, "autopilot"),
+        }
+    }
+
+    /// Writes bytes to the unit's UART (logged).
+    pub fn send_to_unit(&mut self, bytes: &[u8]) -> Result<(), String> {
+        let now = self.started.elapsed().as_millis() as u32;
+        self.to_unit_log.push((now, bytes.to_vec()));
+        write_all(&mut self.unit, bytes, "unit")
+    }
+
+    /// Encodes `message` from `sender` (MAVLink 2).
+    pub fn encode<M: MessageData>(&mut self, sender: (u8, u8), message: &M) -> Vec<u8> {
+        let mut out = Vec::new();
+        self.outbox
+            .send_as(sender, message, &mut |f| out.extend_from_slice(f));
+        out
+    }
+
+    /// Sends `message` from the ground station to the autopilot.
+    pub fn send_to_autopilot<M: MessageData>(&mut self, message: &M) -> Result<(), String> {
+        let bytes = self.encode(GCS, message);
+        write_all(&mut self.autopilot, &bytes, "autopilot")
+    }
+
+    /// Sends `message` from `sender` to the unit.
+    pub fn send_to_unit_as<M: MessageData>(
+        &mut self,
+        sender: (u8, u8),
+        message: &M,
+    ) -> Result<(), String> {
+        let bytes = self.encode(sender, message);
+        self.send_to_unit(&bytes)
+    }
+}
+
+/// Reads what `stream` has into `splitter`; whether anything came.
+fn read_into(stream: &mut TcpStream, splitter: &mut Splitter, name: &str) -> Result<bool, String> {
+    let mut buf = [0u8; 4096];
+    match stream.read(&mut buf) {
+        Ok(0) => Err(format!("the {name} closed its link")),
+        Ok(n) => {
+            splitter.push(buf.get(..n).unwrap_or(&[]));
+            Ok(true)
+        }
+        Err(e) if e.kind() == ErrorKind::WouldBlock => Ok(false),
+        Err(e) if e.kind() == ErrorKind::Interrupted => Ok(false),
+        Err(e) => Err(format!("{name}: {e}")),
+    }
+}
+
+/// Writes all of `bytes` to a non-blocking stream.
+fn write_all(stream: &mut TcpStream, mut bytes: &[u8], name: &str) -> Result<(), String> {
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while !bytes.is_empty() {
+        match stream.write(bytes) {
+            Ok(n) => bytes = bytes.get(n..).unwrap_or(&[]),
+            Err(e) if e.kind() == ErrorKind::WouldBlock && Instant::now() < deadline => {
+                std::thread::sleep(Duration::from_micros(200));
+            }
+            Err(e) => return Err(format!("to the {name}: {e}")),
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mavlink::dialects::common::HEARTBEAT_DATA;
+
+    #[test]
+    fn frames_split_whole_after_noise_and_in_pieces() {
+        let mut outbox = Outbox::default();
+        let mut stream = vec![1, 2, 3];
+        for _ in 0..3 {
+            outbox.send_as((1, 1), &HEARTBEAT_DATA::default(), &mut |f| {
+                stream.extend_from_slice(f)
+            });
+        }
+        let mut splitter = Splitter::default();
+        let mut frames = Vec::new();
+        for chunk in stream.chunks(5) {
+            splitter.push(chunk);
+            while let Some(f) = splitter.next_frame() {
+                frames.push(f);
+            }
+        }
+        assert_eq!(frames.len(), 3);
+        assert!(frames.iter().all(|f| f.message_id == 0 && f.system == 1));
+        assert!(matches!(
+            frames[0].message(),
+            Some(MavMessage::HEARTBEAT(_))
+        ));
+    }
+}

@@ -1,0 +1,217 @@
+//! The pursuer's autopilot made ready and measured: WP_SPEED, the position and attitude streams,
+//! GPS and EKF awaited, GUIDED and armed; then its top speed and its largest turn rate driven
+//! out with the ground station's own SET_ATTITUDE_TARGET.
+
+use std::time::{Duration, Instant};
+
+use mavlink::dialects::common::{
+    MavCmd, MavParamType, COMMAND_LONG_DATA, PARAM_SET_DATA, SET_ATTITUDE_TARGET_DATA,
+};
+
+use super::harness::{Harness, Injector, NoTarget, AUTOPILOT, GUIDED};
+use super::router::Source;
+
+/// SET_ATTITUDE_TARGET's type_mask for a yaw rate and thrust (the unit's, for ground vehicles).
+pub const YAW_RATE_AND_THRUST: u8 = 1 | 2 | 128;
+/// The position and attitude streams' interval, us (20 Hz: the unit's control period).
+pub const STREAM_INTERVAL_US: f32 = 50_000.0;
+/// GLOBAL_POSITION_INT's and ATTITUDE's message ids.
+const GLOBAL_POSITION_INT: f32 = 33.0;
+const ATTITUDE: f32 = 30.0;
+
+fn command(command: MavCmd, params: [f32; 7]) -> COMMAND_LONG_DATA {
+    let [param1, param2, param3, param4, param5, param6, param7] = params;
+    COMMAND_LONG_DATA {
+        param1,
+        param2,
+        param3,
+        param4,
+        param5,
+        param6,
+        param7,
+        command,
+        target_system: AUTOPILOT.0,
+        target_component: AUTOPILOT.1,
+        confirmation: 0,
+    }
+}
+
+/// PARAM_SET of `name` to `value` for (`system`, `component`).
+pub fn param_set(target: (u8, u8), name: &str, value: f32) -> PARAM_SET_DATA {
+    PARAM_SET_DATA {
+        param_value: value,
+        target_system: target.0,
+        target_component: target.1,
+        param_id: name.into(),
+        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
+    }
+}
+
+/// Sets `name` on the autopilot and waits (5 s) for its PARAM_VALUE to say `value`.
+pub fn set_autopilot_param(h: &mut Harness, name: &str, value: f32) -> Result<(), String> {
+    let from = h.params.len();
+    h.router
+        .send_to_autopilot(&param_set(AUTOPILOT, name, value))?;
+    let echoed = |h: &Harness| {
+        h.params[from..]
+            .iter()
+            .any(|(s, n, v)| *s == Source::Autopilot && n == name && *v == value)
+    };
+    if h.pump_until(&mut NoTarget, Duration::from_secs(5), &mut |h| echoed(h))? {
+        Ok(())
+    } else {
+        Err(format!("ArduPilot did not take {name} = {value}"))
+    }
+}
+
+/// How long the set-up took, s (wall clock): GPS and EKF, then GUIDED and armed.
+pub struct Ready {
+    pub ekf_s: f64,
+    pub armed_s: f64,
+}
+
+/// Waits for the autopilot's heartbeat, sets WP_SPEED (the speed at thrust 1, m/s), raises the
+/// position and attitude streams to 20 Hz, waits for the EKF to use GPS (120 s at most), then
+/// asks for GUIDED and arming until both hold (60 s at most).
+pub fn make_ready(h: &mut Harness, wp_speed: f32) -> Result<Ready, String> {
+    let start = Instant::now();
+    if !h.pump_until(&mut NoTarget, Duration::from_secs(20), &mut |h| {
+        h.mode.is_some()
+    })? {
+        return Err("no heartbeat from ArduPilot".to_string());
+    }
+    set_autopilot_param(h, "WP_SPEED", wp_speed)?;
+    for id in [GLOBAL_POSITION_INT, ATTITUDE] {
+        let interval = [id, STREAM_INTERVAL_US, 0.0, 0.0, 0.0, 0.0, 0.0];
+        h.router
+            .send_to_autopilot(&command(MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, interval))?;
+    }
+    let using_gps = |h: &Harness| h.text_since(0, Source::Autopilot, "is using GPS").is_some();
+    if !h.pump_until(&mut NoTarget, Duration::from_secs(120), &mut |h| {
+        using_gps(h)
+    })? {
+        return Err("ArduPilot's EKF never used GPS (120 s)".to_string());
+    }
+    let ekf_s = start.elapsed().as_secs_f64();
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while !(h.armed && h.mode == Some(GUIDED)) {
+        if Instant::now() > deadline {
+            return Err(format!(
+                "ArduPilot never armed in GUIDED (mode {:?}, armed {})",
+                h.mode, h.armed
+            ));
+        }
+        let guided = [1.0, GUIDED as f32, 0.0, 0.0, 0.0, 0.0, 0.0];
+        h.router
+            .send_to_autopilot(&command(MavCmd::MAV_CMD_DO_SET_MODE, guided))?;
+        let arm = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        h.router
+            .send_to_autopilot(&command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, arm))?;
+        h.pump_until(&mut NoTarget, Duration::from_secs(1), &mut |h| {
+            h.armed && h.mode == Some(GUIDED)
+        })?;
+    }
+    Ok(Ready {
+        ekf_s,
+        armed_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The rover's limits as driven: top speed at thrust 1, and the largest steady turn rate
+/// either way at that speed.
+#[derive(Clone, Copy, Debug)]
+pub struct Measured {
+    /// m/s.
+    pub speed: f64,
+    /// rad/s: the smaller of the two sides'.
+    pub turn_rate: f64,
+    /// speed / turn_rate, m.
+    pub radius: f64,
+    /// The yaw rate's response to a step of its setpoint: the time to 63 % of the rate it
+    /// settles at, s.
+    pub response: f64,
+}
+
+/// The ground station's setpoint (yaw rate, thrust 1) at 20 Hz for `seconds` of the rover's
+/// time; the rover's mean speed and yaw rate over the second half, and the time its yaw rate
+/// took to reach 63 % of that mean.
+fn drive(h: &mut Harness, yaw_rate: f32, seconds: f64) -> Result<(f64, f64, f64), String> {
+    let setpoint = SET_ATTITUDE_TARGET_DATA {
+        time_boot_ms: 0,
+        q: [1.0, 0.0, 0.0, 0.0],
+        body_roll_rate: 0.0,
+        body_pitch_rate: 0.0,
+        body_yaw_rate: yaw_rate,
+        thrust: 1.0,
+        target_system: AUTOPILOT.0,
+        target_component: AUTOPILOT.1,
+        type_mask: mavlink::dialects::common::AttitudeTargetTypemask::from_bits_truncate(
+            YAW_RATE_AND_THRUST,
+        ),
+    };
+    let start = h.now_ms();
+    let end = start + (seconds * 1000.0) as u32;
+    let half = start + (seconds * 500.0) as u32;
+    let (fixes, rates) = (h.fixes.len(), h.yaw_rates.len());
+    while h.now_ms() < end {
+        h.router.send_to_autopilot(&setpoint)?;
+        let next = h.now_ms() + 50;
+        h.pump_until(&mut NoTarget, Duration::from_secs(2), &mut |h| {
+            h.now_ms() >= next
+        })?;
+    }
+    let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    let speed = mean(
+        h.fixes[fixes..]
+            .iter()
+            .filter(|f| f.time_ms >= half)
+            .map(|f| f.speed)
+            .collect(),
+    );
+    let rate = mean(
+        h.yaw_rates[rates..]
+            .iter()
+            .filter(|(t, _)| *t >= half)
+            .map(|(_, r)| f64::from(*r))
+            .collect(),
+    );
+    let response = h.yaw_rates[rates..]
+        .iter()
+        .find(|(_, r)| f64::from(*r) * rate.signum() >= 0.63 * rate.abs())
+        .map_or(f64::NAN, |(t, _)| f64::from(t.wrapping_sub(start)) / 1000.0);
+    Ok((speed, rate, response))
+}
+
+/// Drives straight for 12 s (its speed overshoots for the first few), then hard left and hard
+/// right (asking 3 rad/s, more than the rover can), 6 s each; then lets the rover stop (its 3 s
+/// setpoint timeout, then braking).
+pub fn measure(h: &mut Harness) -> Result<Measured, String> {
+    let (speed, _, _) = drive(h, 0.0, 12.0)?;
+    let (_, left, response) = drive(h, -3.0, 6.0)?;
+    let (_, right, _) = drive(h, 3.0, 6.0)?;
+    let turn_rate = left.abs().min(right.abs());
+    wait_stopped(h, &mut NoTarget, 15.0)?;
+    Ok(Measured {
+        speed,
+        turn_rate,
+        radius: speed / turn_rate,
+        response,
+    })
+}
+
+/// Forwards until the rover's ground speed is under 0.1 m/s (`seconds` of wall clock at
+/// most); its time then.
+pub fn wait_stopped(
+    h: &mut Harness,
+    injector: &mut dyn Injector,
+    seconds: f64,
+) -> Result<u32, String> {
+    let stopped = |h: &Harness| h.rover.is_some_and(|r| r.speed < 0.1);
+    if h.pump_until(injector, Duration::from_secs_f64(seconds), &mut |h| {
+        stopped(h)
+    })? {
+        Ok(h.now_ms())
+    } else {
+        Err(format!("the rover did not stop within {seconds} s"))
+    }
+}
