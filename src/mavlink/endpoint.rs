@@ -316,10 +316,11 @@ impl Session {
         };
         let period = self.guidance_period(self.period_ms);
         let capture = self.params.get(index::CAPTURE).unwrap_or(0.0);
+        // TC_CAPTURE is within 0 to 100 m by `Params::set`, which f32 coordinates always hold.
         self.guidance = self.params.limits().and_then(|limits| {
-            let guidance = Guidance::new(Law::new(limits, Variant::Paper), period, policy).ok()?;
-            // In range by `Params::set`; a radius the law could not hold plays point capture.
-            Some(guidance.with_capture_radius(capture).unwrap_or(guidance))
+            Guidance::new(Law::new(limits, Variant::Paper), period, policy)
+                .and_then(|g| g.with_capture_radius(capture))
+                .ok()
         });
     }
 
