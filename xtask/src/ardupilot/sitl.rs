@@ -48,6 +48,8 @@ impl Sitl {
         home: (f64, f64),
     ) -> Result<(Sitl, TcpStream), String> {
         let dir = crate::workspace::target_dir().join(format!("ardupilot/instance{instance}"));
+        // A fresh directory: SITL keeps a 16 MB dataflash log of every run in it.
+        let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let mut command = Command::new(binary);
         command
