@@ -31,6 +31,7 @@ use super::frame::{Frame, FrameReader};
 use super::messages::{decode, extra_crc, Message};
 use super::outgoing::{Outbox, COMPONENT};
 use super::params::{index, Params, Refusal, SPECS};
+use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN};
 use crate::geodetic::{
     bank_angle, course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
 };
@@ -125,6 +126,13 @@ pub struct EndpointCounters {
     pub ignored: u32,
     /// PARAM_SETs refused.
     pub param_refusals: u32,
+    /// Frames refused where signing is on: unsigned, badly signed, and with a timestamp not
+    /// newer than their stream's last (replays).
+    pub unsigned: u32,
+    /// See `unsigned`.
+    pub bad_signature: u32,
+    /// See `unsigned`.
+    pub stale_signature: u32,
 }
 
 /// A vehicle's last fix: degE7, heading (rad, clockwise from north), the sender's clock and
@@ -179,6 +187,10 @@ struct Session {
     /// The board's status flags (`crate::protocol::message::BOARD_FALLBACK_CLOCK`).
     board: u32,
     last_board_notice_ms: Option<u32>,
+    /// Checks incoming signatures where signing is on.
+    verifier: Option<Verifier>,
+    /// The signing clock at our millisecond 0 (10 us since 2015-01-01).
+    signing_base: u64,
     counters: EndpointCounters,
 }
 
@@ -205,6 +217,8 @@ impl Endpoint {
             last_heartbeat_ms: None,
             board: 0,
             last_board_notice_ms: None,
+            verifier: None,
+            signing_base: 0,
             counters: EndpointCounters::default(),
         };
         session.rebuild_guidance();
@@ -212,6 +226,23 @@ impl Endpoint {
             reader: FrameReader::new(),
             session,
         }
+    }
+
+    /// The same endpoint with MAVLink 2 signing on (docs/mavlink.md, "Signing"): frames in
+    /// must carry a good signature under `key` and a timestamp newer than their stream's last;
+    /// ours are signed with `link_id`. `initial_timestamp` (10 us since 2015-01-01) starts the
+    /// signing clock: the build's time, say; it moves up to the newest timestamp accepted.
+    pub fn with_signing(mut self, key: [u8; KEY_LEN], link_id: u8, initial_timestamp: u64) -> Self {
+        let s = &mut self.session;
+        s.verifier = Some(Verifier::new(key, initial_timestamp));
+        s.outbox.signer = Some(Signer::new(key, link_id));
+        s.signing_base = initial_timestamp;
+        self
+    }
+
+    /// Whether signing is on.
+    pub fn signing(&self) -> bool {
+        self.session.verifier.is_some()
     }
 
     /// The board's status flags ([`crate::serial::Board::status_flags`]), for the STATUSTEXT
@@ -249,7 +280,10 @@ impl Endpoint {
     pub fn receive(&mut self, byte: u8, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
         let Endpoint { reader, session } = self;
         if let Some(frame) = reader.push(byte, extra_crc) {
-            session.handle(&frame, now_ms, send);
+            if session.signature_ok(&frame) {
+                session.tick_signing_clock(now_ms);
+                session.handle(&frame, now_ms, send);
+            }
         }
     }
 
@@ -257,6 +291,7 @@ impl Endpoint {
     /// of the loop.
     pub fn poll(&mut self, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
         let s = &mut self.session;
+        s.tick_signing_clock(now_ms);
         let due = s
             .last_heartbeat_ms
             .is_none_or(|last| now_ms.wrapping_sub(last) >= HEARTBEAT_MS);
@@ -264,10 +299,14 @@ impl Endpoint {
             s.last_heartbeat_ms = Some(now_ms);
             s.outbox.heartbeat(s.sysid(), send);
             let f = self.reader.counters;
+            let c = &s.counters;
             let bad = f
                 .bad_checksum
                 .wrapping_add(f.bad_flags)
-                .wrapping_add(s.counters.malformed);
+                .wrapping_add(c.malformed)
+                .wrapping_add(c.unsigned)
+                .wrapping_add(c.bad_signature)
+                .wrapping_add(c.stale_signature);
             s.outbox
                 .named_value(s.sysid(), now_ms, BAD_FRAMES, bad as f32, send);
             s.board_notice(now_ms, send);
@@ -281,6 +320,32 @@ impl Endpoint {
 }
 
 impl Session {
+    /// Whether `frame` passes the signature check (always, where signing is off); a refusal is
+    /// counted.
+    fn signature_ok(&mut self, frame: &Frame<'_>) -> bool {
+        let Some(verifier) = self.verifier.as_mut() else {
+            return true;
+        };
+        let sender = (frame.system, frame.component);
+        let counter = match verifier.check(sender, frame.signed, frame.signature) {
+            Ok(()) => return true,
+            Err(SignatureRefusal::Unsigned) => &mut self.counters.unsigned,
+            Err(SignatureRefusal::BadSignature) => &mut self.counters.bad_signature,
+            Err(SignatureRefusal::Stale) => &mut self.counters.stale_signature,
+        };
+        *counter = counter.wrapping_add(1);
+        false
+    }
+
+    /// Our signing clock at `now_ms`: the base plus our milliseconds, or the newest timestamp
+    /// accepted where that is later (the spec's rule for a system without a real-time clock).
+    fn tick_signing_clock(&mut self, now_ms: u32) {
+        if let Some(verifier) = &self.verifier {
+            let ours = self.signing_base + u64::from(now_ms) * 100;
+            self.outbox.timestamp = ours.max(verifier.newest);
+        }
+    }
+
     /// The fallback clock's STATUSTEXT, where the board runs on it and the last one is
     /// [`BOARD_NOTICE_MS`] old (or none went out yet).
     fn board_notice(&mut self, now_ms: u32, send: &mut dyn FnMut(&[u8])) {

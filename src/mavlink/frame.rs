@@ -14,7 +14,8 @@
 //! Searching through every unknown frame found phantom frames in the payloads of an
 //! autopilot's telemetry (ArduPilot Rover: 2.6 a second, each holding up the frames behind it).
 //! MAVLink 2 frames with an incompatibility flag other than "signed" are dropped, as
-//! the protocol requires; a signature is skipped, not verified.
+//! the protocol requires; a signed frame's signature is handed out with it, for
+//! [`super::signing`] to check where signing is on.
 //! Nothing here panics or allocates: every index is checked.
 
 /// MAVLink 1 start byte.
@@ -51,6 +52,10 @@ pub struct Frame<'a> {
     pub message_id: u32,
     /// The payload bytes as sent.
     pub payload: &'a [u8],
+    /// The frame from its start byte through its checksum: what a signature covers.
+    pub signed: &'a [u8],
+    /// The 13 signature bytes (link id, timestamp, signature) of a signed MAVLink 2 frame.
+    pub signature: Option<&'a [u8]>,
 }
 
 /// What the reader has seen, since it started (wrapping counts).
@@ -266,6 +271,10 @@ impl FrameReader {
             component: *b.get(at + 2)?,
             message_id: layout.message_id,
             payload: b.get(layout.header..layout.header + layout.payload)?,
+            signed: b.get(..layout.header + layout.payload + 2)?,
+            signature: b
+                .get(layout.header + layout.payload + 2..layout.total)
+                .filter(|s| !s.is_empty()),
         })
     }
 }

@@ -14,6 +14,7 @@ pub mod outgoing;
 pub mod params;
 #[cfg(feature = "firmware")]
 pub mod service;
+pub mod signing;
 
 pub use endpoint::{Endpoint, EndpointCounters, Halt, BOARD_NOTICE_MS, FALLBACK_CLOCK_TEXT};
 pub use frame::{Frame, FrameCounters, FrameReader, Version};

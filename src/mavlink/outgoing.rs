@@ -10,6 +10,7 @@ use ::mavlink::{MavlinkVersion, MessageData};
 
 use super::frame::STX_V2;
 use super::params::{Params, SPECS};
+use super::signing::{Signer, SIGNATURE_LEN};
 
 /// Our component id: MAV_COMP_ID_ONBOARD_COMPUTER.
 pub const COMPONENT: u8 = 191;
@@ -18,15 +19,20 @@ pub const COMPONENT: u8 = 191;
 const HEADER: usize = 10;
 /// The longest payload.
 const MAX_PAYLOAD: usize = 255;
-/// The longest unsigned MAVLink 2 frame.
-pub const MAX_OUT: usize = HEADER + MAX_PAYLOAD + 2;
+/// The longest MAVLink 2 frame, signed.
+pub const MAX_OUT: usize = HEADER + MAX_PAYLOAD + 2 + SIGNATURE_LEN;
 
-/// Our sequence number and system id; frames go to a `send` closure (the UART's transmit queue).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Our sequence number, and our signer where signing is on; frames go to a `send` closure
+/// (the UART's transmit queue).
+#[derive(Clone, Debug, Default)]
 pub struct Outbox {
     sequence: u8,
     /// Frames written.
     pub frames: u32,
+    /// Signs every frame where set, at [`Outbox::timestamp`].
+    pub signer: Option<Signer>,
+    /// The signing clock now: 10 us since 2015-01-01 (the endpoint keeps it).
+    pub timestamp: u64,
 }
 
 impl Outbox {
@@ -50,10 +56,11 @@ impl Outbox {
         };
         let length = message.ser(MavlinkVersion::V2, payload).min(MAX_PAYLOAD);
         let id = M::ID.to_le_bytes();
+        let flags = u8::from(self.signer.is_some());
         header.copy_from_slice(&[
             STX_V2,
             length as u8,
-            0,
+            flags,
             0,
             self.sequence,
             system,
@@ -67,7 +74,15 @@ impl Outbox {
         if let Some(slot) = frame.get_mut(end..end + 2) {
             slot.copy_from_slice(&crc.to_le_bytes());
         }
-        send(frame.get(..end + 2).unwrap_or(&[]));
+        let mut total = end + 2;
+        if let Some(signer) = self.signer.as_mut() {
+            let block = signer.sign(frame.get(..total).unwrap_or(&[]), self.timestamp);
+            if let Some(slot) = frame.get_mut(total..total + SIGNATURE_LEN) {
+                slot.copy_from_slice(&block);
+                total += SIGNATURE_LEN;
+            }
+        }
+        send(frame.get(..total).unwrap_or(&[]));
         self.sequence = self.sequence.wrapping_add(1);
         self.frames = self.frames.wrapping_add(1);
     }
