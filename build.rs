@@ -27,6 +27,9 @@ fn main() {
     if feature("TABLES_IN_FLASH") {
         value_table_sets();
     }
+    if feature("MAVLINK") {
+        mavlink_key();
+    }
     if target.starts_with("thumb") && feature("DEFMT") {
         println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
     }
@@ -76,4 +79,61 @@ fn value_table_sets() {
     if let Err(e) = std::fs::write(out.join("value_table_sets.rs"), source) {
         panic!("writing value_table_sets.rs: {e}");
     }
+}
+
+/// Writes `mavlink_key.rs` into the build directory: `PROVISIONED`, the MAVLink signing key in
+/// the file `TWOCARS_MAVLINK_KEY` names (32 bytes, or 64 hexadecimal digits) and the signing
+/// clock's start `TWOCARS_MAVLINK_KEY_TIME` (10 us since 2015-01-01; 0 where not given), or
+/// `None` without a key. Fails the build, saying why, on a key file of any other form.
+fn mavlink_key() {
+    println!("cargo:rerun-if-env-changed=TWOCARS_MAVLINK_KEY");
+    println!("cargo:rerun-if-env-changed=TWOCARS_MAVLINK_KEY_TIME");
+    let Some(out) = std::env::var_os("OUT_DIR").map(PathBuf::from) else {
+        return;
+    };
+    let value = match std::env::var_os("TWOCARS_MAVLINK_KEY") {
+        None => "None".to_string(),
+        Some(path) => {
+            println!("cargo:rerun-if-changed={}", PathBuf::from(&path).display());
+            let bytes = std::fs::read(&path).unwrap_or_else(|e| {
+                panic!(
+                    "TWOCARS_MAVLINK_KEY: {}: {e}",
+                    PathBuf::from(&path).display()
+                )
+            });
+            let key = parse_key(&bytes).unwrap_or_else(|| {
+                panic!(
+                    "TWOCARS_MAVLINK_KEY: the key file must hold 32 bytes or 64 hexadecimal digits"
+                )
+            });
+            let time: u64 = std::env::var("TWOCARS_MAVLINK_KEY_TIME")
+                .ok()
+                .and_then(|t| t.trim().parse().ok())
+                .unwrap_or(0);
+            format!("Some(({key:?}, {time}))")
+        }
+    };
+    let code = format!(
+        "/// The build's MAVLink signing key and clock start.\n\
+         pub const PROVISIONED: Option<([u8; 32], u64)> = {value};\n"
+    );
+    if let Err(e) = std::fs::write(out.join("mavlink_key.rs"), code) {
+        panic!("writing mavlink_key.rs: {e}");
+    }
+}
+
+/// A key file's 32 bytes: raw, or as 64 hexadecimal digits (surrounding whitespace ignored).
+fn parse_key(bytes: &[u8]) -> Option<[u8; 32]> {
+    if let Ok(raw) = <[u8; 32]>::try_from(bytes) {
+        return Some(raw);
+    }
+    let text = std::str::from_utf8(bytes).ok()?.trim();
+    if text.len() != 64 {
+        return None;
+    }
+    let mut key = [0u8; 32];
+    for (i, k) in key.iter_mut().enumerate() {
+        *k = u8::from_str_radix(text.get(2 * i..2 * i + 2)?, 16).ok()?;
+    }
+    Some(key)
 }

@@ -1,12 +1,15 @@
 """The autopilot and the target for the MAVLink guidance endpoint, played with pymavlink (the
 protocol's reference implementation), on the firmware's UART in QEMU.
 
-    python mavlink_peer.py serve PORT     JSON requests on stdin, one answer per line on stdout
+    python mavlink_peer.py serve PORT [KEY]
+                                          JSON requests on stdin, one answer per line on stdout;
+                                          with KEY (64 hex digits), MAVLink 2 signing both ways
     python mavlink_peer.py session PORT   the scripted session: every message kind, parameter
                                           and malformed input; one line per check, exit 1 if any fails
 
 `cargo xtask run --link mavlink` drives `serve` (its simulator integrates the vehicles and plays
-the evader); `cargo xtask test` runs both. Contract: ../shared/CONTRACTS.md, "MAVLink endpoint".
+the evader); `cargo xtask test` runs both. The endpoint's contract is restated in
+docs/mavlink.md.
 """
 import json
 import math
@@ -117,12 +120,18 @@ class Peer:
         return out
 
 
-def serve(port):
+def serve(port, key=None):
     """JSON requests: {"op": "heartbeat"} (the first heartbeat and the STATUSTEXTs around it),
     {"op": "set", "name", "value"}, {"op": "list"},
     {"op": "step", "own": [time_ms, [lat, lon], [vx, vy], hdg], "target": [...]},
     {"op": "quiet", "seconds"}."""
     peer = Peer(port)
+    if key is not None:
+        # Signed both ways; a signed heartbeat first, from which the unit (no real-time
+        # clock) takes its signing clock before its own frames can pass our check.
+        peer.conn.setup_signing(bytes.fromhex(key), sign_outgoing=True, link_id=1)
+        peer.send_as(GCS, mavlink.MAVLink_heartbeat_message(
+            mavlink.MAV_TYPE_GCS, mavlink.MAV_AUTOPILOT_INVALID, 0, 0, 0, 3))
     for line in sys.stdin:
         request = json.loads(line)
         op = request["op"]
@@ -154,6 +163,18 @@ def serve(port):
             time.sleep(request["seconds"])
             peer.collect(0.05)
             answer = {}
+        elif op == "unsigned_set":
+            # A PARAM_SET without a signature, where signing is on: no PARAM_VALUE may come,
+            # and the next TC_BADFRM counts it.
+            peer.conn.mav.signing.sign_outgoing = False
+            peer.send_as(GCS, mavlink.MAVLink_param_set_message(
+                UNIT[0], UNIT[1], request["name"].encode(), request["value"],
+                mavlink.MAV_PARAM_TYPE_REAL32))
+            peer.conn.mav.signing.sign_outgoing = True
+            reply, _ = peer.wait("PARAM_VALUE", timeout=0.5)
+            bad, _ = peer.wait("NAMED_VALUE_FLOAT", timeout=2.5, where=lambda m: m.name == "TC_BADFRM")
+            answer = {"answered": reply is not None,
+                      "bad_frames": None if bad is None else bad.value}
         else:
             answer = {"error": f"unknown op {op}"}
         print(json.dumps(answer), flush=True)
@@ -335,6 +356,6 @@ def session(port):
 if __name__ == "__main__":
     mode, port = sys.argv[1], int(sys.argv[2])
     if mode == "serve":
-        serve(port)
+        serve(port, sys.argv[3] if len(sys.argv) > 3 else None)
     else:
         sys.exit(session(port))

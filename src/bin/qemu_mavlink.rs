@@ -18,7 +18,7 @@ fn main() -> ! {
     let Some(mut line) = take_uart() else {
         halt(EXIT_FAILURE)
     };
-    let mut endpoint = Endpoint::new();
+    let mut endpoint = Endpoint::provisioned();
     serve_mavlink(&mut line, &board, &mut endpoint)
 }
 

@@ -13,7 +13,7 @@ fn main() -> ! {
     let Some((board, _serial, mut line)) = bring_up() else {
         cortex_m::peripheral::SCB::sys_reset()
     };
-    let mut endpoint = Endpoint::new();
+    let mut endpoint = Endpoint::provisioned();
     serve_mavlink(&mut line, &board, &mut endpoint)
 }
 

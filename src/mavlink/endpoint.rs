@@ -9,6 +9,8 @@
 //! - The control period is the own states' spacing on the autopilot's clock (`time_boot_ms`),
 //!   100 ms until two have arrived; the staleness limit TC_TIMEOUT runs on our clock.
 //! - HEARTBEAT at 1 Hz, with NAMED_VALUE_FLOAT "TC_BADFRM": the frames dropped so far.
+//! - Signing (`with_signing`, [`super::signing`]): every frame in must be signed under the
+//!   key, ours are signed; an image built without a key says "signing off" once.
 //! - A board on its fallback clock says so in a STATUSTEXT (WARNING) with the first heartbeat
 //!   and every [`BOARD_NOTICE_MS`] after, so that a station that joins later sees it too.
 //! - No setpoint from stale or invalid input: one STATUSTEXT (WARNING) saying why when that
@@ -31,7 +33,7 @@ use super::frame::{Frame, FrameReader};
 use super::messages::{decode, extra_crc, Message};
 use super::outgoing::{Outbox, COMPONENT};
 use super::params::{index, Params, Refusal, SPECS};
-use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN};
+use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN, LINK_ID, PROVISIONED};
 use crate::geodetic::{
     bank_angle, course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
 };
@@ -50,6 +52,8 @@ pub const HEARTBEAT_MS: u32 = 1000;
 /// The NAMED_VALUE_FLOAT sent with each heartbeat: frames dropped so far (bad checksum,
 /// unsupported flags, fields that do not decode).
 pub const BAD_FRAMES: &str = "TC_BADFRM";
+/// The STATUSTEXT (NOTICE) an image built without a key sends with its first heartbeat.
+pub const UNSIGNED_TEXT: &str = "TC: signing off, any sender can steer";
 /// The period of the fallback clock's STATUSTEXT, ms.
 pub const BOARD_NOTICE_MS: u32 = 30_000;
 /// The fallback clock's STATUSTEXT.
@@ -189,6 +193,8 @@ struct Session {
     last_board_notice_ms: Option<u32>,
     /// Checks incoming signatures where signing is on.
     verifier: Option<Verifier>,
+    /// Whether the first heartbeat says the link is unsigned (an image built without a key).
+    announce_unsigned: bool,
     /// The signing clock at our millisecond 0 (10 us since 2015-01-01).
     signing_base: u64,
     counters: EndpointCounters,
@@ -218,6 +224,7 @@ impl Endpoint {
             board: 0,
             last_board_notice_ms: None,
             verifier: None,
+            announce_unsigned: false,
             signing_base: 0,
             counters: EndpointCounters::default(),
         };
@@ -238,6 +245,20 @@ impl Endpoint {
         s.outbox.signer = Some(Signer::new(key, link_id));
         s.signing_base = initial_timestamp;
         self
+    }
+
+    /// The endpoint a firmware image runs: signing on with the key it was built with
+    /// ([`PROVISIONED`]); without one, unsigned, and its first heartbeat says so
+    /// ([`UNSIGNED_TEXT`]).
+    pub fn provisioned() -> Self {
+        match PROVISIONED {
+            Some((key, time)) => Self::new().with_signing(key, LINK_ID, time),
+            None => {
+                let mut endpoint = Self::new();
+                endpoint.session.announce_unsigned = true;
+                endpoint
+            }
+        }
     }
 
     /// Whether signing is on.
@@ -310,6 +331,11 @@ impl Endpoint {
             s.outbox
                 .named_value(s.sysid(), now_ms, BAD_FRAMES, bad as f32, send);
             s.board_notice(now_ms, send);
+            if core::mem::take(&mut s.announce_unsigned) {
+                let severity = MavSeverity::MAV_SEVERITY_NOTICE;
+                s.outbox
+                    .status_text(s.sysid(), severity, UNSIGNED_TEXT, send);
+            }
         }
         if s.health == Health::Active {
             if let Some(halt) = s.stale(now_ms) {

@@ -16,7 +16,9 @@ pub mod params;
 pub mod service;
 pub mod signing;
 
-pub use endpoint::{Endpoint, EndpointCounters, Halt, BOARD_NOTICE_MS, FALLBACK_CLOCK_TEXT};
+pub use endpoint::{
+    Endpoint, EndpointCounters, Halt, BOARD_NOTICE_MS, FALLBACK_CLOCK_TEXT, UNSIGNED_TEXT,
+};
 pub use frame::{Frame, FrameCounters, FrameReader, Version};
 pub use messages::{decode, extra_crc, Message, MessageError};
 pub use params::{Params, Refusal, SPECS};

@@ -12,6 +12,16 @@
 
 use sha2::{Digest, Sha256};
 
+/// The key and signing-clock start the image was built with (`TWOCARS_MAVLINK_KEY`, see
+/// build.rs and docs/mavlink.md), or `None`.
+mod provisioned {
+    include!(concat!(env!("OUT_DIR"), "/mavlink_key.rs"));
+}
+pub use provisioned::PROVISIONED;
+
+/// Our link id on the autopilot's link.
+pub const LINK_ID: u8 = 0;
+
 /// The secret key's length, bytes.
 pub const KEY_LEN: usize = 32;
 /// The signature block's length: link id, timestamp, signature.

@@ -321,11 +321,18 @@ pub struct BuildArgs {
     /// The board.
     #[arg(long, value_enum, default_value = "all")]
     board: BoardArg,
+    /// Build the MAVLink images with this signing key (a file of 32 bytes or 64 hexadecimal
+    /// digits; as `TWOCARS_MAVLINK_KEY`).
+    #[arg(long)]
+    signing_key: Option<std::path::PathBuf>,
 }
 
 /// `cargo xtask build [--board qemu|stm32f405|microbit|rp2040|qemu-tables|stm32f405-tables|all]`: builds each image, checks its memory map
 /// and prints its size.
 pub fn build_command(args: &BuildArgs) -> i32 {
+    if let Some(key) = &args.signing_key {
+        crate::firmware::run::set_signing_key(key);
+    }
     let boards: Vec<Board> = match args.board {
         BoardArg::Qemu => vec![Board::Qemu, Board::QemuMavlink],
         BoardArg::Stm32f405 => vec![Board::Stm32f405, Board::Stm32f405Mavlink],

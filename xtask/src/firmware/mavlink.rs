@@ -93,6 +93,26 @@ pub fn scripted_session(board: Board) -> Result<(), String> {
     }
 }
 
+/// The signing key the MAVLink images are built with (`TWOCARS_MAVLINK_KEY`, a file of 32
+/// bytes or 64 hexadecimal digits), as hexadecimal for the peer; `None` without one.
+pub fn signing_key() -> Result<Option<String>, String> {
+    let Some(path) = std::env::var_os("TWOCARS_MAVLINK_KEY") else {
+        return Ok(None);
+    };
+    let bytes = std::fs::read(&path).map_err(|e| format!("TWOCARS_MAVLINK_KEY: {e}"))?;
+    let hex = match <[u8; 32]>::try_from(bytes.as_slice()) {
+        Ok(raw) => raw.iter().map(|b| format!("{b:02x}")).collect(),
+        Err(_) => String::from_utf8_lossy(&bytes).trim().to_lowercase(),
+    };
+    if hex.len() != 64 || !hex.chars().all(|c| c.is_ascii_hexdigit()) {
+        return Err(
+            "TWOCARS_MAVLINK_KEY: the key file must hold 32 bytes or 64 hexadecimal digits"
+                .to_string(),
+        );
+    }
+    Ok(Some(hex))
+}
+
 /// The pymavlink peer in `serve` mode: one JSON request, one JSON answer.
 struct Peer {
     child: Child,
@@ -102,9 +122,14 @@ struct Peer {
 
 impl Peer {
     fn start(port: u16) -> Result<Peer, String> {
-        let mut child = Command::new(python()?)
+        let mut command = Command::new(python()?);
+        command
             .arg(peer_script())
-            .args(["serve", &port.to_string()])
+            .args(["serve", &port.to_string()]);
+        if let Some(key) = signing_key()? {
+            command.arg(key);
+        }
+        let mut child = command
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .spawn()
@@ -202,6 +227,8 @@ pub fn run_cases(board: Board) -> Result<bool, String> {
     let fallback =
         board.status_in_emulator() & twocars::protocol::message::BOARD_FALLBACK_CLOCK != 0;
     ok &= heartbeat.contains(twocars::mavlink::FALLBACK_CLOCK_TEXT) == fallback;
+    // An image built without a key says so with its first heartbeat.
+    ok &= heartbeat.contains(twocars::mavlink::UNSIGNED_TEXT) == signing_key()?.is_none();
     // Each step keeps the limits valid: speeds first, then the evader's curvature.
     for (name, value) in [
         ("TC_V_PM", scaled[0]),
@@ -217,6 +244,12 @@ pub fn run_cases(board: Board) -> Result<bool, String> {
         ok &= read_back == Some(f64::from(value));
     }
     println!("PARAM_REQUEST_LIST: {}", peer.ask(r#"{"op": "list"}"#)?);
+    if signing_key()?.is_some() {
+        // Signed: an unsigned PARAM_SET is refused (no PARAM_VALUE) and counted in TC_BADFRM.
+        let answer = peer.ask(r#"{"op": "unsigned_set", "name": "TC_TIMEOUT", "value": 0.7}"#)?;
+        println!("unsigned PARAM_SET TC_TIMEOUT 0.7: {answer}");
+        ok &= answer.contains("\"answered\": false") && field(&answer, "bad_frames") >= Some(1.0);
+    }
     let [v_pm, w_pm, v_em, w_em] = scaled;
     let law_limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|e| e.to_string())?;
     let plane = Plane::new(HOME);

@@ -79,6 +79,10 @@ pub struct RunArgs {
     /// autopilot and the target (the paper's cases at ten times their scale; docs/mavlink.md).
     #[arg(long, value_enum, default_value = "cobs")]
     link: RunLink,
+    /// With `--link mavlink`: build the MAVLink image with this signing key (a file of 32 bytes
+    /// or 64 hexadecimal digits; as `TWOCARS_MAVLINK_KEY`), and sign pymavlink's side with it.
+    #[arg(long)]
+    signing_key: Option<std::path::PathBuf>,
     /// With `--link ardupilot`: the `ardurover` SITL binary (default: TWOCARS_ARDUROVER, then
     /// ../shared/ardupilot/ardurover).
     #[arg(long)]
@@ -299,6 +303,9 @@ pub fn run(args: &RunArgs) -> i32 {
         };
         return crate::ardupilot::run(&options);
     }
+    if let Some(key) = &args.signing_key {
+        set_signing_key(key);
+    }
     if args.link == RunLink::Mavlink {
         return match args.board {
             RunBoard::Qemu => crate::firmware::mavlink::run(Board::QemuMavlink),
@@ -507,4 +514,21 @@ fn finish(mut q: Emulator, sequence: &mut u16) -> Result<bool, String> {
         println!("firmware acknowledged Shutdown (a flight image serves on; its emulator stopped)");
     }
     Ok(code == 0)
+}
+
+/// Builds the MAVLink images of this process with `key` (`TWOCARS_MAVLINK_KEY`, which the
+/// crate's build script reads and the pymavlink peer takes too), their signing clock starting
+/// now (`TWOCARS_MAVLINK_KEY_TIME`: a peer refuses a new stream more than a minute behind its
+/// own clock, and the unit has no real-time clock of its own).
+pub fn set_signing_key(key: &std::path::Path) {
+    let key = std::fs::canonicalize(key).unwrap_or_else(|_| key.to_path_buf());
+    /// 2015-01-01T00:00:00Z in Unix seconds: the signing clock's epoch.
+    const EPOCH_2015: u64 = 1_420_070_400;
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_micros() as u64 / 10);
+    let time = now.saturating_sub(EPOCH_2015 * 100_000);
+    // Set before any thread starts (xtask's commands run on the main thread).
+    std::env::set_var("TWOCARS_MAVLINK_KEY", key);
+    std::env::set_var("TWOCARS_MAVLINK_KEY_TIME", time.to_string());
 }
