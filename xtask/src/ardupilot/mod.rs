@@ -10,7 +10,6 @@ mod sitl;
 mod telemetry;
 mod vehicle;
 
-use std::net::TcpStream;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -136,7 +135,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
     )?;
     let (elf, _) = build::build_checked(Board::QemuMavlink)?;
     let launched = emulator::launch(&elf, Board::QemuMavlink, false)?;
-    let unit = connect(launched.port)?;
+    let unit = emulator::connect(launched.port, "the unit")?;
     let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
     let (_sitl, autopilot) = sitl::Sitl::start(&binary, 0, home)?;
     let mut h = Harness::new(Router::new(autopilot, unit)?, HOME, TARGET_SYSTEM);
@@ -208,19 +207,6 @@ fn cost_line(c: &crate::bench::mavlink::ReplayMeasured) -> String {
         100.0 * per_second / 168e6,
         c.stack
     )
-}
-
-fn connect(port: u16) -> Result<TcpStream, String> {
-    let deadline = std::time::Instant::now() + Duration::from_secs(20);
-    loop {
-        match TcpStream::connect(("127.0.0.1", port)) {
-            Ok(s) => return Ok(s),
-            Err(e) if std::time::Instant::now() > deadline => {
-                return Err(format!("could not connect to the unit on port {port}: {e}"))
-            }
-            Err(_) => std::thread::sleep(Duration::from_millis(50)),
-        }
-    }
 }
 
 /// One chase in one paragraph.

@@ -4,7 +4,6 @@
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
 
 /// Where `ardurover` is looked for when no path is given: beside the repository, as the team's
 /// machines have it.
@@ -68,16 +67,7 @@ impl Sitl {
             .map_err(|e| format!("{}: {e}", binary.display()))?;
         let sitl = Sitl { child };
         let port = 5760 + 10 * instance;
-        let deadline = Instant::now() + Duration::from_secs(20);
-        let stream = loop {
-            match TcpStream::connect(("127.0.0.1", port)) {
-                Ok(s) => break s,
-                Err(e) if Instant::now() > deadline => {
-                    return Err(format!("ArduPilot SITL never listened on port {port}: {e}"));
-                }
-                Err(_) => std::thread::sleep(Duration::from_millis(100)),
-            }
-        };
+        let stream = crate::firmware::emulator::connect(port, "ArduPilot SITL")?;
         Ok((sitl, stream))
     }
 }

@@ -99,18 +99,7 @@ impl Emulator {
     pub fn start(elf: &Path, board: Board, show_logs: bool) -> Result<Emulator, String> {
         let launched = launch(elf, board, show_logs)?;
         let port = launched.port;
-        let deadline = Instant::now() + Duration::from_secs(20);
-        let stream = loop {
-            match TcpStream::connect(("127.0.0.1", port)) {
-                Ok(s) => break s,
-                Err(e) if Instant::now() > deadline => {
-                    return Err(format!(
-                        "could not connect to the emulator on port {port}: {e}"
-                    ));
-                }
-                Err(_) => std::thread::sleep(Duration::from_millis(50)),
-            }
-        };
+        let stream = connect(port, "the emulator")?;
         stream
             .set_read_timeout(Some(Duration::from_secs(10)))
             .map_err(|e| e.to_string())?;
@@ -229,6 +218,21 @@ impl Emulator {
                 return Err("the emulator did not exit after Shutdown".to_string());
             }
             std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+}
+
+/// Connects to `what` listening on 127.0.0.1:`port`, trying every 50 ms for 20 s (a server
+/// just started is not listening at once).
+pub fn connect(port: u16, what: &str) -> Result<TcpStream, String> {
+    let deadline = Instant::now() + Duration::from_secs(20);
+    loop {
+        match TcpStream::connect(("127.0.0.1", port)) {
+            Ok(s) => return Ok(s),
+            Err(e) if Instant::now() > deadline => {
+                return Err(format!("could not connect to {what} on port {port}: {e}"));
+            }
+            Err(_) => std::thread::sleep(Duration::from_millis(50)),
         }
     }
 }
