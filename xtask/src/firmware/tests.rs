@@ -386,82 +386,99 @@ fn fixed_point_closed_loop(elf: &std::path::Path, board: Board) -> Outcome {
     Ok(format!("identical runs: {}", times.join(", ")))
 }
 
-/// Runs the micro:bit image's QEMU tests; returns (passed, failed).
-fn run_microbit(record: &mut impl FnMut(&str, Outcome)) {
-    println!("== xtask test: firmware in QEMU (micro:bit, Cortex-M0, fixed point)");
-    let elf = match build::build_checked(Board::Microbit) {
-        Ok((elf, _)) => elf,
-        Err(e) => {
-            record("qemu::microbit_image_builds", Err(e));
-            return;
-        }
-    };
-    record(
-        "qemu::microbit_scripted_session_matches_the_host_fixed_point_unit",
-        scripted_session_on::<Fixed>(&elf, Board::Microbit),
-    );
-    record(
-        "qemu::microbit_closed_loop_equals_the_same_unit_on_the_host_bit_for_bit",
-        fixed_point_closed_loop(&elf, Board::Microbit),
-    );
+/// A test of one board's image: the ELF and the board.
+type BoardTest = fn(&std::path::Path, Board) -> Outcome;
+
+/// One board's flight image in its emulator, as `cargo xtask build` builds it, and the tests
+/// run on it; `failed_build` names the record of a build (or emulator install) that failed.
+struct ImageTests {
+    heading: &'static str,
+    board: Board,
+    failed_build: &'static str,
+    tests: &'static [(&'static str, BoardTest)],
 }
 
-/// The Raspberry Pi Pico flight image, as `cargo xtask build --board rp2040` builds it, in
-/// rp2040js: the micro:bit's checks and the line-noise burst.
-fn run_rp2040(record: &mut impl FnMut(&str, Outcome)) {
-    println!(
-        "== xtask test: firmware in rp2040js (RP2040, Cortex-M0+, fixed point, the flight image)"
-    );
-    let elf = match crate::firmware::rp2040js::installed()
-        .and_then(|_| build::build_checked(Board::Rp2040))
-    {
-        Ok((elf, _)) => elf,
-        Err(e) => {
-            record("rp2040js::rp2040_image_runs", Err(e));
-            return;
-        }
-    };
-    record(
-        "rp2040js::rp2040_scripted_session_matches_the_host_fixed_point_unit",
-        scripted_session_on::<Fixed>(&elf, Board::Rp2040),
-    );
-    record(
-        "rp2040js::rp2040_closed_loop_equals_the_same_unit_on_the_host_bit_for_bit",
-        fixed_point_closed_loop(&elf, Board::Rp2040),
-    );
-    record(
-        "rp2040js::rp2040_watchdog_latches_the_safe_command_until_reset",
-        watchdog_on(&elf, Board::Rp2040),
-    );
-    record(
-        "rp2040js::rp2040_states_through_line_noise_are_all_answered_in_order",
-        noisy_stream_on(&elf, Board::Rp2040),
-    );
-}
+/// The micro:bit (fixed point); the STM32F405, whose crystal never starts in netduinoplus2
+/// (it runs on the internal oscillator); the Raspberry Pi Pico in rp2040js.
+const IMAGE_TESTS: [ImageTests; 3] = [
+    ImageTests {
+        heading: "firmware in QEMU (micro:bit, Cortex-M0, fixed point)",
+        board: Board::Microbit,
+        failed_build: "qemu::microbit_image_builds",
+        tests: &[
+            (
+                "qemu::microbit_scripted_session_matches_the_host_fixed_point_unit",
+                scripted_session_on::<Fixed>,
+            ),
+            (
+                "qemu::microbit_closed_loop_equals_the_same_unit_on_the_host_bit_for_bit",
+                fixed_point_closed_loop,
+            ),
+        ],
+    },
+    ImageTests {
+        heading: "firmware in QEMU (netduinoplus2, STM32F405, the flight image)",
+        board: Board::Stm32f405,
+        failed_build: "qemu::stm32f405_image_builds",
+        tests: &[
+            (
+                "qemu::stm32f405_scripted_session_matches_the_host_unit",
+                scripted_session_on::<f32>,
+            ),
+            (
+                "qemu::stm32f405_closed_loop_matches_the_host_simulation",
+                closed_loop_on,
+            ),
+            (
+                "qemu::stm32f405_states_through_line_noise_are_all_answered_in_order",
+                noisy_stream_on,
+            ),
+        ],
+    },
+    ImageTests {
+        heading: "firmware in rp2040js (RP2040, Cortex-M0+, fixed point, the flight image)",
+        board: Board::Rp2040,
+        failed_build: "rp2040js::rp2040_image_runs",
+        tests: &[
+            (
+                "rp2040js::rp2040_scripted_session_matches_the_host_fixed_point_unit",
+                scripted_session_on::<Fixed>,
+            ),
+            (
+                "rp2040js::rp2040_closed_loop_equals_the_same_unit_on_the_host_bit_for_bit",
+                fixed_point_closed_loop,
+            ),
+            (
+                "rp2040js::rp2040_watchdog_latches_the_safe_command_until_reset",
+                watchdog_on,
+            ),
+            (
+                "rp2040js::rp2040_states_through_line_noise_are_all_answered_in_order",
+                noisy_stream_on,
+            ),
+        ],
+    },
+];
 
-/// The STM32F405 flight image, as `cargo xtask build --board stm32f405` builds it, in QEMU's
-/// netduinoplus2: its crystal never starts there, so it runs on the internal oscillator.
-fn run_stm32f405(record: &mut impl FnMut(&str, Outcome)) {
-    println!("== xtask test: firmware in QEMU (netduinoplus2, STM32F405, the flight image)");
-    let elf = match build::build_checked(Board::Stm32f405) {
-        Ok((elf, _)) => elf,
-        Err(e) => {
-            record("qemu::stm32f405_image_builds", Err(e));
-            return;
+/// Builds each board's image (rp2040js installed first where it runs there) and runs its tests.
+fn run_images(record: &mut impl FnMut(&str, Outcome)) {
+    for image in &IMAGE_TESTS {
+        println!("== xtask test: {}", image.heading);
+        let ready = match image.board.machine() {
+            Some(build::Machine::Rp2040js) => crate::firmware::rp2040js::installed().map(|_| ()),
+            _ => Ok(()),
+        };
+        let elf = match ready.and_then(|()| build::build_checked(image.board)) {
+            Ok((elf, _)) => elf,
+            Err(e) => {
+                record(image.failed_build, Err(e));
+                continue;
+            }
+        };
+        for (name, test) in image.tests {
+            record(name, test(&elf, image.board));
         }
-    };
-    record(
-        "qemu::stm32f405_scripted_session_matches_the_host_unit",
-        scripted_session_on::<f32>(&elf, Board::Stm32f405),
-    );
-    record(
-        "qemu::stm32f405_closed_loop_matches_the_host_simulation",
-        closed_loop_on(&elf, Board::Stm32f405),
-    );
-    record(
-        "qemu::stm32f405_states_through_line_noise_are_all_answered_in_order",
-        noisy_stream_on(&elf, Board::Stm32f405),
-    );
+    }
 }
 
 /// Runs the QEMU tests; returns (passed, failed).
@@ -503,9 +520,7 @@ pub fn run() -> (u64, u64) {
     for (name, test) in tests {
         record(name, test(&elf));
     }
-    run_microbit(&mut record);
-    run_stm32f405(&mut record);
-    run_rp2040(&mut record);
+    run_images(&mut record);
     crate::firmware::tables::run(&mut record);
     println!("== xtask test: the serial loop's bench session in QEMU (mps2-an386)");
     record(
