@@ -363,48 +363,27 @@ fn clippy_firmware(suite: &mut Suite) -> bool {
         return false;
     };
     let examples = TARGET_EXAMPLES.iter().all(|(example, features, target)| {
-        let clippy = [
-            "clippy",
-            "-p",
-            "twocars",
-            "--release",
-            "--target",
-            target,
-            "--features",
-            features,
-            "--example",
-            example,
-            "--",
-            "-D",
-            "warnings",
-        ];
         let title = format!("clippy of the example {example}");
+        let clippy = clippy_twocars(target, features, &["--example", example]);
         step(&title, &suite.cargo, &clippy, &[])
     });
     examples
         && FIRMWARE.iter().all(|(feature, name, target)| {
-            let clippy = [
-                "clippy",
-                "-p",
-                "twocars",
-                "--release",
-                "--target",
-                target,
-                "--features",
-                feature,
-                "--bins",
-                "--",
-                "-D",
-                "warnings",
-            ];
             let title = format!("clippy of the {name} firmware");
-            step(
-                &title,
-                &suite.cargo,
-                &clippy,
-                &[("TWOCARS_VALUE_TABLES", tables.as_str())],
-            )
+            let clippy = clippy_twocars(target, feature, &["--bins"]);
+            let tables = [("TWOCARS_VALUE_TABLES", tables.as_str())];
+            step(&title, &suite.cargo, &clippy, &tables)
         })
+}
+
+/// `cargo clippy` of twocars's `what` (`--bins`, `--example NAME`) in release for `target`
+/// with `features`, warnings denied.
+fn clippy_twocars<'a>(target: &'a str, features: &'a str, what: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec!["clippy", "-p", "twocars", "--release", "--target", target];
+    args.extend(["--features", features]);
+    args.extend(what);
+    args.extend(["--", "-D", "warnings"]);
+    args
 }
 
 /// The bench images and the on-target tests (`twocars-bench`, every image's features at once)
