@@ -269,6 +269,11 @@ impl LoopEnd<'_> {
         self.to_send.len() == 0
     }
 
+    /// Free bytes in the transmit queue.
+    pub fn room(&self) -> usize {
+        self.to_send.capacity() - self.to_send.len()
+    }
+
     /// The line's fault counts.
     pub fn faults(&self) -> LineCounts {
         self.faults.snapshot()

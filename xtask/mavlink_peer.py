@@ -124,7 +124,8 @@ def serve(port, key=None):
     """JSON requests: {"op": "heartbeat"} (the first heartbeat and the STATUSTEXTs around it),
     {"op": "set", "name", "value"}, {"op": "list"},
     {"op": "step", "own": [time_ms, [lat, lon], [vx, vy], hdg], "target": [...]},
-    {"op": "quiet", "seconds"}."""
+    {"op": "quiet", "seconds"} and, where signing is on,
+    {"op": "refusals", "name", "value", "kept"}."""
     peer = Peer(port)
     if key is not None:
         # Signed both ways; a signed heartbeat first, from which the unit (no real-time
@@ -163,21 +164,102 @@ def serve(port, key=None):
             time.sleep(request["seconds"])
             peer.collect(0.05)
             answer = {}
-        elif op == "unsigned_set":
-            # A PARAM_SET without a signature, where signing is on: no PARAM_VALUE may come,
-            # and the next TC_BADFRM counts it.
-            peer.conn.mav.signing.sign_outgoing = False
-            peer.send_as(GCS, mavlink.MAVLink_param_set_message(
-                UNIT[0], UNIT[1], request["name"].encode(), request["value"],
-                mavlink.MAV_PARAM_TYPE_REAL32))
-            peer.conn.mav.signing.sign_outgoing = True
-            reply, _ = peer.wait("PARAM_VALUE", timeout=0.5)
-            bad, _ = peer.wait("NAMED_VALUE_FLOAT", timeout=2.5, where=lambda m: m.name == "TC_BADFRM")
-            answer = {"answered": reply is not None,
-                      "bad_frames": None if bad is None else bad.value}
+        elif op == "refusals":
+            answer = refusals(peer, request["name"], request["value"], request["kept"])
         else:
             answer = {"error": f"unknown op {op}"}
         print(json.dumps(answer), flush=True)
+
+
+SIGNATURE_COUNTERS = ("TC_BADFRM", "TC_NOSIG", "TC_BADSIG", "TC_OLDSIG")
+
+
+def signature_counters(peer, before=None, timeout=2.5):
+    """The unit's counters from its next heartbeat group (the first that differs from
+    `before`, where given)."""
+    deadline = time.monotonic() + timeout
+    counts = {}
+    while time.monotonic() < deadline:
+        m, _ = peer.wait("NAMED_VALUE_FLOAT", timeout=deadline - time.monotonic(),
+                         where=lambda m: m.name in SIGNATURE_COUNTERS)
+        if m is None:
+            break
+        counts[m.name] = m.value
+        if m.name == SIGNATURE_COUNTERS[-1]:
+            if before is None or counts != before:
+                return counts
+            counts = {}
+    return counts or None
+
+
+def refusals(peer, name, value, kept):
+    """Where signing is on: a PARAM_SET of `name` to `value` unsigned, under a wrong key,
+    replayed, with a timestamp gone back and with its signature cut short; each must go
+    unanswered and count once. Then `name` read back (`kept` expected) and pymavlink's own
+    verdict on every frame the unit signed."""
+    signing = peer.conn.mav.signing
+    param_set = mavlink.MAVLink_param_set_message(
+        UNIT[0], UNIT[1], name.encode(), value, mavlink.MAV_PARAM_TYPE_REAL32)
+    peer.conn.mav.srcSystem, peer.conn.mav.srcComponent = GCS
+
+    def unsigned():
+        signing.sign_outgoing = False
+        peer.raw(param_set.pack(peer.conn.mav))
+        signing.sign_outgoing = True
+
+    def wrong_key():
+        key, signing.secret_key = signing.secret_key, bytes(range(100, 132))
+        peer.raw(param_set.pack(peer.conn.mav))
+        signing.secret_key = key
+
+    def replayed():
+        # A signed PARAM_SET to the value the parameter has, taken and answered; then the
+        # same bytes again.
+        taken = mavlink.MAVLink_param_set_message(
+            UNIT[0], UNIT[1], name.encode(), kept, mavlink.MAV_PARAM_TYPE_REAL32)
+        frame = taken.pack(peer.conn.mav)
+        peer.raw(frame)
+        reply, _ = peer.wait("PARAM_VALUE", timeout=1.0, where=lambda m: m.param_id == name)
+        if reply is None:
+            raise AssertionError("the signed original of the replay was not answered")
+        peer.raw(frame)
+
+    def gone_back():
+        now = signing.timestamp
+        signing.timestamp = now - 100_000  # one second back
+        peer.raw(param_set.pack(peer.conn.mav))
+        signing.timestamp = now + 1
+
+    def truncated():
+        # Six bytes short: the next frame's first six complete its signature, which fails;
+        # the rest of that frame is noise to the unit.
+        frame = param_set.pack(peer.conn.mav)
+        filler = mavlink.MAVLink_heartbeat_message(
+            mavlink.MAV_TYPE_GCS, mavlink.MAV_AUTOPILOT_INVALID, 0, 0, 0, 3)
+        peer.raw(frame[:-6] + filler.pack(peer.conn.mav))
+
+    counts = signature_counters(peer)
+    cases = []
+    for case, send, counter in [("unsigned", unsigned, "TC_NOSIG"),
+                                ("wrong key", wrong_key, "TC_BADSIG"),
+                                ("replayed", replayed, "TC_OLDSIG"),
+                                ("timestamp gone back", gone_back, "TC_OLDSIG"),
+                                ("signature truncated", truncated, "TC_BADSIG")]:
+        send()
+        reply, _ = peer.wait("PARAM_VALUE", timeout=0.5, where=lambda m: m.param_id == name)
+        after = signature_counters(peer, counts) or {}
+        rose = {k: after.get(k, 0) - counts.get(k, 0) for k in SIGNATURE_COUNTERS}
+        # Counted once, in its own counter and in TC_BADFRM, and nowhere else.
+        counted = rose == {k: float(k in (counter, "TC_BADFRM")) for k in SIGNATURE_COUNTERS}
+        cases.append({"case": case, "answered": reply is not None, "counter": counter,
+                      "counted": counted, "now": after.get(counter)})
+        counts = after or counts
+    peer.send_as(GCS, mavlink.MAVLink_param_request_read_message(
+        UNIT[0], UNIT[1], name.encode(), -1))
+    read, _ = peer.wait("PARAM_VALUE", where=lambda m: m.param_id == name)
+    return {"cases": cases, "value": None if read is None else read.param_value,
+            "unit_frames": {"good": signing.goodsig_count, "bad": signing.badsig_count,
+                            "unsigned": signing.unsigned_count}}
 
 
 # --- the scripted session -------------------------------------------------------------------

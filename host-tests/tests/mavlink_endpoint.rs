@@ -10,7 +10,7 @@ use host_tests::mavlink_spec::{
     PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT, SET_ATTITUDE_TARGET, STATUSTEXT,
 };
 use std::f64::consts::{FRAC_PI_2, PI};
-use twocars::mavlink::Endpoint;
+use twocars::mavlink::{Endpoint, SPECS};
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
 /// MAV_SEVERITY_WARNING and MAV_SEVERITY_INFO.
@@ -172,13 +172,54 @@ fn a_fallback_clock_is_announced_with_the_first_heartbeat_and_every_30_s() {
 }
 
 #[test]
-fn parameters_are_listed_read_and_set_as_the_contract_says() {
+fn a_parameter_list_goes_out_as_the_transmit_queue_has_room() {
+    let room = 120;
     let mut link = Link::new();
-    let list = link.send(
+    link.poll();
+    link.send(
         (255, 190),
         PARAM_REQUEST_LIST,
         &param_request_list_payload((1, 191)),
     );
+    let (mut names, mut passes) = (Vec::new(), 0);
+    loop {
+        let mut out = Vec::new();
+        link.endpoint
+            .poll_within(link.now_ms, room, &mut |f| out.extend_from_slice(f));
+        if out.is_empty() {
+            break;
+        }
+        assert!(out.len() <= room, "{} bytes into {room}", out.len());
+        let sent = read_v2(&out, &SENT_BY_ENDPOINT).unwrap();
+        names.extend(sent.iter().map(|s| param(s).0));
+        passes += 1;
+    }
+    assert_eq!(names, SPECS.map(|s| s.name.to_string()));
+    assert!(passes > 1, "the list fit {room} bytes at once");
+    // No room at all: nothing goes out, and the list waits.
+    link.send(
+        (255, 190),
+        PARAM_REQUEST_LIST,
+        &param_request_list_payload((1, 191)),
+    );
+    let mut out = Vec::new();
+    link.endpoint
+        .poll_within(link.now_ms, 0, &mut |f| out.extend_from_slice(f));
+    assert!(out.is_empty());
+    assert_eq!(link.poll().len(), SPECS.len());
+}
+
+#[test]
+fn parameters_are_listed_read_and_set_as_the_contract_says() {
+    let mut link = Link::new();
+    link.poll(); // the first heartbeat
+    let asked = link.send(
+        (255, 190),
+        PARAM_REQUEST_LIST,
+        &param_request_list_payload((1, 191)),
+    );
+    assert!(asked.is_empty(), "the list goes out from the next poll on");
+    let list = link.poll();
     let got: Vec<(String, f32)> = list.iter().map(param).collect();
     let want = [
         ("TC_V_PM", 2.0),
@@ -211,13 +252,12 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
     );
     assert_eq!(param(&by_index[0]), ("TC_TGT_SYSID".into(), 2.0));
     // Addressed to another system: no answer.
-    assert!(link
-        .send(
-            (255, 190),
-            PARAM_REQUEST_LIST,
-            &param_request_list_payload((7, 191))
-        )
-        .is_empty());
+    link.send(
+        (255, 190),
+        PARAM_REQUEST_LIST,
+        &param_request_list_payload((7, 191)),
+    );
+    assert!(link.poll().is_empty());
 
     let ok = link.set("TC_TIMEOUT", 0.5);
     assert_eq!(ok.len(), 1);

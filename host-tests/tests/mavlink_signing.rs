@@ -4,10 +4,11 @@
 //! refused and counted.
 
 use host_tests::mavlink_spec::{
-    param_set_payload, read_v2, v2_from, PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT,
+    param_set_payload, read_v2, v2_from, NAMED_VALUE_FLOAT, PARAM_SET, PARAM_VALUE,
+    SENT_BY_ENDPOINT,
 };
 use twocars::mavlink::signing::{signature, SignatureRefusal, Verifier, KEY_LEN, SIGNATURE_LEN};
-use twocars::mavlink::Endpoint;
+use twocars::mavlink::{Endpoint, SIGNATURE_COUNTERS};
 
 /// The key of the vector below: bytes 0 to 31.
 fn key() -> [u8; KEY_LEN] {
@@ -164,6 +165,29 @@ fn unsigned_wrongly_keyed_replayed_older_and_truncated_frames_are_refused_and_co
     let c = endpoint.counters();
     assert_eq!((c.unsigned, c.bad_signature, c.stale_signature), (1, 3, 2));
     assert_eq!(endpoint.params().get(7), Some(0.5), "TC_TIMEOUT kept");
+    // The heartbeat's named values say the same, each refusal also in TC_BADFRM.
+    let mut beat = Vec::new();
+    endpoint.poll(15, &mut |f| beat.extend_from_slice(f));
+    let sent = read_v2(
+        &unsign(&beat, &mut Verifier::new(key(), 0)),
+        &SENT_BY_ENDPOINT,
+    )
+    .unwrap();
+    let named: Vec<(String, f32)> = sent
+        .iter()
+        .filter(|m| m.id == NAMED_VALUE_FLOAT.0)
+        .map(|m| (m.text(8, 10), m.f32(4)))
+        .collect();
+    let [nosig, badsig, oldsig] = SIGNATURE_COUNTERS.map(String::from);
+    assert_eq!(
+        named,
+        [
+            ("TC_BADFRM".to_string(), 6.0),
+            (nosig, 1.0),
+            (badsig, 3.0),
+            (oldsig, 2.0)
+        ]
+    );
     // A newer signed frame is still taken.
     assert!(!feed(&mut endpoint, &good(7, 7_000_000), 20).is_empty());
     assert_eq!(endpoint.params().get(7), Some(0.5));

@@ -8,7 +8,8 @@
 //! - Target: GLOBAL_POSITION_INT from system TC_TGT_SYSID, or FOLLOW_TARGET from anyone.
 //! - The control period is the own states' spacing on the autopilot's clock (`time_boot_ms`),
 //!   100 ms until two have arrived; the staleness limit TC_TIMEOUT runs on our clock.
-//! - HEARTBEAT at 1 Hz, with NAMED_VALUE_FLOAT "TC_BADFRM": the frames dropped so far.
+//! - HEARTBEAT at 1 Hz, with NAMED_VALUE_FLOAT "TC_BADFRM": the frames dropped so far; where
+//!   signing is on, also the signature refusals by kind ([`SIGNATURE_COUNTERS`]).
 //! - Signing (`with_signing`, [`super::signing`]): every frame in must be signed under the
 //!   key, ours are signed; an image built without a key says "signing off" once.
 //! - A board on its fallback clock says so in a STATUSTEXT (WARNING) with the first heartbeat
@@ -31,7 +32,7 @@ use ::mavlink::dialects::common::{
 
 use super::frame::{Frame, FrameReader};
 use super::messages::{decode, extra_crc, Message};
-use super::outgoing::{Outbox, COMPONENT};
+use super::outgoing::{Outbox, COMPONENT, MAX_PARAM_VALUE};
 use super::params::{index, Params, Refusal, SPECS};
 use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN, LINK_ID, PROVISIONED};
 use crate::geodetic::{
@@ -52,6 +53,10 @@ pub const HEARTBEAT_MS: u32 = 1000;
 /// The NAMED_VALUE_FLOAT sent with each heartbeat: frames dropped so far (bad checksum,
 /// unsupported flags, fields that do not decode).
 pub const BAD_FRAMES: &str = "TC_BADFRM";
+/// The NAMED_VALUE_FLOATs sent with each heartbeat where signing is on: frames refused
+/// unsigned, with a bad signature, and with a timestamp not newer than their stream's last.
+/// Each is also in [`BAD_FRAMES`].
+pub const SIGNATURE_COUNTERS: [&str; 3] = ["TC_NOSIG", "TC_BADSIG", "TC_OLDSIG"];
 /// The STATUSTEXT (NOTICE) an image built without a key sends with its first heartbeat.
 pub const UNSIGNED_TEXT: &str = "TC: signing off, any sender can steer";
 /// The period of the fallback clock's STATUSTEXT, ms.
@@ -197,6 +202,8 @@ struct Session {
     announce_unsigned: bool,
     /// The signing clock at our millisecond 0 (10 us since 2015-01-01).
     signing_base: u64,
+    /// The next PARAM_VALUE of a PARAM_REQUEST_LIST still being answered.
+    listing: Option<usize>,
     counters: EndpointCounters,
 }
 
@@ -226,6 +233,7 @@ impl Endpoint {
             verifier: None,
             announce_unsigned: false,
             signing_base: 0,
+            listing: None,
             counters: EndpointCounters::default(),
         };
         session.rebuild_guidance();
@@ -308,9 +316,26 @@ impl Endpoint {
         }
     }
 
-    /// The heartbeat (1 Hz) and the staleness check, at our time `now_ms`: call it every pass
-    /// of the loop.
+    /// The heartbeat (1 Hz), the staleness check and the rest of a parameter list, at our
+    /// time `now_ms`: call it every pass of the loop. Where what is sent goes to a queue of
+    /// bounded room, call [`Endpoint::poll_within`] instead.
     pub fn poll(&mut self, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
+        self.poll_within(now_ms, usize::MAX, send);
+    }
+
+    /// [`Endpoint::poll`] where `room` bytes are free in the transmit queue: a parameter list
+    /// goes out only as far as it fits, and goes on at the next pass, so a PARAM_REQUEST_LIST
+    /// never overflows the queue (the autopilot's way, ArduPilot's deferred parameter sends).
+    pub fn poll_within(&mut self, now_ms: u32, room: usize, send: &mut dyn FnMut(&[u8])) {
+        let mut left = room;
+        self.poll_periodic(now_ms, &mut |frame| {
+            left = left.saturating_sub(frame.len());
+            send(frame);
+        });
+        self.session.continue_listing(left, send);
+    }
+
+    fn poll_periodic(&mut self, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
         let s = &mut self.session;
         s.tick_signing_clock(now_ms);
         let due = s
@@ -330,6 +355,13 @@ impl Endpoint {
                 .wrapping_add(c.stale_signature);
             s.outbox
                 .named_value(s.sysid(), now_ms, BAD_FRAMES, bad as f32, send);
+            if s.verifier.is_some() {
+                let counts = [c.unsigned, c.bad_signature, c.stale_signature];
+                for (name, count) in SIGNATURE_COUNTERS.into_iter().zip(counts) {
+                    s.outbox
+                        .named_value(s.sysid(), now_ms, name, count as f32, send);
+                }
+            }
             s.board_notice(now_ms, send);
             if core::mem::take(&mut s.announce_unsigned) {
                 let severity = MavSeverity::MAV_SEVERITY_NOTICE;
@@ -369,6 +401,25 @@ impl Session {
         if let Some(verifier) = &self.verifier {
             let ours = self.signing_base + u64::from(now_ms) * 100;
             self.outbox.timestamp = ours.max(verifier.newest);
+        }
+    }
+
+    /// The parameter list's next PARAM_VALUEs, while each fits in `room` bytes.
+    fn continue_listing(&mut self, mut room: usize, send: &mut dyn FnMut(&[u8])) {
+        while let Some(i) = self.listing {
+            if i >= SPECS.len() {
+                self.listing = None;
+            } else if room < MAX_PARAM_VALUE {
+                return;
+            } else {
+                let system = self.sysid();
+                self.outbox
+                    .param_value(system, &self.params, i, &mut |frame| {
+                        room = room.saturating_sub(frame.len());
+                        send(frame);
+                    });
+                self.listing = Some(i + 1);
+            }
         }
     }
 
@@ -455,9 +506,8 @@ impl Session {
                 }
             }
             Message::ParamRequestList(m) if for_us(m.target_system, m.target_component) => {
-                for i in 0..SPECS.len() {
-                    self.outbox.param_value(self.sysid(), &self.params, i, send);
-                }
+                // Sent from the next poll on, as the transmit queue has room.
+                self.listing = Some(0);
             }
             Message::Heartbeat(_) => {}
             _ => self.counters.ignored = self.counters.ignored.wrapping_add(1),

@@ -17,7 +17,8 @@ pub mod service;
 pub mod signing;
 
 pub use endpoint::{
-    Endpoint, EndpointCounters, Halt, BOARD_NOTICE_MS, FALLBACK_CLOCK_TEXT, UNSIGNED_TEXT,
+    Endpoint, EndpointCounters, Halt, BOARD_NOTICE_MS, FALLBACK_CLOCK_TEXT, SIGNATURE_COUNTERS,
+    UNSIGNED_TEXT,
 };
 pub use frame::{Frame, FrameCounters, FrameReader, Version};
 pub use messages::{decode, extra_crc, Message, MessageError};

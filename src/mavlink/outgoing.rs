@@ -21,6 +21,8 @@ const HEADER: usize = 10;
 const MAX_PAYLOAD: usize = 255;
 /// The longest MAVLink 2 frame, signed.
 pub const MAX_OUT: usize = HEADER + MAX_PAYLOAD + 2 + SIGNATURE_LEN;
+/// The longest PARAM_VALUE frame, signed: its payload is 25 bytes.
+pub const MAX_PARAM_VALUE: usize = HEADER + 25 + 2 + SIGNATURE_LEN;
 
 /// Our sequence number, and our signer where signing is on; frames go to a `send` closure
 /// (the UART's transmit queue).

@@ -21,7 +21,7 @@ pub fn service<B: Board>(line: &mut LoopEnd<'_>, board: &B, endpoint: &mut Endpo
     let now = board.now_ms();
     let mut queued = false;
     let mut taken = 0;
-    endpoint.poll(now, &mut |frame| {
+    endpoint.poll_within(now, line.room(), &mut |frame| {
         queued = true;
         line.queue(frame);
     });
