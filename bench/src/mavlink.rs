@@ -3,7 +3,8 @@
 //! one (system 1, component 1) per control period, through the firmware's serial path (the UART
 //! interrupt's handler, the queues, [`twocars::mavlink::service::service`]) with a scripted UART.
 //! The same session with the positions from systems the endpoint ignores times their parsing
-//! alone; the empty session, the fixed cost (one heartbeat).
+//! alone; the empty session, the fixed cost (one heartbeat). Each runs twice: unsigned, and
+//! signed both ways under [`KEY`] (every position's signature checked, every frame sent signed).
 
 use ::mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 
@@ -12,11 +13,16 @@ use crate::STATES;
 use twocars::geodetic::LocalFrame;
 use twocars::mavlink::outgoing::Outbox;
 use twocars::mavlink::service::service;
+use twocars::mavlink::signing::{Signer, KEY_LEN};
 use twocars::mavlink::Endpoint;
 use twocars::serial::{Board, Line};
 
-/// Script bytes: 24 position frames of at most 40 bytes.
-pub const SCRIPT_CAPACITY: usize = 1024;
+/// Script bytes: 24 position frames of at most 53 bytes (40 and a signature).
+pub const SCRIPT_CAPACITY: usize = 1280;
+/// The signed sessions' key.
+pub const KEY: [u8; KEY_LEN] = [0x5a; KEY_LEN];
+/// The signed sessions' signing clock at the start (10 us since 2015-01-01: 2026-11-27).
+const SIGNING_START: u64 = 37_550_000_000_000;
 /// Control periods in the session.
 pub const PERIODS: usize = STATES.len();
 /// The home fix of the script, degE7 (PX4 SITL's).
@@ -35,8 +41,19 @@ pub enum Session {
     Guided,
 }
 
-/// Writes the session's frames into `out`; their length, `None` if they do not fit.
-pub fn script(session: Session, out: &mut [u8]) -> Option<usize> {
+/// Every session the bench runs: each kind unsigned, then signed.
+pub const SESSIONS: [(Session, bool); 6] = [
+    (Session::Empty, false),
+    (Session::Ignored, false),
+    (Session::Guided, false),
+    (Session::Empty, true),
+    (Session::Ignored, true),
+    (Session::Guided, true),
+];
+
+/// Writes the session's frames into `out`, signed under [`KEY`] where `signed`; their length,
+/// `None` if they do not fit.
+pub fn script(session: Session, signed: bool, out: &mut [u8]) -> Option<usize> {
     let frame = LocalFrame::new(HOME.0, HOME.1)?;
     let (own, target) = match session {
         Session::Empty => return Some(0),
@@ -44,6 +61,10 @@ pub fn script(session: Session, out: &mut [u8]) -> Option<usize> {
         Session::Guided => ((1, 1), (2, 1)),
     };
     let mut outbox = Outbox::default();
+    if signed {
+        outbox.signer = Some(Signer::new(KEY, 1));
+        outbox.timestamp = SIGNING_START;
+    }
     let mut len = 0;
     let mut fits = true;
     for (i, &(pursuer, evader)) in STATES.iter().enumerate() {
@@ -99,14 +120,18 @@ impl Board for StillBoard {
     fn start_transmit(&self) {}
 }
 
-/// The firmware's serial path over `script` with a fresh endpoint: 32 bytes (`BURST`) raised as
-/// receive interrupts, then a pass of the loop, then transmit interrupts until the queue is
-/// empty. Out of line, so that the bench's stack paint sees the endpoint.
+/// The firmware's serial path over `script` with a fresh endpoint (signing under [`KEY`] where
+/// `signed`): 32 bytes (`BURST`) raised as receive interrupts, then a pass of the loop, then
+/// transmit interrupts until the queue is empty. Out of line, so that the bench's stack paint
+/// sees the endpoint.
 #[inline(never)]
-pub fn serve_script(line: &mut Line, script: &[u8]) -> Outcome {
+pub fn serve_script(line: &mut Line, script: &[u8], signed: bool) -> Outcome {
     let (mut interrupt, mut main) = line.split();
     let mut uart = ScriptedUart::new(script);
     let mut endpoint = Endpoint::new();
+    if signed {
+        endpoint = endpoint.with_signing(KEY, 0, SIGNING_START);
+    }
     serve_bytes(
         &mut interrupt,
         &mut main,

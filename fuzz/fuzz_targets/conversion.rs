@@ -7,8 +7,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use twocars::num::fixed::Fixed;
 use twocars::num::fixed::wire::{self, Reciprocal};
+use twocars::num::fixed::Fixed;
 use twocars::Scalar;
 
 fn word(data: &[u8], i: usize) -> u32 {

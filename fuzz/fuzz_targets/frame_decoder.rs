@@ -5,8 +5,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
 use twocars::protocol::frame::{Deframer, Feed, Frame, MAX_FRAME};
+use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
 
 fuzz_target!(|data: &[u8]| {
     let cut = usize::from(data.first().copied().unwrap_or(1));

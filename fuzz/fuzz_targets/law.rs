@@ -48,7 +48,11 @@ fn check<S: Scalar>(observation: &Observation, period: f32, slack: f64) {
     // The sampled command of a stateful caller, with the fuzzed period.
     if let Ok(scene) = twocars::law::validate::<S>(observation) {
         for policy in [Policy::Paper, Policy::Flight] {
-            let Ok(g) = Guidance::new(Law::new(scene.limits, Variant::Clamped), period, twocars::Policy::Paper) else {
+            let Ok(g) = Guidance::new(
+                Law::new(scene.limits, Variant::Clamped),
+                period,
+                twocars::Policy::Paper,
+            ) else {
                 break;
             };
             let mut g = g.with_policy(policy);

@@ -5,10 +5,10 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg};
 use twocars::num::fixed::Fixed;
 use twocars::protocol::endpoint::Unit;
 use twocars::protocol::frame::{encode_frame, Deframer, Feed, Frame, MAX_ENCODED, MAX_FRAME};
+use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg};
 use twocars::Scalar;
 
 const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];

@@ -1,6 +1,6 @@
 //! `cargo xtask fuzz`: the libFuzzer targets in `fuzz/` (frame decoder, unit step, law, the
-//! fixed-point backend's f32 conversions, the MAVLink endpoint's input path and the whole
-//! endpoint), each
+//! fixed-point backend's f32 conversions, the MAVLink endpoint's input path, the whole
+//! endpoint, and the endpoint with signing on), each
 //! started from its committed seed corpus (`fuzz/seeds/<target>`), with a time or run budget;
 //! prints executions, corpus size and failures per target. `cargo xtask test` runs a short
 //! smoke run of each; the long run is recorded in `docs/reliability.md`.
@@ -12,13 +12,14 @@ use crate::progress::Progress;
 use crate::workspace::root;
 
 /// The fuzz targets.
-pub const TARGETS: [&str; 6] = [
+pub const TARGETS: [&str; 7] = [
     "frame_decoder",
     "unit_step",
     "law",
     "conversion",
     "mavlink_input",
     "mavlink_endpoint",
+    "mavlink_signed",
 ];
 
 /// Budget of one run.
@@ -101,6 +102,7 @@ fn seeds(target: &str) -> Vec<Vec<u8>> {
             out.push(session);
         }
         "mavlink_endpoint" => out.extend(mavlink_sessions()),
+        "mavlink_signed" => out.extend(signed_sessions()),
         _ => {
             for case in 0..4 {
                 let s = paper_state(case, 0);
@@ -171,6 +173,56 @@ fn mavlink_sessions() -> Vec<Vec<u8>> {
         [&session[..], &fixes[..], &others[..]].concat(),
         fixes,
     ]
+}
+
+/// The signed endpoint's seeds, in its records (op, length, bytes; `fuzz_targets/
+/// mavlink_signed.rs`): signed PARAM_SETs and positions, each refusal (unsigned, forged,
+/// replayed, older) once, and a parameter list.
+fn signed_sessions() -> Vec<Vec<u8>> {
+    use host_tests::autopilot::{hdg_cdeg, Plane, HOME};
+    use host_tests::mavlink_spec::{
+        param_request_list_payload, param_set_payload, position_payload_at, v2_from, PARAM_SET,
+    };
+    // (op, sender, message index in the target's table, payload); op 2 takes its timestamp
+    // offset first.
+    fn record(op: u8, body: &[u8]) -> Vec<u8> {
+        [&[op, body.len() as u8][..], body].concat()
+    }
+    let signed = |sender: (u8, u8), kind: u8, payload: &[u8]| {
+        record(1, &[&[sender.0, sender.1, kind][..], payload].concat())
+    };
+    let set = |name, value| param_set_payload((1, 191), name, value, 9);
+    let plane = Plane::new(HOME);
+    let mut fixes = Vec::new();
+    for k in 0..3_u32 {
+        let (lat, lon) = plane.fix(-3.0, -6.0 + f64::from(k) * 0.02);
+        let hdg = hdg_cdeg(std::f64::consts::FRAC_PI_2);
+        fixes.extend(signed(
+            (2, 1),
+            1,
+            &position_payload_at(k * 20, lat, lon, 0, 100, hdg),
+        ));
+        let (lat, lon) = plane.fix(0.0, f64::from(k) * 0.04);
+        fixes.extend(signed(
+            (1, 1),
+            1,
+            &position_payload_at(k * 20, lat, lon, 0, 200, hdg),
+        ));
+    }
+    let mut refusals = signed((255, 190), 0, &set("TC_TIMEOUT", 0.5));
+    refusals.extend(record(3, &[]));
+    refusals.extend(record(
+        0,
+        &v2_from(9, (255, 190), PARAM_SET, &set("TC_TIMEOUT", 0.7), false),
+    ));
+    let back = [&[0x00, 0x80, 1, 255, 190, 0][..], &set("TC_TIMEOUT", 0.8)].concat();
+    refusals.extend(record(2, &back));
+    refusals.extend(record(
+        0,
+        &v2_from(10, (255, 190), PARAM_SET, &set("TC_SYSID", 3.0), true),
+    ));
+    refusals.extend(signed((255, 190), 3, &param_request_list_payload((1, 191))));
+    vec![fixes.clone(), [refusals, fixes].concat()]
 }
 
 /// Writes the seed corpora (`cargo xtask fuzz --write-seeds`).
