@@ -74,6 +74,11 @@ pub struct Harness {
     pub tc_t: Vec<(u32, f32)>,
     /// The unit's last TC_BADFRM.
     pub bad_frames: Option<f32>,
+    /// The unit's last signature refusals by kind (TC_NOSIG, TC_BADSIG, TC_OLDSIG), where it
+    /// signs.
+    pub refusals: [Option<f32>; 3],
+    /// Frames from the autopilot that were signed, and that were not.
+    pub autopilot_signed: (u64, u64),
     /// PARAM_VALUEs (source, name, value).
     pub params: Vec<(Source, String, f32)>,
     /// COMMAND_ACKs from the autopilot (command, result).
@@ -98,6 +103,8 @@ impl Harness {
             setpoints: Vec::new(),
             tc_t: Vec::new(),
             bad_frames: None,
+            refusals: [None; 3],
+            autopilot_signed: (0, 0),
             params: Vec::new(),
             acks: Vec::new(),
             autopilot_frames: BTreeMap::new(),
@@ -166,6 +173,10 @@ impl Harness {
             let entry = self.autopilot_frames.entry(frame.message_id).or_default();
             entry.0 += 1;
             entry.1 += frame.bytes.len() as u64;
+            match frame.bytes.get(..3) {
+                Some([0xFD, _, flags]) if flags & 1 != 0 => self.autopilot_signed.0 += 1,
+                _ => self.autopilot_signed.1 += 1,
+            }
             if (frame.system, frame.component) == AUTOPILOT {
                 if let Some(MavMessage::GLOBAL_POSITION_INT(p)) = &message {
                     let fix = self.rover_fix(p);
@@ -234,9 +245,13 @@ impl Harness {
                 let name = String::from_utf8_lossy(&n.name[..])
                     .trim_end_matches('\0')
                     .to_string();
-                match name.as_str() {
-                    "TC_T" => self.tc_t.push((now, n.value)),
-                    "TC_BADFRM" => self.bad_frames = Some(n.value),
+                let refusal = twocars::mavlink::SIGNATURE_COUNTERS
+                    .iter()
+                    .position(|&c| c == name);
+                match (name.as_str(), refusal) {
+                    ("TC_T", _) => self.tc_t.push((now, n.value)),
+                    ("TC_BADFRM", _) => self.bad_frames = Some(n.value),
+                    (_, Some(i)) => self.refusals[i] = Some(n.value),
                     _ => {}
                 }
             }

@@ -133,18 +133,32 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         "ArduPilot Rover SITL not found: give --ardurover PATH or set TWOCARS_ARDUROVER \
          (docs/ardupilot.md says how to build it)",
     )?;
+    let key = signing_key()?;
     let (elf, _) = build::build_checked(Board::QemuMavlink)?;
     let launched = emulator::launch(&elf, Board::QemuMavlink, false)?;
     let unit = emulator::connect(launched.port, "the unit")?;
     let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
-    let (_sitl, autopilot) = sitl::Sitl::start(&binary, 0, home)?;
-    let mut h = Harness::new(Router::new(autopilot, unit)?, HOME, TARGET_SYSTEM);
+    let (_sitl, mut serial0) = sitl::Sitl::start(&binary, 0, home)?;
+    let router = match key {
+        None => Router::new(serial0, unit)?,
+        Some(key) => {
+            // The key goes to ArduPilot on SERIAL0, as a ground station's USB link gives it;
+            // the unit flies on SERIAL1, where ArduPilot signs and checks.
+            sitl::setup_signing(&mut serial0, key)?;
+            Router::new(sitl::connect_serial1(0)?, unit)?.with_signing(key, serial0)?
+        }
+    };
+    let mut h = Harness::new(router, HOME, TARGET_SYSTEM);
     println!("ArduPilot Rover SITL: {}", binary.display());
     let ready = vehicle::make_ready(&mut h, WP_SPEED)?;
     println!(
         "ready: EKF using GPS after {:.1} s, GUIDED and armed after {:.1} s",
         ready.ekf_s, ready.armed_s
     );
+    let probe = match h.router.signing() {
+        true => Some(signing_probe(&mut h)?),
+        false => None,
+    };
     let measured = vehicle::measure(&mut h)?;
     let limits = law_limits(&measured);
     println!(
@@ -172,16 +186,96 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         outcomes.push(outcome);
     }
     let telemetry = telemetry::summary(&h);
+    let signing = probe.map(|(unsigned_answered, signed_answered)| Signing {
+        unsigned_answered,
+        signed_answered,
+        autopilot_frames: h.autopilot_signed,
+        refusals: h.refusals,
+    });
     drop(launched);
-    let capture = telemetry::write_capture(&h)?;
-    let cost = crate::bench::mavlink::measure_replay(&capture)?;
+    // The replay image's endpoint has no key: the unsigned stream only.
+    let cost = match signing {
+        None => Some(crate::bench::mavlink::measure_replay(
+            &telemetry::write_capture(&h)?,
+        )?),
+        Some(_) => None,
+    };
     Ok(Flown {
         outcomes,
         measured,
         limits,
         telemetry,
         cost,
+        signing,
     })
+}
+
+/// The key the unit's image is built with (`TWOCARS_MAVLINK_KEY`), if any.
+fn signing_key() -> Result<Option<[u8; 32]>, String> {
+    let Some(hex) = crate::firmware::mavlink::signing_key()? else {
+        return Ok(None);
+    };
+    let mut key = [0u8; 32];
+    for (i, byte) in key.iter_mut().enumerate() {
+        *byte = u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).map_err(|e| e.to_string())?;
+    }
+    Ok(Some(key))
+}
+
+/// ArduPilot's check on the unit's link: whether an unsigned PARAM_REQUEST_READ of WP_SPEED
+/// was answered (it must not be), and whether a signed one was.
+fn signing_probe(h: &mut Harness) -> Result<(bool, bool), String> {
+    let ask = mavlink::dialects::common::PARAM_REQUEST_READ_DATA {
+        param_index: -1,
+        target_system: 1,
+        target_component: 1,
+        param_id: "WP_SPEED".into(),
+    };
+    let mut answered = [false; 2];
+    for (signed, slot) in [false, true].into_iter().zip(&mut answered) {
+        let from = h.params.len();
+        if signed {
+            h.router.send_to_autopilot(&ask)?;
+        } else {
+            h.router.send_unsigned_to_autopilot(&ask)?;
+        }
+        *slot = h.pump_until(&mut NoTarget, Duration::from_millis(1500), &mut |h| {
+            h.params[from..]
+                .iter()
+                .any(|(s, n, _)| *s == Source::Autopilot && n == "WP_SPEED")
+        })?;
+    }
+    Ok((answered[0], answered[1]))
+}
+
+/// What a signed run showed of signing.
+#[derive(Clone, Copy, Debug)]
+pub struct Signing {
+    /// ArduPilot answered an unsigned request on the unit's link.
+    pub unsigned_answered: bool,
+    /// ArduPilot answered a signed one.
+    pub signed_answered: bool,
+    /// ArduPilot's frames on the unit's link: signed, unsigned.
+    pub autopilot_frames: (u64, u64),
+    /// The unit's last TC_NOSIG, TC_BADSIG, TC_OLDSIG.
+    pub refusals: [Option<f32>; 3],
+}
+
+impl std::fmt::Display for Signing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [no, bad, old] = self
+            .refusals
+            .map(|v| v.map_or("none".to_string(), |v| v.to_string()));
+        write!(
+            f,
+            "signed both ways: ArduPilot {} an unsigned PARAM_REQUEST_READ on the unit's link and {} a signed one; \
+             its frames there {} signed, {} unsigned; the unit refused TC_NOSIG {no}, TC_BADSIG {bad}, TC_OLDSIG {old}",
+            if self.unsigned_answered { "ANSWERED" } else { "ignored" },
+            if self.signed_answered { "answered" } else { "IGNORED" },
+            self.autopilot_frames.0,
+            self.autopilot_frames.1,
+        )
+    }
 }
 
 /// What `fly` flew.
@@ -190,8 +284,11 @@ pub struct Flown {
     pub measured: vehicle::Measured,
     pub limits: [f64; 4],
     pub telemetry: telemetry::Summary,
-    /// The unit's cost on the Cortex-M4F over the run's stream (the bench's `replay` image).
-    pub cost: crate::bench::mavlink::ReplayMeasured,
+    /// The unit's cost on the Cortex-M4F over the run's stream (the bench's `replay` image),
+    /// where unsigned.
+    pub cost: Option<crate::bench::mavlink::ReplayMeasured>,
+    /// What the run showed of signing, where signed.
+    pub signing: Option<Signing>,
 }
 
 /// The cost paragraph.
@@ -249,7 +346,12 @@ pub fn run(options: &Options) -> i32 {
     match fly(options) {
         Ok(flown) => {
             println!("{}", flown.telemetry);
-            println!("{}", cost_line(&flown.cost));
+            if let Some(cost) = &flown.cost {
+                println!("{}", cost_line(cost));
+            }
+            if let Some(signing) = &flown.signing {
+                println!("{signing}");
+            }
             i32::from(!flown.outcomes.iter().all(|o| o.captured.is_some()))
         }
         Err(e) => {
@@ -287,6 +389,16 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
             .as_ref()
             .map_err(Clone::clone)
             .and_then(check_telemetry),
+    );
+    let signed = crate::firmware::tests::test_signing_key().and_then(|key| {
+        crate::firmware::run::set_signing_key(&key);
+        let flown = fly(&options);
+        crate::firmware::run::clear_signing_key();
+        flown
+    });
+    record(
+        "ardupilot::signed_both_ways_the_rover_captures_and_nothing_is_refused",
+        signed.as_ref().map_err(Clone::clone).and_then(check_signed),
     );
 }
 
@@ -333,6 +445,25 @@ fn check_telemetry(flown: &Flown) -> Result<String, String> {
         t.frames.frames,
         t.frames.unknown,
         t.unit_setpoints,
-        cost_line(&flown.cost)
+        flown
+            .cost
+            .as_ref()
+            .map_or("signed: no replay".to_string(), cost_line)
     ))
+}
+
+/// Signed both ways: ArduPilot ignores an unsigned request on the unit's link and answers a
+/// signed one, signs every frame it sends there, and the unit refuses none of them; the chase
+/// is checked as unsigned.
+fn check_signed(flown: &Flown) -> Result<String, String> {
+    let s = flown.signing.ok_or("the run was not signed")?;
+    let chase = check_chase(flown)?;
+    if s.unsigned_answered
+        || !s.signed_answered
+        || s.autopilot_frames.1 != 0
+        || s.refusals != [Some(0.0); 3]
+    {
+        return Err(format!("{s}; {chase}"));
+    }
+    Ok(format!("{s}; {chase}"))
 }

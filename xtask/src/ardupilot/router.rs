@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use mavlink::dialects::common::MavMessage;
 use mavlink::{MavlinkVersion, Message, MessageData};
 use twocars::mavlink::outgoing::Outbox;
+use twocars::mavlink::signing::Signer;
 
 /// MAVLink 1 and 2 start bytes.
 const STX_V1: u8 = 0xFE;
@@ -106,6 +107,9 @@ pub struct Router {
     from_autopilot: Splitter,
     from_unit: Splitter,
     outbox: Outbox,
+    /// Where signing is on: the autopilot's SERIAL0, read and dropped (it must stay
+    /// connected; the chase runs on SERIAL1, where ArduPilot checks signatures).
+    serial0: Option<TcpStream>,
     /// Every byte written to the unit's UART, with our clock (ms since the router started) at
     /// each write: the stream the unit parsed, for replays.
     pub to_unit_log: Vec<(u32, Vec<u8>)>,
@@ -114,6 +118,12 @@ pub struct Router {
 
 /// The host's ground-station identity.
 pub const GCS: (u8, u8) = (255, 190);
+/// The router's link id where it signs.
+pub const LINK_ID: u8 = 2;
+/// How far the router's signing clock runs ahead of the wall clock, 10 us: two minutes.
+/// ArduPilot starts its own a minute past the key's timestamp, and a receiver takes a new
+/// stream only within a minute of the newest it has seen.
+pub const CLOCK_LEAD: u64 = 12_000_000;
 
 impl Router {
     /// Joins the autopilot's and the unit's TCP links.
@@ -128,9 +138,36 @@ impl Router {
             from_autopilot: Splitter::default(),
             from_unit: Splitter::default(),
             outbox: Outbox::default(),
+            serial0: None,
             to_unit_log: Vec::new(),
             started: Instant::now(),
         })
+    }
+
+    /// The same router signing what it sends (the ground station's frames and the target's)
+    /// under `key` with link id [`LINK_ID`], its clock ahead of the wall clock by
+    /// [`CLOCK_LEAD`]; `serial0` is drained.
+    pub fn with_signing(mut self, key: [u8; 32], serial0: TcpStream) -> Result<Router, String> {
+        serial0.set_nonblocking(true).map_err(|e| e.to_string())?;
+        self.outbox.signer = Some(Signer::new(key, LINK_ID));
+        self.serial0 = Some(serial0);
+        Ok(self)
+    }
+
+    /// Whether the router signs.
+    pub fn signing(&self) -> bool {
+        self.outbox.signer.is_some()
+    }
+
+    /// Sends `message` from the ground station to the autopilot without a signature.
+    pub fn send_unsigned_to_autopilot<M: MessageData>(
+        &mut self,
+        message: &M,
+    ) -> Result<(), String> {
+        let signer = self.outbox.signer.take();
+        let bytes = self.encode(GCS, message);
+        self.outbox.signer = signer;
+        write_all(&mut self.autopilot, &bytes, "autopilot")
     }
 
     /// The next whole frame from either link, waiting up to `timeout`; not forwarded (the
@@ -143,6 +180,10 @@ impl Router {
             }
             if let Some(f) = self.from_unit.next_frame() {
                 return Ok(Some((Source::Unit, f)));
+            }
+            if let Some(serial0) = self.serial0.as_mut() {
+                let mut drained = Splitter::default();
+                read_into(serial0, &mut drained, "autopilot's SERIAL0")?;
             }
             let got = read_into(&mut self.autopilot, &mut self.from_autopilot, "autopilot")?
                 | read_into(&mut self.unit, &mut self.from_unit, "unit")?;
@@ -170,8 +211,9 @@ impl Router {
         write_all(&mut self.unit, bytes, "unit")
     }
 
-    /// Encodes `message` from `sender` (MAVLink 2).
+    /// Encodes `message` from `sender` (MAVLink 2; signed where signing is on).
     pub fn encode<M: MessageData>(&mut self, sender: (u8, u8), message: &M) -> Vec<u8> {
+        self.outbox.timestamp = crate::firmware::run::signing_clock_now() + CLOCK_LEAD;
         let mut out = Vec::new();
         self.outbox
             .send_as(sender, message, &mut |f| out.extend_from_slice(f));

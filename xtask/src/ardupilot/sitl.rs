@@ -71,3 +71,51 @@ impl Sitl {
         Ok((sitl, stream))
     }
 }
+
+/// SITL's SERIAL1 (TCP 5762 + 10 x instance): the companion computer's link, where ArduPilot,
+/// once it has a key, signs what it sends and refuses what is unsigned.
+pub fn connect_serial1(instance: u16) -> Result<TcpStream, String> {
+    crate::firmware::emulator::connect(5762 + 10 * instance, "ArduPilot SITL's SERIAL1")
+}
+
+/// Gives ArduPilot `key` with SETUP_SIGNING on `serial0` once its first heartbeat has come
+/// there (before, the message may land before its MAVLink handler runs); the key's timestamp is
+/// the wall clock's.
+pub fn setup_signing(serial0: &mut TcpStream, key: [u8; 32]) -> Result<(), String> {
+    use mavlink::dialects::common::{MavMessage, SETUP_SIGNING_DATA};
+    use std::io::{Read, Write};
+    serial0
+        .set_read_timeout(Some(std::time::Duration::from_millis(200)))
+        .map_err(|e| e.to_string())?;
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    let mut splitter = super::router::Splitter::default();
+    let mut buf = [0u8; 4096];
+    loop {
+        if std::time::Instant::now() > deadline {
+            return Err("no heartbeat from ArduPilot on SERIAL0 in 20 s".to_string());
+        }
+        if let Ok(n) = serial0.read(&mut buf) {
+            splitter.push(buf.get(..n).unwrap_or(&[]));
+        }
+        let mut beat = false;
+        while let Some(frame) = splitter.next_frame() {
+            beat |= matches!(frame.message(), Some(MavMessage::HEARTBEAT(_)));
+        }
+        if beat {
+            break;
+        }
+    }
+    let message = SETUP_SIGNING_DATA {
+        initial_timestamp: crate::firmware::run::signing_clock_now(),
+        target_system: 1,
+        target_component: 1,
+        secret_key: key,
+    };
+    let mut bytes = Vec::new();
+    twocars::mavlink::outgoing::Outbox::default().send_as(super::router::GCS, &message, &mut |f| {
+        bytes.extend_from_slice(f)
+    });
+    serial0
+        .write_all(&bytes)
+        .map_err(|e| format!("SETUP_SIGNING: {e}"))
+}

@@ -79,8 +79,9 @@ pub struct RunArgs {
     /// autopilot and the target (the paper's cases at ten times their scale; docs/mavlink.md).
     #[arg(long, value_enum, default_value = "cobs")]
     link: RunLink,
-    /// With `--link mavlink`: build the MAVLink image with this signing key (a file of 32 bytes
-    /// or 64 hexadecimal digits; as `TWOCARS_MAVLINK_KEY`), and sign pymavlink's side with it.
+    /// With `--link mavlink` or `ardupilot`: build the MAVLink image with this signing key (a
+    /// file of 32 bytes or 64 hexadecimal digits; as `TWOCARS_MAVLINK_KEY`), and sign the other
+    /// side with it (pymavlink; ArduPilot, given the key with SETUP_SIGNING).
     #[arg(long)]
     signing_key: Option<std::path::PathBuf>,
     /// With `--link ardupilot`: the `ardurover` SITL binary (default: TWOCARS_ARDUROVER, then
@@ -297,6 +298,9 @@ fn print_table_value(o: &RunOptions, case: &Case, set: &ValueTables<'_>) {
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
     if args.link == RunLink::Ardupilot {
+        if let Some(key) = &args.signing_key {
+            set_signing_key(key);
+        }
         let options = crate::ardupilot::Options {
             ardurover: args.ardurover.clone(),
             short: false,
@@ -522,13 +526,23 @@ fn finish(mut q: Emulator, sequence: &mut u16) -> Result<bool, String> {
 /// own clock, and the unit has no real-time clock of its own).
 pub fn set_signing_key(key: &std::path::Path) {
     let key = std::fs::canonicalize(key).unwrap_or_else(|_| key.to_path_buf());
-    /// 2015-01-01T00:00:00Z in Unix seconds: the signing clock's epoch.
+    // Set before any thread starts (xtask's commands run on the main thread).
+    std::env::set_var("TWOCARS_MAVLINK_KEY", key);
+    std::env::set_var("TWOCARS_MAVLINK_KEY_TIME", signing_clock_now().to_string());
+}
+
+/// Builds the MAVLink images of this process without a key again.
+pub fn clear_signing_key() {
+    std::env::remove_var("TWOCARS_MAVLINK_KEY");
+    std::env::remove_var("TWOCARS_MAVLINK_KEY_TIME");
+}
+
+/// The wall clock on MAVLink's signing scale: 10 us since 2015-01-01T00:00:00Z.
+pub fn signing_clock_now() -> u64 {
+    /// 2015-01-01T00:00:00Z in Unix seconds.
     const EPOCH_2015: u64 = 1_420_070_400;
     let now = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_micros() as u64 / 10);
-    let time = now.saturating_sub(EPOCH_2015 * 100_000);
-    // Set before any thread starts (xtask's commands run on the main thread).
-    std::env::set_var("TWOCARS_MAVLINK_KEY", key);
-    std::env::set_var("TWOCARS_MAVLINK_KEY_TIME", time.to_string());
+    now.saturating_sub(EPOCH_2015 * 100_000)
 }

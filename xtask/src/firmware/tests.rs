@@ -564,21 +564,25 @@ pub fn run() -> (u64, u64) {
     (passed, failed)
 }
 
+/// The tests' signing key, written to `target/mavlink-test.key`: its path.
+pub fn test_signing_key() -> Result<std::path::PathBuf, String> {
+    let key = crate::workspace::target_dir().join("mavlink-test.key");
+    let hex: String = (0..32u8)
+        .map(|b| format!("{:02x}", b.wrapping_mul(37)))
+        .collect();
+    std::fs::write(&key, hex).map_err(|e| format!("{}: {e}", key.display()))?;
+    Ok(key)
+}
+
 /// The MAVLink image built with a signing key, pymavlink signing with it: the paper's cases
 /// captured on time; a PARAM_SET unsigned, wrongly keyed, replayed, with its timestamp gone back
 /// and with its signature cut short each refused and counted; the unit's frames well signed by
 /// pymavlink's check. The key is a
 /// fixed test key; the images after this one are built without it again.
 fn signed_closed_loop() -> Outcome {
-    let key = crate::workspace::target_dir().join("mavlink-test.key");
-    let hex: String = (0..32u8)
-        .map(|b| format!("{:02x}", b.wrapping_mul(37)))
-        .collect();
-    std::fs::write(&key, hex).map_err(|e| format!("{}: {e}", key.display()))?;
-    crate::firmware::run::set_signing_key(&key);
+    crate::firmware::run::set_signing_key(&test_signing_key()?);
     let outcome = crate::firmware::mavlink::run_cases(Board::QemuMavlink);
-    std::env::remove_var("TWOCARS_MAVLINK_KEY");
-    std::env::remove_var("TWOCARS_MAVLINK_KEY_TIME");
+    crate::firmware::run::clear_signing_key();
     match outcome? {
         true => Ok(
             "signed both ways: four captures within 5 control periods; five forged \
