@@ -320,6 +320,13 @@ fn a_ground_vehicle_gets_the_laws_yaw_rate_and_the_capture_time() {
     assert!((rate - want).abs() <= 1e-3 * want.abs(), "{rate} vs {want}");
 }
 
+/// `s` (metres north and east of home, heading) as the endpoint sees it: through a GPS fix
+/// and back to the local plane, in f32.
+fn through_a_fix(plane: &Plane, s: [f64; 3]) -> [f32; 3] {
+    let (n, e) = plane.local(plane.fix(s[0], s[1]));
+    [n as f32, e as f32, s[2] as f32]
+}
+
 /// TC_CAPTURE tells the flight policy the capture radius: near the pursuer its setpoint is the
 /// law's told that radius, which differs from point capture there; out-of-range values are
 /// refused.
@@ -328,10 +335,7 @@ fn tc_capture_gives_the_flight_policy_its_capture_radius() {
     const RADIUS: f32 = 4.0;
     let limits = Limits::<f32>::new(SCALED[0], SCALED[1], SCALED[2], SCALED[3]).unwrap();
     let plane = Plane::new(HOME);
-    let f = |s: [f64; 3]| {
-        let (n, e) = plane.local(plane.fix(s[0], s[1]));
-        [n as f32, e as f32, s[2] as f32]
-    };
+    let f = |s: [f64; 3]| through_a_fix(&plane, s);
     let rate = |radius: f32, pursuer: [f64; 3], evader: [f64; 3]| {
         let (p, e) = limits.states(f(pursuer), f(evader)).unwrap();
         let guidance = Guidance::new(Law::new(limits, Variant::Paper), 0.1, Policy::Flight)
@@ -373,10 +377,7 @@ fn tc_capture_gives_the_flight_policy_its_capture_radius() {
 fn tc_period_plans_turns_over_the_longer_period() {
     let limits = Limits::<f32>::new(SCALED[0], SCALED[1], SCALED[2], SCALED[3]).unwrap();
     let plane = Plane::new(HOME);
-    let f = |s: [f64; 3]| {
-        let (n, e) = plane.local(plane.fix(s[0], s[1]));
-        [n as f32, e as f32, s[2] as f32]
-    };
+    let f = |s: [f64; 3]| through_a_fix(&plane, s);
     let rate = |dt: f32, pursuer: [f64; 3], evader: [f64; 3]| {
         let (p, e) = limits.states(f(pursuer), f(evader)).unwrap();
         let guidance = Guidance::new(Law::new(limits, Variant::Paper), dt, Policy::Flight).unwrap();

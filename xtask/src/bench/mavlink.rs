@@ -124,7 +124,7 @@ pub fn paragraph(m: &MavlinkMeasured) -> String {
          with the key; {} frames sent, byte for byte the host's): **{:.0} instructions per \
          control period** (+{:.0}: two signatures checked, the setpoint and TC_T signed); \
          **{:.0} instructions per signed GLOBAL_POSITION_INT parsed** (+{:.0}: one SHA-256 of \
-         the key and the frame, two 64-byte blocks); the empty session {:.0} (the heartbeat and \
+         the key and the frame, two 64-byte blocks); the empty session costs {:.0} (the heartbeat and \
          its four named values signed); **stack {} B**.\n",
         u.frames,
         u.per_period,
