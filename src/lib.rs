@@ -61,6 +61,7 @@
 ))]
 pub mod board;
 mod error;
+pub mod estimate;
 #[doc(hidden)]
 pub mod geodetic;
 pub mod guidance;
@@ -83,6 +84,11 @@ pub use error::Error;
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
+
+/// docs/field.md's Rust block, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/field.md")]
+pub struct FieldDoctests;
 pub use guidance::{Guidance, Policy};
 pub use law::capture::{CaptureTime, Variant};
 pub use law::game::{GameSolution, MatrixGame};

@@ -37,6 +37,9 @@ pub enum EvaderKind {
     },
     /// The law's turns at a speed anywhere in [0, v_em], piecewise constant (0.2 to 2 s).
     Slowing,
+    /// Full turns, +-w_em, switching side every 3 s, the first side at random (not in
+    /// [`EvaderKind::ALL`]: the field's sweep adds it, [`EvaderKind::FIELD`]).
+    Zigzag,
 }
 
 /// A pursuer of the mirror suite (against our evader).
@@ -93,6 +96,35 @@ impl EvaderKind {
         EvaderKind::Slowing,
     ];
 
+    /// The evaders of the field's sweep: the suite and [`EvaderKind::Zigzag`].
+    pub const FIELD: [EvaderKind; 13] = [
+        EvaderKind::Law,
+        EvaderKind::LawMemoryless,
+        EvaderKind::Straight,
+        EvaderKind::Circle {
+            left: true,
+            half: false,
+        },
+        EvaderKind::Circle {
+            left: false,
+            half: false,
+        },
+        EvaderKind::Circle {
+            left: true,
+            half: true,
+        },
+        EvaderKind::Circle {
+            left: false,
+            half: true,
+        },
+        EvaderKind::Random,
+        EvaderKind::BangBang,
+        EvaderKind::Greedy { periods: 1 },
+        EvaderKind::Greedy { periods: 10 },
+        EvaderKind::Slowing,
+        EvaderKind::Zigzag,
+    ];
+
     /// The name `cargo xtask report --evader` takes.
     pub fn name(self) -> &'static str {
         match self {
@@ -120,12 +152,13 @@ impl EvaderKind {
             EvaderKind::Greedy { periods: 1 } => "greedy",
             EvaderKind::Greedy { .. } => "greedy-10",
             EvaderKind::Slowing => "slowing",
+            EvaderKind::Zigzag => "zigzag",
         }
     }
 
     /// The evader of that name.
     pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|e| e.name() == name)
+        Self::FIELD.into_iter().find(|e| e.name() == name)
     }
 }
 
@@ -150,6 +183,9 @@ impl PursuerKind {
         }
     }
 }
+
+/// How long the zigzag evader turns to one side, seconds.
+pub const ZIGZAG_SECONDS: f64 = 3.0;
 
 /// A piecewise-constant choice: curvature and speed as fractions of the maxima, until `until`.
 #[derive(Clone, Copy, Debug)]
@@ -242,6 +278,26 @@ impl Adversary {
                             };
                             self.hold = Hold {
                                 until: t + self.rng.uniform(0.1, 3.0),
+                                curvature: side,
+                                speed: 1.0,
+                            };
+                        }
+                        self.hold.curvature * w_em
+                    }
+                    EvaderKind::Zigzag => {
+                        let first = self.hold.until == f64::NEG_INFINITY;
+                        if t >= self.hold.until {
+                            let side = if first {
+                                if self.rng.uniform(0.0, 1.0) < 0.5 {
+                                    1.0
+                                } else {
+                                    -1.0
+                                }
+                            } else {
+                                -self.hold.curvature
+                            };
+                            self.hold = Hold {
+                                until: t + ZIGZAG_SECONDS,
                                 curvature: side,
                                 speed: 1.0,
                             };

@@ -3,6 +3,7 @@
 
 pub mod adversary;
 pub mod autopilot;
+pub mod field;
 pub mod kinematics;
 pub mod link;
 pub mod mavlink_spec;

@@ -13,6 +13,7 @@
 mod homing;
 
 use crate::error::Error;
+use crate::estimate::Estimated;
 use crate::law::geometry::{VehicleLimits, VehicleState};
 use crate::law::{
     fallback_command, steer_along, Command, Decision, Evaluation, GameReport, Law, Period, Sampling,
@@ -23,6 +24,10 @@ use crate::num::Scalar;
 use crate::status::Status;
 use crate::value_tables::ValueTables;
 use homing::{NearFieldMemory, NearFieldTerms, Situation};
+
+/// How many of the estimates' uncertainties (metres) a choice of circles must be beaten by
+/// before the pursuer changes it ([`Guidance::decide_estimated`]).
+pub const HYSTERESIS_SIGMAS: f32 = 2.0;
 
 /// Which feedback a [`Guidance`] applies: [`Policy::Flight`] is the one to fly (the default);
 /// [`Policy::Paper`] is the reference.
@@ -57,6 +62,11 @@ pub struct Guidance<S> {
     near_field_terms: NearFieldTerms<S>,
     /// The game's value tables of these limits' ratios, if any ([`Guidance::with_tables`]).
     tables: Option<&'static ValueTables<'static>>,
+    /// This decision's hysteresis, seconds: the estimates' uncertainty as capture time
+    /// ([`Guidance::decide_estimated`]); 0 on exact states.
+    margin: S,
+    /// The side of the pursuer's last turn on estimated states (anticlockwise if `true`).
+    side: Option<bool>,
 }
 
 impl<S: Scalar> Guidance<S> {
@@ -106,6 +116,8 @@ impl<S: Scalar> Guidance<S> {
             near_field: NearFieldMemory::FRESH,
             near_field_terms: NearFieldTerms::new(&law.limits, dt, tie_floor, period.pursuer),
             tables: None,
+            margin: S::zero(),
+            side: None,
         })
     }
 
@@ -185,6 +197,7 @@ impl<S: Scalar> Guidance<S> {
         next.sampling.previous = self.sampling.previous;
         next.near_field = self.near_field;
         next.tables = self.tables;
+        next.side = self.side;
         Ok(next)
     }
 
@@ -208,6 +221,7 @@ impl<S: Scalar> Guidance<S> {
     /// Forgets the previous choice (a new engagement).
     pub fn reset(&mut self) {
         self.sampling.previous = None;
+        self.side = None;
         self.near_field = NearFieldMemory::FRESH;
     }
 
@@ -218,6 +232,60 @@ impl<S: Scalar> Guidance<S> {
         let mut report = GameReport::empty();
         let (status, command) = self.play(pursuer, evader, &mut report);
         Decision::from_game(status, &report, command, self.law.limits.units)
+    }
+
+    /// [`Guidance::decide`] on states estimated from fixes ([`crate::estimate`]), with
+    /// hysteresis against their uncertainty u (metres) so that noise does not flip the turn
+    /// (docs/contract.md):
+    ///
+    /// - the choice of circles is kept unless another is better by more than
+    ///   [`HYSTERESIS_SIGMAS`] u / (v_pm - v_em) seconds (at most the pursuer's full turn's
+    ///   time);
+    /// - the pursuer turns to the other side than its last turn only where it is told more
+    ///   than a bearing of [`HYSTERESIS_SIGMAS`] u / d needs in a period (d the players'
+    ///   distance; at most w_pm); a weaker reversal runs straight.
+    ///
+    /// With u = 0 the decision is [`Guidance::decide`]'s.
+    ///
+    /// # Errors
+    /// As [`crate::Limits::states`] for the estimated states.
+    pub fn decide_estimated(&mut self, estimated: &Estimated) -> Result<Decision<S>, Error> {
+        let limits = self.law.limits;
+        let (pursuer, evader) = limits.states(estimated.own, estimated.target)?;
+        let full_turn = S::tau() / limits.pursuer.max_turn_rate();
+        let uncertainty = HYSTERESIS_SIGMAS * estimated.uncertainty;
+        let in_law = uncertainty / limits.units.metres;
+        self.margin = if in_law.is_finite() {
+            (S::from_f32(in_law.max(0.0)) * limits.seconds_per_metre_closed()).min(full_turn)
+        } else {
+            full_turn
+        };
+        let mut decision = self.decide(&pursuer, &evader);
+        self.margin = S::zero();
+        let [px, py, _] = estimated.own;
+        let [ex, ey, _] = estimated.target;
+        let bearing =
+            uncertainty / crate::num::f32_math::sqrt((ex - px) * (ex - px) + (ey - py) * (ey - py));
+        let w = decision.command.pursuer;
+        let reverses = match self.side {
+            Some(left) => (left && w < S::zero()) || (!left && w > S::zero()),
+            None => false,
+        };
+        if reverses && uncertainty > 0.0 {
+            let gate = if bearing.is_finite() && bearing < core::f32::consts::PI {
+                (self.period.pursuer * S::from_f32(bearing)).min(limits.pursuer.w_max())
+            } else {
+                limits.pursuer.w_max()
+            };
+            if w.abs() < gate {
+                decision.command.pursuer = S::zero();
+            }
+        }
+        let w = decision.command.pursuer;
+        if w != S::zero() {
+            self.side = Some(w > S::zero());
+        }
+        Ok(decision)
     }
 
     /// Evaluates the law for this period and returns the evaluation with the sampled command.
@@ -236,7 +304,8 @@ impl<S: Scalar> Guidance<S> {
         evader: &VehicleState<S>,
         report: &mut GameReport<S>,
     ) -> (Status, Command<S>) {
-        let sampling = self.sampling;
+        let mut sampling = self.sampling;
+        sampling.tie_floor = sampling.tie_floor + self.margin;
         let law = self.law;
         let (status, command) =
             law.decide_into(pursuer, evader, &sampling, report, |status, report| {

@@ -2,6 +2,7 @@
 
 pub mod csv;
 pub mod eval;
+pub mod field;
 pub mod options;
 pub mod plot;
 pub mod report;

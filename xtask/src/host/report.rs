@@ -358,11 +358,19 @@ pub struct ReportArgs {
     #[arg(long, value_enum, default_value = "random")]
     limits: LimitsArg,
     /// An evader of the adversary suite, or all (default: the law plays both players).
-    #[arg(long, value_parser = names(&EvaderKind::ALL.map(EvaderKind::name)))]
+    #[arg(long, value_parser = names(&EvaderKind::FIELD.map(EvaderKind::name)))]
     evader: Option<String>,
     /// Our evader against a pursuer of the mirror suite, or all.
     #[arg(long, value_parser = names(&PursuerKind::ALL.map(PursuerKind::name)))]
     pursuer: Option<String>,
+    /// The field's sweep instead (late, sparse, noisy fixes; a lagging pursuer), over the
+    /// evaders of `--evader` (default all of the sweep's, zigzag among them).
+    #[arg(long)]
+    field: bool,
+    /// With `--field`: how far ahead the estimator carries both states, in the pursuer's
+    /// yaw-rate lags tau.
+    #[arg(long, default_value_t = 1.0)]
+    own_lead: f64,
 }
 
 /// The suite's names and `all`.
@@ -401,6 +409,13 @@ fn parse(args: &ReportArgs) -> Result<ReportOptions, String> {
 
 /// `cargo xtask report [--runs N] [--seed S] [--dt S] [--limits ..] [--evader ..] [--pursuer ..]`.
 pub fn command(args: &ReportArgs) -> i32 {
+    if args.field {
+        let evaders = match args.evader.as_deref() {
+            None | Some("all") => EvaderKind::FIELD.to_vec(),
+            Some(name) => EvaderKind::from_name(name).into_iter().collect(),
+        };
+        return super::field::command(args.runs, args.seed, args.dt, &evaders, args.own_lead);
+    }
     let o = match parse(args) {
         Ok(o) => o,
         Err(e) => {

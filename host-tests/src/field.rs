@@ -1,0 +1,279 @@
+//! The field in the closed loop: the target's fixes come late, sparse, noisy and sometimes not
+//! at all, and the pursuer answers its yaw-rate setpoint with a first-order lag.
+//!
+//! Both vehicles move exactly as in [`crate::sim`] (f64, zero-order hold), the pursuer's
+//! curvature following its command as w' = (w_cmd - w) / tau within sub-steps of the period.
+//! Every [`FieldModel::fix_interval`] the target's true state is sampled, noised (Gaussian on
+//! x, y and heading) and, unless dropped, delivered [`FieldModel::lag`] later. The pursuer's
+//! own state is known exactly at each decision (its autopilot's estimate). The guidance sees
+//! the fixes through a [`Receiver`]: as they came (what an endpoint without an estimator does:
+//! the last fix as the target's state) or through [`twocars::estimate::Estimator`].
+
+use std::collections::VecDeque;
+
+use crate::adversary::{Adversary, EvaderKind, Opponent};
+use crate::kinematics::{advance, distance, wrap_pi};
+use crate::rng::Rng;
+use crate::sim::{capture_within, valid_params, SimParams, SimResult, SimStatus};
+use twocars::estimate::{Estimator, FieldSettings, FixNoise};
+use twocars::{Guidance, Law, Limits, Policy, Variant};
+
+/// How long the target has been tracked when the chase begins, seconds: fixes from its
+/// straight run before t = 0, so that no chase begins blind.
+const HISTORY: f64 = 1.0;
+
+/// Sub-steps per control period of the pursuer's lagging turn.
+const SUBSTEPS: usize = 8;
+
+/// What the field does to the target's fixes and to the pursuer's turn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FieldModel {
+    /// Transport lag of each fix, seconds.
+    pub lag: f64,
+    /// Time between fixes, seconds; 0: one at every control period.
+    pub fix_interval: f64,
+    /// One sigma of the fixes' x and y, metres.
+    pub position_sigma: f64,
+    /// One sigma of the fixes' heading, radians.
+    pub heading_sigma: f64,
+    /// The chance that a fix is lost, in [0, 1).
+    pub dropout: f64,
+    /// The pursuer's yaw-rate time constant tau, seconds; 0: it turns as told.
+    pub yaw_lag: f64,
+    /// The noise's and the dropouts' seed.
+    pub seed: u64,
+}
+
+impl FieldModel {
+    /// Exact states at every period, a pursuer that turns as told.
+    pub const EXACT: FieldModel = FieldModel {
+        lag: 0.0,
+        fix_interval: 0.0,
+        position_sigma: 0.0,
+        heading_sigma: 0.0,
+        dropout: 0.0,
+        yaw_lag: 0.0,
+        seed: 0,
+    };
+}
+
+/// How the guidance hears of the target.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Receiver {
+    /// Its last fix as its present state.
+    Raw,
+    /// Through the estimator, told the field's noise and lag, carrying both states `own_lead`
+    /// seconds ahead.
+    Estimator {
+        /// [`FieldSettings::own_lead`], seconds.
+        own_lead: f64,
+    },
+}
+
+/// One fix on its way: (arrival time s, sampled state).
+type Pending = (f64, [f64; 3]);
+
+/// The fixes of one run: sampled from the target's path, noised, dropped, delayed.
+struct Fixes {
+    model: FieldModel,
+    rng: Rng,
+    next_sample: f64,
+    pending: VecDeque<Pending>,
+}
+
+impl Fixes {
+    fn new(model: FieldModel) -> Self {
+        Fixes {
+            model,
+            rng: Rng::new(model.seed),
+            next_sample: -HISTORY,
+            pending: VecDeque::new(),
+        }
+    }
+
+    /// Samples the target on its path from `start` (its state at `t0`) at speed `v` and
+    /// curvature `w`, at the fix times in [t0, t0 + dt).
+    fn sample(&mut self, t0: f64, dt: f64, start: [f64; 3], v: f64, w: f64) {
+        let interval = if self.model.fix_interval > 0.0 {
+            self.model.fix_interval
+        } else {
+            dt
+        };
+        while self.next_sample < t0 + dt - 1e-9 {
+            let at = self.next_sample;
+            // Before the chase the target ran straight at full speed.
+            let [x, y, theta] = if at < t0 {
+                advance(start, v, 0.0, at - t0)
+            } else {
+                advance(start, v, w, at - t0)
+            };
+            self.next_sample += interval;
+            let lost = self.rng.uniform(0.0, 1.0) < self.model.dropout;
+            let m = self.model;
+            let noisy = [
+                x + m.position_sigma * self.rng.normal(),
+                y + m.position_sigma * self.rng.normal(),
+                wrap_pi(theta + m.heading_sigma * self.rng.normal()),
+            ];
+            if !lost {
+                self.pending.push_back((at + m.lag, noisy));
+            }
+        }
+    }
+
+    /// The fixes that have arrived by `t`, oldest first.
+    fn arrived(&mut self, t: f64) -> impl Iterator<Item = Pending> + '_ {
+        let count = self
+            .pending
+            .iter()
+            .take_while(|(arrival, _)| *arrival <= t + 1e-9)
+            .count();
+        self.pending.drain(..count)
+    }
+}
+
+/// Microseconds of the unit's clock at `t` seconds (wrapping: the history before t = 0 is
+/// late in the clock's lap).
+fn micros(t: f64) -> u32 {
+    (t * 1.0e6).round() as i64 as u32
+}
+
+/// The pursuer's curvature over a sub-step of `h` seconds, and at its end, from `w` at its
+/// start toward the command `target` with time constant `tau` (0: at once).
+fn lagged(w: f64, target: f64, tau: f64, h: f64) -> (f64, f64) {
+    if tau <= 0.0 {
+        return (target, target);
+    }
+    let decay = (-h / tau).exp();
+    let mean = target + (w - target) * tau / h * (1.0 - decay);
+    (mean, target + (w - target) * decay)
+}
+
+/// One chase of our pursuer (flight policy, f32, told the capture radius) against `evader`
+/// (seeded by `evader_seed`) in `field`, hearing of it through `receiver`. `sign_flips`
+/// counts the pursuer's alone.
+pub fn chase(
+    params: &SimParams,
+    evader: EvaderKind,
+    evader_seed: u64,
+    field: &FieldModel,
+    receiver: Receiver,
+) -> SimResult {
+    let idle = SimResult::empty(
+        SimStatus::InvalidSimParams,
+        distance(params.pursuer, params.evader),
+    );
+    let limits32 = params.limits.map(|v| v as f32);
+    let [v_pm, w_pm, v_em, w_em] = limits32;
+    let Ok(limits) = Limits::<f32>::new(v_pm, w_pm, v_em, w_em) else {
+        return idle;
+    };
+    let guidance = Guidance::new(
+        Law::new(limits, Variant::Paper),
+        params.dt as f32,
+        Policy::Flight,
+    )
+    .and_then(|g| g.with_capture_radius(params.eps as f32));
+    let adversary = Adversary::new(
+        Opponent::Evader(evader),
+        params.limits,
+        params.dt,
+        params.eps,
+        evader_seed,
+    );
+    let (Ok(mut guidance), Some(mut adversary), true) = (guidance, adversary, valid_params(params))
+    else {
+        return idle;
+    };
+    let settings = FieldSettings {
+        target_noise: FixNoise {
+            position: field.position_sigma as f32,
+            heading: field.heading_sigma as f32,
+        },
+        own_lead: match receiver {
+            Receiver::Estimator { own_lead } => own_lead as f32,
+            Receiver::Raw => 0.0,
+        },
+        target_lag: field.lag as f32,
+        ..FieldSettings::exact(1.0e3)
+    };
+    let Ok(mut estimator) = Estimator::new(limits32, settings) else {
+        return idle;
+    };
+    let [v_pm, w_pm, _, _] = params.limits;
+    let (dt, eps) = (params.dt, params.eps);
+    let (mut p, mut e) = (params.pursuer, params.evader);
+    let mut result = SimResult::empty(SimStatus::Timeout, distance(p, e));
+    let mut fixes = Fixes::new(*field);
+    let mut last_fix: Option<[f64; 3]> = None;
+    let (mut w_actual, mut last_sign) = (0.0_f64, 0.0_f64);
+    let steps = (params.t_max / dt).ceil() as u64;
+    let h = dt / SUBSTEPS as f64;
+    for k in 0..steps {
+        let t0 = k as f64 * dt;
+        let (w_e, v_e) = adversary.command(t0, p, e);
+        fixes.sample(t0, dt, e, v_e, w_e);
+        let now = micros(t0);
+        for (arrival, state) in fixes.arrived(t0) {
+            last_fix = Some(state);
+            let narrow = state.map(|v| v as f32);
+            let _ = estimator.target_fix_received(narrow, micros(arrival));
+        }
+        let _ = estimator.own_fix(&twocars::estimate::Fix {
+            state: p.map(|v| v as f32),
+            time_us: now,
+        });
+        let seen = match receiver {
+            Receiver::Raw => last_fix.and_then(|target| {
+                // The law's frame centred on the pursuer, formed as for the estimates below.
+                let (own, target) = (p.map(|v| v as f32), target.map(|v| v as f32));
+                let local = |s: [f32; 3]| [s[0] - own[0], s[1] - own[1], s[2]];
+                let (ps, es) = limits.states(local(own), local(target)).ok()?;
+                Some(guidance.decide(&ps, &es))
+            }),
+            Receiver::Estimator { .. } => estimator.states(now).ok().and_then(|mut est| {
+                // The law's frame centred on the pursuer, as `sim::closed_loop` gives it.
+                let origin = [est.own[0], est.own[1]];
+                est.own = [0.0, 0.0, est.own[2]];
+                est.target = [
+                    est.target[0] - origin[0],
+                    est.target[1] - origin[1],
+                    est.target[2],
+                ];
+                guidance.decide_estimated(&est).ok()
+            }),
+        };
+        let command = seen.map_or(0.0, |d| f64::from(d.command.pursuer));
+        if command.abs() > 1e-6 * w_pm {
+            if last_sign != 0.0 && last_sign != command.signum() {
+                result.sign_flips += 1;
+            }
+            last_sign = command.signum();
+        }
+        for i in 0..SUBSTEPS {
+            let (w_p, w_end) = lagged(w_actual, command, field.yaw_lag, h);
+            let offset = i as f64 * h;
+            let at = |tau: f64| {
+                (
+                    advance(p, v_pm, w_p, tau),
+                    advance(advance(e, v_e, w_e, offset), v_e, w_e, tau),
+                )
+            };
+            let gap = |tau: f64| {
+                let (a, b) = at(tau);
+                distance(a, b)
+            };
+            if let Some(tau) = capture_within(h, eps, gap, &mut result.d_min) {
+                result.status = SimStatus::Captured;
+                result.t_capture = t0 + offset + tau;
+                return result;
+            }
+            p = at(h).0;
+            w_actual = w_end;
+        }
+        p[2] = wrap_pi(p[2]);
+        e = advance(e, v_e, w_e, dt);
+        e[2] = wrap_pi(e[2]);
+    }
+    result
+}

@@ -1,0 +1,255 @@
+//! The estimator: fixes carried to the decision's time, noise filtered, bad fixes refused, and
+//! exact fixes through it changing nothing.
+
+use host_tests::adversary::EvaderKind;
+use host_tests::field::{chase, FieldModel, Receiver};
+use host_tests::kinematics::advance;
+use host_tests::rng::Rng;
+use host_tests::scenarios::PAPER_LIMITS;
+use host_tests::sim::SimParams;
+use twocars::estimate::{Estimator, FieldSettings, Fix, FixNoise, Refused, Track};
+use twocars::{Guidance, Law, Limits, Policy, Variant};
+
+const SECOND: u32 = 1_000_000;
+
+fn fix(state: [f64; 3], t: f64) -> Fix {
+    Fix {
+        state: state.map(|v| v as f32),
+        time_us: (t * 1e6).round() as u32,
+    }
+}
+
+#[test]
+fn a_circling_car_is_carried_along_its_circle_over_the_lag() {
+    // v 1 m/s, turning at 0.8 rad/s: fixes every 0.2 s, asked for 0.3 s after the last one.
+    let mut track = Track::new(1.0, 1.0, FixNoise::default()).expect("valid");
+    let mut state = [3.0, -2.0, 0.4];
+    for k in 0..6 {
+        track
+            .update(&fix(state, 0.2 * k as f64), SECOND)
+            .expect("taken");
+        state = advance(state, 1.0, 0.8, 0.2);
+    }
+    let truth = advance(advance(state, 1.0, 0.8, -0.2), 1.0, 0.8, 0.3);
+    let (at, spread) = track.at((1.3e6) as u32, SECOND).expect("fresh");
+    let error = (f64::from(at[0]) - truth[0]).hypot(f64::from(at[1]) - truth[1]);
+    assert!(error < 1e-3, "{at:?} against {truth:?}: {error} m");
+    assert!((f64::from(at[2]) - truth[2]).abs() < 1e-3);
+    let (speed, turn) = track.rates().expect("fixes");
+    assert!((speed - 1.0).abs() < 1e-3 && (turn - 0.8).abs() < 1e-3);
+    // No noise: the uncertainty is the turn a car may reverse over 0.3 s, 1 * 1 * 0.09 / 2.
+    assert!((spread - 0.045).abs() < 1e-3, "{spread}");
+}
+
+#[test]
+fn noise_is_filtered_to_well_below_the_fixes() {
+    let sigma = 0.1;
+    let noise = FixNoise {
+        position: sigma as f32,
+        heading: sigma as f32,
+    };
+    let mut track = Track::new(1.0, 1.0, noise).expect("valid");
+    let mut rng = Rng::new(7);
+    let (mut sum_raw, mut sum_est, mut n) = (0.0, 0.0, 0.0);
+    for k in 0..1000 {
+        let t = 0.02 * k as f64;
+        let truth = [t, 0.5, 0.0];
+        let noisy = [
+            truth[0] + sigma * rng.normal(),
+            truth[1] + sigma * rng.normal(),
+            sigma * rng.normal(),
+        ];
+        track.update(&fix(noisy, t), SECOND).expect("taken");
+        if k >= 200 {
+            let (at, _) = track.at((t * 1e6).round() as u32, SECOND).expect("fresh");
+            sum_raw += (noisy[0] - truth[0]).powi(2) + (noisy[1] - truth[1]).powi(2);
+            sum_est +=
+                (f64::from(at[0]) - truth[0]).powi(2) + (f64::from(at[1]) - truth[1]).powi(2);
+            n += 1.0;
+        }
+    }
+    let (raw, est) = ((sum_raw / n).sqrt(), (sum_est / n).sqrt());
+    assert!(
+        est < 0.4 * raw,
+        "rms error {est} m against the fixes' {raw} m"
+    );
+}
+
+#[test]
+fn bad_fixes_are_refused_and_a_vehicle_that_moved_is_found_again() {
+    let mut track = Track::new(1.0, 1.0, FixNoise::default()).expect("valid");
+    track
+        .update(&fix([0.0, 0.0, 0.0], 1.0), SECOND)
+        .expect("first");
+    let nan = Fix {
+        state: [f32::NAN, 0.0, 0.0],
+        time_us: 1_100_000,
+    };
+    assert_eq!(track.update(&nan, SECOND), Err(Refused::NonFinite));
+    assert_eq!(
+        track.update(&fix([0.0, 0.0, 0.0], 0.9), SECOND),
+        Err(Refused::OutOfOrder)
+    );
+    assert_eq!(
+        track.update(&fix([0.0, 0.0, 0.0], 1.0), SECOND),
+        Err(Refused::OutOfOrder)
+    );
+    // 50 m away after 0.1 s: refused three times, taken (a restart) the fourth.
+    for k in 1..=3 {
+        let far = fix([50.0, 0.0, 0.0], 1.0 + 0.1 * k as f64);
+        assert_eq!(track.update(&far, SECOND), Err(Refused::Outlier));
+    }
+    track
+        .update(&fix([50.0, 0.0, 0.0], 1.4), SECOND)
+        .expect("restart");
+    let (at, _) = track.at(1_400_000, SECOND).expect("fresh");
+    assert_eq!(at, [50.0, 0.0, 0.0]);
+}
+
+#[test]
+fn an_estimate_older_than_the_timeout_gives_no_states() {
+    let limits = [2.0, 2.0, 1.0, 1.0];
+    let mut estimator = Estimator::new(limits, FieldSettings::exact(0.5)).expect("valid");
+    assert!(estimator.states(0).is_err());
+    estimator
+        .own_fix(&fix([0.0, 0.0, 0.0], 0.0))
+        .expect("own fix");
+    estimator
+        .target_fix(&fix([5.0, 0.0, 0.0], 0.0))
+        .expect("target fix");
+    assert!(estimator.states(400_000).is_ok());
+    assert!(estimator.states(600_000).is_err());
+    let counters = estimator.counters();
+    assert_eq!((counters.stale, counters.target_fixes), (2, 1));
+    assert_eq!(counters.coasted, 0);
+}
+
+#[test]
+fn impossible_settings_are_refused() {
+    let limits = [2.0, 2.0, 1.0, 1.0];
+    let with = |f: fn(&mut FieldSettings)| {
+        let mut s = FieldSettings::exact(1.0);
+        f(&mut s);
+        Estimator::new(limits, s).is_err()
+    };
+    assert!(with(|s| s.timeout = 0.0));
+    assert!(with(|s| s.timeout = f32::NAN));
+    assert!(with(|s| s.target_lag = 1.0));
+    assert!(with(|s| s.own_lead = -0.1));
+    assert!(with(|s| s.target_noise.position = -1.0));
+    assert!(with(|s| s.own_noise.heading = f32::INFINITY));
+    assert!(Estimator::new([2.0, f32::NAN, 1.0, 1.0], FieldSettings::exact(1.0)).is_err());
+    assert!(!with(|_| ()));
+}
+
+/// A seeded start 2 to 12 m from the pursuer at the paper's limits.
+fn start(rng: &mut Rng) -> SimParams {
+    let pi = std::f64::consts::PI;
+    let d0 = rng.uniform(2.0, 12.0);
+    let bearing = rng.uniform(-pi, pi);
+    SimParams {
+        limits: PAPER_LIMITS,
+        pursuer: [0.0, 0.0, rng.uniform(-pi, pi)],
+        evader: [d0 * bearing.cos(), d0 * bearing.sin(), rng.uniform(-pi, pi)],
+        dt: 0.01,
+        t_max: 60.0,
+        eps: 0.15,
+    }
+}
+
+#[test]
+fn exact_fixes_through_the_estimator_change_nothing() {
+    let mut rng = Rng::new(11);
+    for evader in [EvaderKind::Law, EvaderKind::Straight, EvaderKind::BangBang] {
+        for _ in 0..6 {
+            let params = start(&mut rng);
+            let seed = rng.next_u64();
+            let raw = chase(&params, evader, seed, &FieldModel::EXACT, Receiver::Raw);
+            let est = chase(
+                &params,
+                evader,
+                seed,
+                &FieldModel::EXACT,
+                Receiver::Estimator { own_lead: 0.0 },
+            );
+            assert_eq!(
+                raw.t_capture.to_bits(),
+                est.t_capture.to_bits(),
+                "{evader:?}"
+            );
+            assert_eq!(raw.sign_flips, est.sign_flips);
+        }
+    }
+}
+
+#[test]
+fn the_decision_on_exact_estimates_is_the_decision_on_the_states() {
+    let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).expect("valid");
+    let law = Law::new(limits, Variant::Paper);
+    let mut plain = Guidance::new(law, 0.01, Policy::Flight).expect("valid");
+    let mut estimated = plain;
+    let mut estimator =
+        Estimator::new([2.0, 2.0, 1.0, 1.0], FieldSettings::exact(1.0)).expect("ok");
+    let (mut p, mut e) = ([0.0, 0.0, 1.2], [-3.0, -6.0, 1.57]);
+    for k in 0..300 {
+        let t = 0.01 * f64::from(k);
+        estimator.own_fix(&fix(p, t)).expect("own");
+        estimator.target_fix(&fix(e, t)).expect("target");
+        let est = estimator.states((t * 1e6).round() as u32).expect("fresh");
+        assert_eq!(est.uncertainty, 0.0);
+        let a = estimated.decide_estimated(&est).expect("in range");
+        let (ps, es) = limits
+            .states(p.map(|v| v as f32), e.map(|v| v as f32))
+            .expect("in range");
+        let b = plain.decide(&ps, &es);
+        assert_eq!(a, b, "step {k}");
+        let [wp, we] = b.curvatures();
+        p = advance(p, 2.0, f64::from(wp), 0.01);
+        e = advance(e, 1.0, f64::from(we), 0.01);
+        p[2] = host_tests::kinematics::wrap_pi(p[2]);
+        e[2] = host_tests::kinematics::wrap_pi(e[2]);
+    }
+}
+
+#[test]
+fn noisy_fixes_through_the_estimator_do_not_chatter() {
+    // sigma 0.1 r_p on position, 0.05 rad on heading, a fix every period, lag 0.1 T.
+    let field = |seed| FieldModel {
+        lag: 0.157,
+        position_sigma: 0.05,
+        heading_sigma: 0.05,
+        seed,
+        ..FieldModel::EXACT
+    };
+    let mut rng = Rng::new(5);
+    let (mut raw_flips, mut est_flips) = (Vec::new(), Vec::new());
+    for _ in 0..12 {
+        let params = start(&mut rng);
+        let (seed, noise) = (rng.next_u64(), rng.next_u64());
+        let raw = chase(
+            &params,
+            EvaderKind::Straight,
+            seed,
+            &field(noise),
+            Receiver::Raw,
+        );
+        let est = chase(
+            &params,
+            EvaderKind::Straight,
+            seed,
+            &field(noise),
+            Receiver::Estimator { own_lead: 0.0 },
+        );
+        assert_eq!(est.status, host_tests::sim::SimStatus::Captured);
+        raw_flips.push(raw.sign_flips);
+        est_flips.push(est.sign_flips);
+    }
+    raw_flips.sort_unstable();
+    est_flips.sort_unstable();
+    let (raw, est) = (raw_flips[6], est_flips[6]);
+    assert!(raw >= 50, "the raw fixes chatter: median {raw}");
+    assert!(
+        est * 5 <= raw,
+        "median flips {est} through the estimator, {raw} raw"
+    );
+}

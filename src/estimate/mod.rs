@@ -1,0 +1,261 @@
+//! Both vehicles' states at the moment a decision acts, from fixes that come late, sparse and
+//! noisy.
+//!
+//! The law wants both states now. A target's fix comes over a radio link 100-500 ms late, 1-10
+//! times a second, with GPS noise, and sometimes not at all; the own vehicle answers a yaw-rate
+//! setpoint with a lag. An [`Estimator`] holds a [`Track`] of each vehicle on the game's own car
+//! model ([`track`]) and gives [`crate::Guidance::decide_estimated`] both states carried to the
+//! decision's time plus the lead the own vehicle needs to act on it, with their uncertainty:
+//!
+//! - a target fix that carries its own time ([`Estimator::target_fix`]) is placed there; one
+//!   that does not ([`Estimator::target_fix_received`]) is placed at its arrival less the
+//!   known transport lag [`FieldSettings::target_lag`];
+//! - between fixes, and through dropouts up to [`FieldSettings::timeout`], the track coasts on
+//!   its arc; beyond it the estimate is stale and no decision is made ([`Stale`]);
+//! - the own state is carried [`FieldSettings::own_lead`] ahead, and the target with it, so
+//!   that the turn the law picks is the one for where both will be when the vehicle turns.
+//!
+//! With no noise, no lag, no lead and a fix of each vehicle at every decision's time the states
+//! are the fixes themselves and the decision is [`crate::Guidance::decide`]'s.
+//!
+//! Units: metres, seconds, radians anticlockwise from +x; clock times in microseconds
+//! (wrapping `u32`).
+
+pub mod track;
+
+pub use track::{Fix, FixNoise, Refused, Track};
+
+use crate::error::Error;
+
+/// What an [`Estimator`] is told of the field: the fixes' noise and lag, the own vehicle's
+/// response, and when an estimate is too old to steer by.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FieldSettings {
+    /// One sigma of the target's fixes.
+    pub target_noise: FixNoise,
+    /// One sigma of the own vehicle's fixes.
+    pub own_noise: FixNoise,
+    /// The transport lag of a target fix that carries no time of its own, seconds, in
+    /// [0, timeout).
+    pub target_lag: f32,
+    /// How long after a decision the own vehicle turns as told, seconds, in [0, timeout):
+    /// its yaw-rate response (the time to 63 % of a step), or 0.
+    pub own_lead: f32,
+    /// The oldest fix a decision may be carried from, seconds, in (0, 1000].
+    pub timeout: f32,
+}
+
+impl FieldSettings {
+    /// Exact, instant fixes: no noise, no lag, no lead; stale after `timeout` seconds.
+    pub const fn exact(timeout: f32) -> Self {
+        FieldSettings {
+            target_noise: FixNoise {
+                position: 0.0,
+                heading: 0.0,
+            },
+            own_noise: FixNoise {
+                position: 0.0,
+                heading: 0.0,
+            },
+            target_lag: 0.0,
+            own_lead: 0.0,
+            timeout,
+        }
+    }
+}
+
+/// Neither state can be carried to the decision's time: no fix yet, or the last one is older
+/// than [`FieldSettings::timeout`]. The safe command applies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Stale {
+    /// The own vehicle's estimate.
+    Own,
+    /// The target's estimate.
+    Target,
+}
+
+/// What the estimator has done, each count saturating.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub struct EstimatorCounters {
+    /// Target fixes taken.
+    pub target_fixes: u32,
+    /// Fixes refused (either vehicle): non-finite, out of order, outliers.
+    pub refused: u32,
+    /// Decisions made with no new target fix since the decision before: the track coasted.
+    pub coasted: u32,
+    /// Decisions refused because an estimate was stale.
+    pub stale: u32,
+}
+
+/// Both vehicles' states at a decision's time, and how far they may be off.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimated {
+    /// The own vehicle (the pursuer): x, y metres, heading radians.
+    pub own: [f32; 3],
+    /// The target (the evader).
+    pub target: [f32; 3],
+    /// The sum of both estimates' uncertainties, metres ([`Track::at`]).
+    pub uncertainty: f32,
+}
+
+/// The own vehicle's and the target's tracks, and the settings they are carried by.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimator {
+    settings: FieldSettings,
+    own: Track,
+    target: Track,
+    lag_us: u32,
+    lead_us: u32,
+    stale_us: u32,
+    /// The target's last fix time seen by the last decision.
+    decided_on: Option<u32>,
+    counters: EstimatorCounters,
+}
+
+/// Seconds (finite, 0 to 1000) as microseconds.
+fn micros(seconds: f32) -> u32 {
+    (seconds * 1.0e6) as u32
+}
+
+impl Estimator {
+    /// An estimator for the pursuer's `v_pm` (m/s), `w_pm` (1/m) and the evader's `v_em`,
+    /// `w_em`, told `settings`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidLimits`] unless the limits are finite and positive;
+    /// [`Error::InvalidPeriod`] unless 0 < timeout <= 1000 s and the lag and the lead are in
+    /// [0, timeout); [`Error::NonFiniteInput`] for a noise NaN, infinite or negative.
+    pub fn new(limits: [f32; 4], settings: FieldSettings) -> Result<Self, Error> {
+        let [v_pm, w_pm, v_em, w_em] = limits;
+        let t = settings.timeout;
+        if !(t.is_finite() && t > 0.0 && t <= 1.0e3) {
+            return Err(Error::InvalidPeriod);
+        }
+        let within = |s: f32| s.is_finite() && s >= 0.0 && s < t;
+        if !(within(settings.target_lag) && within(settings.own_lead)) {
+            return Err(Error::InvalidPeriod);
+        }
+        let noise_ok = |n: FixNoise| {
+            [n.position, n.heading]
+                .iter()
+                .all(|v| v.is_finite() && *v >= 0.0)
+        };
+        if !(noise_ok(settings.own_noise) && noise_ok(settings.target_noise)) {
+            return Err(Error::NonFiniteInput);
+        }
+        let own = Track::new(v_pm, w_pm, settings.own_noise).ok_or(Error::InvalidLimits)?;
+        let target = Track::new(v_em, w_em, settings.target_noise).ok_or(Error::InvalidLimits)?;
+        Ok(Estimator {
+            settings,
+            own,
+            target,
+            lag_us: micros(settings.target_lag),
+            lead_us: micros(settings.own_lead),
+            stale_us: micros(t),
+            decided_on: None,
+            counters: EstimatorCounters::default(),
+        })
+    }
+
+    /// The settings it was made with.
+    pub fn settings(&self) -> &FieldSettings {
+        &self.settings
+    }
+
+    /// Takes the own vehicle's fix.
+    ///
+    /// # Errors
+    /// As [`Track::update`]; counted in [`EstimatorCounters::refused`].
+    pub fn own_fix(&mut self, fix: &Fix) -> Result<(), Refused> {
+        let taken = self.own.update(fix, self.stale_us);
+        self.count(taken)
+    }
+
+    /// Takes a target fix that carries the time the target was there.
+    ///
+    /// # Errors
+    /// As [`Track::update`]; counted in [`EstimatorCounters::refused`].
+    pub fn target_fix(&mut self, fix: &Fix) -> Result<(), Refused> {
+        let taken = self.target.update(fix, self.stale_us);
+        if taken.is_ok() {
+            self.counters.target_fixes = self.counters.target_fixes.saturating_add(1);
+        }
+        self.count(taken)
+    }
+
+    /// Takes a target fix `state` that carries no time of its own, received at `received_us`:
+    /// placed at that time less [`FieldSettings::target_lag`].
+    ///
+    /// # Errors
+    /// As [`Estimator::target_fix`].
+    pub fn target_fix_received(
+        &mut self,
+        state: [f32; 3],
+        received_us: u32,
+    ) -> Result<(), Refused> {
+        let time_us = received_us.wrapping_sub(self.lag_us);
+        self.target_fix(&Fix { state, time_us })
+    }
+
+    fn count(&mut self, taken: Result<(), Refused>) -> Result<(), Refused> {
+        if taken.is_err() {
+            self.counters.refused = self.counters.refused.saturating_add(1);
+        }
+        taken
+    }
+
+    /// Both states for a decision made at `now_us`, carried to the moment it acts
+    /// (`now_us` plus [`FieldSettings::own_lead`]).
+    ///
+    /// # Errors
+    /// [`Stale`] names the estimate that is missing or older than the timeout (counted).
+    pub fn states(&mut self, now_us: u32) -> Result<Estimated, Stale> {
+        let acts = now_us.wrapping_add(self.lead_us);
+        let own = self.own.at(acts, self.stale_us);
+        let target = self.target.at(acts, self.stale_us);
+        let (Some((own, own_spread)), Some((target, target_spread))) = (own, target) else {
+            self.counters.stale = self.counters.stale.saturating_add(1);
+            return Err(if self.own.at(acts, self.stale_us).is_none() {
+                Stale::Own
+            } else {
+                Stale::Target
+            });
+        };
+        let last = self.target.last_fix_us();
+        if last == self.decided_on {
+            self.counters.coasted = self.counters.coasted.saturating_add(1);
+        }
+        self.decided_on = last;
+        Ok(Estimated {
+            own,
+            target,
+            uncertainty: own_spread + target_spread,
+        })
+    }
+
+    /// The counters so far.
+    pub fn counters(&self) -> EstimatorCounters {
+        self.counters
+    }
+
+    /// The target's track.
+    pub fn target(&self) -> &Track {
+        &self.target
+    }
+
+    /// The own vehicle's track.
+    pub fn own(&self) -> &Track {
+        &self.own
+    }
+
+    /// Forgets every fix (a new engagement); the counters stay.
+    pub fn clear(&mut self) {
+        self.own.clear();
+        self.target.clear();
+        self.decided_on = None;
+    }
+}
