@@ -124,7 +124,8 @@ def serve(port, key=None):
     """JSON requests: {"op": "heartbeat"} (the first heartbeat and the STATUSTEXTs around it),
     {"op": "set", "name", "value"}, {"op": "list"},
     {"op": "step", "own": [time_ms, [lat, lon], [vx, vy], hdg], "target": [...]},
-    {"op": "quiet", "seconds"} and, where signing is on,
+    {"op": "target", "target": [...]} (a target fix alone), {"op": "quiet", "seconds"} and,
+    where signing is on,
     {"op": "refusals", "name", "value", "kept"}."""
     peer = Peer(port)
     if key is not None:
@@ -160,6 +161,9 @@ def serve(port, key=None):
             answer = values
         elif op == "step":
             answer = peer.step(request["own"], request.get("target"))
+        elif op == "target":
+            peer.position(TARGET, *request["target"])
+            answer = {}
         elif op == "quiet":
             time.sleep(request["seconds"])
             peer.collect(0.05)
@@ -296,16 +300,16 @@ def session(port):
 
     peer.send_as(GCS, mavlink.MAVLink_param_request_list_message(*UNIT))
     values = []
-    for _ in range(11):
+    for _ in range(15):
         m, _ = peer.wait("PARAM_VALUE", timeout=1.0)
         if m is not None:
             values.append(m)
     want = {"TC_V_PM": 2, "TC_W_PM": 2, "TC_V_EM": 1, "TC_W_EM": 1, "TC_TGT_SYSID": 2,
             "TC_VEHICLE": 0, "TC_POLICY": 1, "TC_TIMEOUT": 1, "TC_SYSID": 1, "TC_CAPTURE": 0,
-            "TC_PERIOD": 0}
+            "TC_PERIOD": 0, "TC_TGT_LAG": 0, "TC_TGT_SIG": 0, "TC_TGT_SIGH": 0, "TC_LEAD": 0}
     got = {m.param_id: m.param_value for m in values}
-    check("PARAM_REQUEST_LIST: eleven REAL32 parameters at their defaults",
-          got == want and all(m.param_count == 11 and m.param_type ==
+    check("PARAM_REQUEST_LIST: fifteen REAL32 parameters at their defaults",
+          got == want and all(m.param_count == 15 and m.param_type ==
                               mavlink.MAV_PARAM_TYPE_REAL32 for m in values), got)
     peer.send_as(GCS, mavlink.MAVLink_param_request_read_message(*UNIT, b"TC_TIMEOUT", -1))
     m, _ = peer.wait("PARAM_VALUE", timeout=1.0)

@@ -20,7 +20,7 @@ use twocars::{Guidance, Law, Limits, Policy, Variant};
 
 /// How long the target has been tracked when the chase begins, seconds: fixes from its
 /// straight run before t = 0, so that no chase begins blind.
-const HISTORY: f64 = 1.0;
+pub const HISTORY: f64 = 1.0;
 
 /// Sub-steps per control period of the pursuer's lagging turn.
 const SUBSTEPS: usize = 8;
@@ -70,11 +70,19 @@ pub enum Receiver {
     },
 }
 
-/// One fix on its way: (arrival time s, sampled state).
-type Pending = (f64, [f64; 3]);
+/// One fix on its way: when it arrives and when it was taken (s), and the noisy state taken.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pending {
+    /// Arrival, seconds.
+    pub arrival: f64,
+    /// When the target was there, seconds.
+    pub taken: f64,
+    /// x, y (metres), heading (radians), with the field's noise.
+    pub state: [f64; 3],
+}
 
 /// The fixes of one run: sampled from the target's path, noised, dropped, delayed.
-struct Fixes {
+pub struct Fixes {
     model: FieldModel,
     rng: Rng,
     next_sample: f64,
@@ -82,7 +90,8 @@ struct Fixes {
 }
 
 impl Fixes {
-    fn new(model: FieldModel) -> Self {
+    /// The fixes `model` makes, from [`HISTORY`] before t = 0.
+    pub fn new(model: FieldModel) -> Self {
         Fixes {
             model,
             rng: Rng::new(model.seed),
@@ -93,7 +102,7 @@ impl Fixes {
 
     /// Samples the target on its path from `start` (its state at `t0`) at speed `v` and
     /// curvature `w`, at the fix times in [t0, t0 + dt).
-    fn sample(&mut self, t0: f64, dt: f64, start: [f64; 3], v: f64, w: f64) {
+    pub fn sample(&mut self, t0: f64, dt: f64, start: [f64; 3], v: f64, w: f64) {
         let interval = if self.model.fix_interval > 0.0 {
             self.model.fix_interval
         } else {
@@ -116,17 +125,21 @@ impl Fixes {
                 wrap_pi(theta + m.heading_sigma * self.rng.normal()),
             ];
             if !lost {
-                self.pending.push_back((at + m.lag, noisy));
+                self.pending.push_back(Pending {
+                    arrival: at + m.lag,
+                    taken: at,
+                    state: noisy,
+                });
             }
         }
     }
 
     /// The fixes that have arrived by `t`, oldest first.
-    fn arrived(&mut self, t: f64) -> impl Iterator<Item = Pending> + '_ {
+    pub fn arrived(&mut self, t: f64) -> impl Iterator<Item = Pending> + '_ {
         let count = self
             .pending
             .iter()
-            .take_while(|(arrival, _)| *arrival <= t + 1e-9)
+            .take_while(|p| p.arrival <= t + 1e-9)
             .count();
         self.pending.drain(..count)
     }
@@ -168,12 +181,12 @@ pub fn chase(
     let Ok(limits) = Limits::<f32>::new(v_pm, w_pm, v_em, w_em) else {
         return idle;
     };
-    let guidance = Guidance::new(
-        Law::new(limits, Variant::Paper),
-        params.dt as f32,
-        Policy::Flight,
-    )
-    .and_then(|g| g.with_capture_radius(params.eps as f32));
+    // The guidance period is the pursuer's response where longer than dt, as the MAVLink
+    // endpoint's TC_PERIOD sets it: steering to close a bearing within one period of a vehicle
+    // that takes tau to answer over-commands it and flips full turns.
+    let period = params.dt.max(field.yaw_lag) as f32;
+    let guidance = Guidance::new(Law::new(limits, Variant::Paper), period, Policy::Flight)
+        .and_then(|g| g.with_capture_radius(params.eps as f32));
     let adversary = Adversary::new(
         Opponent::Evader(evader),
         params.limits,
@@ -214,10 +227,10 @@ pub fn chase(
         let (w_e, v_e) = adversary.command(t0, p, e);
         fixes.sample(t0, dt, e, v_e, w_e);
         let now = micros(t0);
-        for (arrival, state) in fixes.arrived(t0) {
-            last_fix = Some(state);
-            let narrow = state.map(|v| v as f32);
-            let _ = estimator.target_fix_received(narrow, micros(arrival));
+        for fix in fixes.arrived(t0) {
+            last_fix = Some(fix.state);
+            let narrow = fix.state.map(|v| v as f32);
+            let _ = estimator.target_fix_received(narrow, micros(fix.arrival));
         }
         let _ = estimator.own_fix(&twocars::estimate::Fix {
             state: p.map(|v| v as f32),

@@ -233,11 +233,15 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
         ("TC_SYSID", 1.0),
         ("TC_CAPTURE", 0.0),
         ("TC_PERIOD", 0.0),
+        ("TC_TGT_LAG", 0.0),
+        ("TC_TGT_SIG", 0.0),
+        ("TC_TGT_SIGH", 0.0),
+        ("TC_LEAD", 0.0),
     ];
     assert_eq!(got, want.map(|(n, v)| (n.to_string(), v)));
     for (i, s) in list.iter().enumerate() {
         // param_count, param_index, param_type REAL32.
-        assert_eq!((s.u16(4), s.u16(6), s.u8(24)), (11, i as u16, 9));
+        assert_eq!((s.u16(4), s.u16(6), s.u8(24)), (15, i as u16, 9));
     }
     let by_name = link.send(
         (255, 190),
@@ -614,6 +618,7 @@ fn status_texts_fit_fifty_characters() {
         Refusal::UnknownName,
         Refusal::OutOfRange,
         Refusal::InvalidLimits,
+        Refusal::LagBeyondTimeout,
     ];
     for text in halts
         .iter()
@@ -632,8 +637,10 @@ fn the_local_plane_follows_the_pursuer_far_from_the_first_fix() {
     let tc_t = |offset: [f64; 2]| {
         let mut link = Link::new();
         link.position(OWN, 0, [0.0, 0.0, 0.0], 2.0);
-        // The engagement's geometry laid out about its own place.
+        // The engagement's geometry laid out about its own place, 100 ms later on both
+        // clocks.
         link.plane = Plane::new(link.plane.fix(offset[0], offset[1]));
+        link.now_ms = 100;
         link.position(TARGET, 100, [30.0, 40.0, 1.0], 1.0);
         let sent = link.position(OWN, 100, [0.0, 0.0, 0.3], 2.0);
         f64::from(named(of(&sent, NAMED_VALUE_FLOAT)[0]).1)
@@ -644,4 +651,63 @@ fn the_local_plane_follows_the_pursuer_far_from_the_first_fix() {
         home.is_finite() && ((far - home) / home).abs() < 1e-4,
         "{home} vs {far}"
     );
+}
+
+/// TC_TGT_LAG places a target fix that long before it arrived, and the estimator carries the
+/// target to the own fix's time: a fix 0.4 s late, of a target running straight north at
+/// v_em, steers the pursuer as an on-time fix of where the target is now; without the lag it
+/// steers toward where the target was.
+#[test]
+fn tc_tgt_lag_carries_a_late_target_to_the_own_fix() {
+    let tc_t = |lag: f32, late: bool| {
+        let mut link = Link::new();
+        link.scale_tenfold();
+        assert_eq!(param(&link.set("TC_TGT_LAG", lag)[0]).1, lag);
+        let mut upper = f32::NAN;
+        // The target's fixes every 100 ms on its clock; each arrives 0.4 s later when `late`.
+        for k in 4..12_u32 {
+            let t = 100 * k;
+            link.now_ms = t;
+            let seen = if late { t - 400 } else { t };
+            let north = 80.0 + 10.0 * f64::from(seen) / 1000.0;
+            link.position(TARGET, seen, [north, 60.0, 0.0], 10.0);
+            let sent = link.position(OWN, t, [0.0, 0.0, 0.4], 20.0);
+            if let Some(v) = of(&sent, NAMED_VALUE_FLOAT).first() {
+                upper = named(v).1;
+            }
+        }
+        upper
+    };
+    let on_time = tc_t(0.0, false);
+    let carried = tc_t(0.4, true);
+    let uncarried = tc_t(0.0, true);
+    assert!(on_time.is_finite());
+    assert!(
+        (carried - on_time).abs() < 0.01 * on_time,
+        "{carried} vs {on_time} on time"
+    );
+    assert!(
+        (uncarried - on_time).abs() > 0.1,
+        "the late fix as it came: {uncarried} vs {on_time}"
+    );
+}
+
+/// TC_TGT_LAG and TC_LEAD stay below TC_TIMEOUT: a fix carried that far would be stale.
+#[test]
+fn a_lag_at_or_beyond_the_timeout_is_refused() {
+    let mut link = Link::new();
+    let replies = link.set("TC_TGT_LAG", 1.0);
+    assert_eq!(param(&replies[0]), ("TC_TGT_LAG".into(), 0.0));
+    assert_eq!(
+        status(of(&replies, STATUSTEXT)[0]),
+        (
+            WARNING,
+            "TC: lag and lead must stay below TC_TIMEOUT".into()
+        )
+    );
+    assert_eq!(param(&link.set("TC_LEAD", 0.5)[0]).1, 0.5);
+    let replies = link.set("TC_TIMEOUT", 0.5);
+    assert_eq!(param(&replies[0]), ("TC_TIMEOUT".into(), 1.0));
+    assert_eq!(param(&link.set("TC_TIMEOUT", 2.0)[0]).1, 2.0);
+    assert_eq!(param(&link.set("TC_TGT_LAG", 1.0)[0]).1, 1.0);
 }

@@ -252,6 +252,12 @@ impl Estimator {
         &self.own
     }
 
+    /// Forgets the target's fixes (a new track of it).
+    pub fn clear_target(&mut self) {
+        self.target.clear();
+        self.decided_on = None;
+    }
+
     /// Forgets every fix (a new engagement); the counters stay.
     pub fn clear(&mut self) {
         self.own.clear();

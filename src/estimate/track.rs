@@ -85,6 +85,8 @@ struct Estimate {
     turn_rate: f32,
     /// One sigma of the position just after the last fix, metres.
     spread: f32,
+    /// One sigma of the heading just after the last fix, radians.
+    heading_spread: f32,
     /// The last fix's time, microseconds.
     time_us: u32,
 }
@@ -225,10 +227,16 @@ impl Track {
             x: x * alpha + px * (1.0 - alpha),
             y: y * alpha + py * (1.0 - alpha),
             theta: heading,
-            speed: (last.speed + beta * along / interval).clamp(0.0, self.speed_max),
+            // `max` and `min`, not `clamp`: `f32::clamp` asserts bounds it cannot see are
+            // ordered, a panic path.
+            speed: (last.speed + beta * along / interval)
+                .max(0.0)
+                .min(self.speed_max),
             turn_rate: (last.turn_rate + beta_h * r_theta / interval)
-                .clamp(-self.turn_rate_max, self.turn_rate_max),
+                .max(-self.turn_rate_max)
+                .min(self.turn_rate_max),
             spread: self.noise.position * sqrt(alpha),
+            heading_spread: self.noise.heading * sqrt(alpha_h),
             time_us: fix.time_us,
         });
         Ok(())
@@ -244,13 +252,15 @@ impl Track {
             speed: self.speed_max,
             turn_rate: 0.0,
             spread: self.noise.position,
+            heading_spread: self.noise.heading,
             time_us: fix.time_us,
         });
     }
 
     /// The state (x, y metres, heading radians) carried to `time_us` on the track's arc, and
-    /// its uncertainty (metres): the filtered noise plus half of what a turn reversed at the
-    /// last fix moves the car since, v_max (v_max w_max) age^2 / 2. `None` without a fix, or
+    /// its uncertainty (metres): the filtered position noise, the filtered heading noise's
+    /// move of the car's turning circles (times 1 / w_max), and half of what a turn reversed
+    /// at the last fix moves the car since, v_max (v_max w_max) age^2 / 2. `None` without a fix, or
     /// where the last is more than `stale_us` old or later than `time_us` by more than that.
     pub fn at(&self, time_us: u32, stale_us: u32) -> Option<([f32; 3], f32)> {
         let last = self.estimate?;
@@ -260,7 +270,8 @@ impl Track {
         }
         let age = seconds_between(last.time_us, time_us);
         let manoeuvre = 0.5 * self.speed_max * self.turn_rate_max * age * age;
-        Some((last.after(age), last.spread + manoeuvre))
+        let circles = last.heading_spread * self.speed_max / self.turn_rate_max;
+        Some((last.after(age), last.spread + circles + manoeuvre))
     }
 
     /// The track's speed (m/s) and turn rate (rad/s) at its last fix.

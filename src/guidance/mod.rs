@@ -18,6 +18,7 @@ use crate::law::geometry::{VehicleLimits, VehicleState};
 use crate::law::{
     fallback_command, steer_along, Command, Decision, Evaluation, GameReport, Law, Period, Sampling,
 };
+use crate::num::f32_math;
 #[cfg(feature = "value-tables")]
 use crate::num::f32_math::{sin_cos, wrap_signed};
 use crate::num::Scalar;
@@ -27,7 +28,12 @@ use homing::{NearFieldMemory, NearFieldTerms, Situation};
 
 /// How many of the estimates' uncertainties (metres) a choice of circles must be beaten by
 /// before the pursuer changes it ([`Guidance::decide_estimated`]).
-pub const HYSTERESIS_SIGMAS: f32 = 2.0;
+pub const HYSTERESIS_SIGMAS: f32 = 1.0;
+
+/// The widest cone about the pursuer's nose (half-angle, radians) within which an evader's
+/// estimated bearing does not reverse its turn ([`Guidance::decide_estimated`]): near the
+/// evader u / d grows past any bearing noise.
+pub const NOISE_CONE: f32 = core::f32::consts::FRAC_PI_4;
 
 /// Which feedback a [`Guidance`] applies: [`Policy::Flight`] is the one to fly (the default);
 /// [`Policy::Paper`] is the reference.
@@ -241,9 +247,10 @@ impl<S: Scalar> Guidance<S> {
     /// - the choice of circles is kept unless another is better by more than
     ///   [`HYSTERESIS_SIGMAS`] u / (v_pm - v_em) seconds (at most the pursuer's full turn's
     ///   time);
-    /// - the pursuer turns to the other side than its last turn only where it is told more
-    ///   than a bearing of [`HYSTERESIS_SIGMAS`] u / d needs in a period (d the players'
-    ///   distance; at most w_pm); a weaker reversal runs straight.
+    /// - the pursuer turns to the other side than its last turn only where the evader's
+    ///   bearing is outside the cone of half-angle [`HYSTERESIS_SIGMAS`] u / d about its nose
+    ///   (d the players' distance; at most [`NOISE_CONE`]) and it is told more than that angle
+    ///   needs in a period (at most w_pm); otherwise it runs straight.
     ///
     /// With u = 0 the decision is [`Guidance::decide`]'s.
     ///
@@ -262,30 +269,38 @@ impl<S: Scalar> Guidance<S> {
         };
         let mut decision = self.decide(&pursuer, &evader);
         self.margin = S::zero();
-        let [px, py, _] = estimated.own;
-        let [ex, ey, _] = estimated.target;
-        let bearing =
-            uncertainty / crate::num::f32_math::sqrt((ex - px) * (ex - px) + (ey - py) * (ey - py));
-        let w = decision.command.pursuer;
-        let reverses = match self.side {
-            Some(left) => (left && w < S::zero()) || (!left && w > S::zero()),
-            None => false,
-        };
-        if reverses && uncertainty > 0.0 {
-            let gate = if bearing.is_finite() && bearing < core::f32::consts::PI {
-                (self.period.pursuer * S::from_f32(bearing)).min(limits.pursuer.w_max())
-            } else {
-                limits.pursuer.w_max()
-            };
-            if w.abs() < gate {
-                decision.command.pursuer = S::zero();
-            }
+        if self.noise_reversal(estimated, uncertainty, decision.command.pursuer) {
+            decision.command.pursuer = S::zero();
         }
         let w = decision.command.pursuer;
         if w != S::zero() {
             self.side = Some(w > S::zero());
         }
         Ok(decision)
+    }
+
+    /// Whether the pursuer's curvature `w` (law units) turns it to the other side than its last
+    /// turn where the estimates' `uncertainty` (metres, its multiple) could explain it: the
+    /// evader within the cone of half-angle uncertainty / d (at most [`NOISE_CONE`]) about
+    /// the pursuer's nose, or `w` within the curvature that turns that angle in a period.
+    fn noise_reversal(&self, estimated: &Estimated, uncertainty: f32, w: S) -> bool {
+        let reverses = match self.side {
+            Some(left) => (left && w < S::zero()) || (!left && w > S::zero()),
+            None => false,
+        };
+        if !reverses || uncertainty.is_nan() || uncertainty <= 0.0 {
+            return false;
+        }
+        let [px, py, heading] = estimated.own;
+        let [ex, ey, _] = estimated.target;
+        let (dx, dy) = (ex - px, ey - py);
+        let cone = (uncertainty / f32_math::sqrt(dx * dx + dy * dy)).min(NOISE_CONE);
+        if !cone.is_finite() {
+            return true;
+        }
+        let bearing = f32_math::wrap_signed(f32_math::atan2(dy, dx) - heading);
+        let gate = (self.period.pursuer * S::from_f32(cone)).min(self.law.limits.pursuer.w_max());
+        bearing.abs() <= cone || w.abs() < gate
     }
 
     /// Evaluates the law for this period and returns the evaluation with the sampled command.

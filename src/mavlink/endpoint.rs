@@ -35,6 +35,8 @@ use super::messages::{decode, extra_crc, Message};
 use super::outgoing::{Outbox, COMPONENT, MAX_PARAM_VALUE};
 use super::params::{index, Params, Refusal, SPECS};
 use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN, LINK_ID, PROVISIONED};
+use super::tracking::Tracking;
+use crate::estimate::Stale;
 use crate::geodetic::{
     bank_angle, course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
 };
@@ -142,6 +144,11 @@ pub struct EndpointCounters {
     pub bad_signature: u32,
     /// See `unsigned`.
     pub stale_signature: u32,
+    /// Setpoints made with no new target fix since the one before: the target coasted on its
+    /// track ([`crate::estimate`]).
+    pub target_coasted: u32,
+    /// Fixes the estimator refused (either vehicle): out of order or outliers of the track.
+    pub fixes_refused: u32,
 }
 
 /// A vehicle's last fix: degE7, heading (rad, clockwise from north), the sender's clock and
@@ -185,6 +192,11 @@ pub struct Endpoint {
 struct Session {
     params: Params,
     guidance: Option<Guidance<f32>>,
+    /// Both vehicles' tracks (TC_TGT_LAG, TC_TGT_SIG, TC_TGT_SIGH, TC_LEAD).
+    tracking: Option<Tracking>,
+    /// The target's last fix not yet in its track, and whether it starts a new track: placed
+    /// on the autopilot's clock by the next own fix.
+    pending_target: Option<(Fix, bool)>,
     period_ms: u32,
     origin: Option<LocalFrame>,
     own: Option<Fix>,
@@ -220,6 +232,8 @@ impl Endpoint {
         let mut session = Session {
             params,
             guidance: None,
+            tracking: None,
+            pending_target: None,
             period_ms: DEFAULT_PERIOD_MS,
             origin: None,
             own: None,
@@ -287,7 +301,12 @@ impl Endpoint {
 
     /// What the endpoint counted.
     pub fn counters(&self) -> EndpointCounters {
-        self.session.counters
+        let mut counters = self.session.counters;
+        if let Some(t) = &self.session.tracking {
+            counters.target_coasted = t.counters().coasted;
+            counters.fixes_refused = t.counters().refused;
+        }
+        counters
     }
 
     /// What the frame reader counted.
@@ -464,6 +483,7 @@ impl Session {
                 .and_then(|g| g.with_capture_radius(capture))
                 .ok()
         });
+        self.tracking = Tracking::new(&self.params);
     }
 
     fn handle(&mut self, frame: &Frame<'_>, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
@@ -521,8 +541,8 @@ impl Session {
         };
         match self.params.set(i, value) {
             Ok(()) => {
-                let rebuilds = [index::POLICY, index::CAPTURE, index::PERIOD];
-                if i <= index::W_EM || rebuilds.contains(&i) {
+                let rebuilds = [index::POLICY, index::CAPTURE, index::PERIOD, index::TIMEOUT];
+                if i <= index::W_EM || i >= index::TGT_LAG || rebuilds.contains(&i) {
                     self.rebuild_guidance();
                 }
                 self.outbox.param_value(self.sysid(), &self.params, i, send);
@@ -576,10 +596,41 @@ impl Session {
         if jumped {
             self.counters.target_jumps = self.counters.target_jumps.wrapping_add(1);
         }
+        // A jump confirmed, or a fix after a stale track, starts a new track.
+        let fresh = live.is_none_or(|last| !last.confirmed);
         self.target = Some(Target {
             fix,
             confirmed: !jumped,
         });
+        if !jumped {
+            let fresh = fresh || self.pending_target.is_some_and(|(_, f)| f);
+            self.pending_target = Some((fix, fresh));
+        }
+    }
+
+    /// The own fix into its track, then the target's fix waiting for it (module docs of
+    /// `tracking`), placed on the autopilot's clock by this own fix: its time less our clock
+    /// from the target fix's arrival to its own. With no target track, the last confirmed fix
+    /// starts one (a fix that came before the first own fix, or before the plane moved).
+    fn track(&mut self, own: &Fix) {
+        let (Some(origin), Some(tracking)) = (self.origin, self.tracking.as_mut()) else {
+            return;
+        };
+        if let Some((x, y)) = origin.to_local(own.lat, own.lon) {
+            let _ = tracking.own([x, y, own.heading], own.sent_ms);
+        }
+        if self.pending_target.is_none() && !tracking.has_target() {
+            self.pending_target = self.target.filter(|t| t.confirmed).map(|t| (t.fix, true));
+        }
+        let Some((fix, fresh)) = self.pending_target.take() else {
+            return;
+        };
+        if let Some((x, y)) = origin.to_local(fix.lat, fix.lon) {
+            let before = own.arrived_ms.wrapping_sub(fix.arrived_ms);
+            let arrival_ms = own.sent_ms.wrapping_sub(before);
+            // Refusals are counted by the estimator.
+            let _ = tracking.target([x, y, fix.heading], fix.sent_ms, arrival_ms, fresh);
+        }
     }
 
     fn own_state(
@@ -612,7 +663,12 @@ impl Session {
         };
         if self.origin.as_ref().is_none_or(far) {
             self.origin = LocalFrame::new(fix.lat, fix.lon);
+            // The tracks were in the old plane: the target's last fix starts a new one.
+            if let Some(tracking) = self.tracking.as_mut() {
+                tracking.clear();
+            }
         }
+        self.track(&fix);
         match self.evaluate(now_ms) {
             Ok(decision) => self.setpoint(&decision, fix.heading, now_ms, send),
             Err(halt) => self.halt(halt, send),
@@ -657,18 +713,21 @@ impl Session {
         if !target.confirmed {
             return Err(Halt::TargetJump);
         }
-        let (xp, yp) = origin.to_local(own.lat, own.lon).ok_or(Halt::OwnFix)?;
-        let (xe, ye) = origin
+        origin.to_local(own.lat, own.lon).ok_or(Halt::OwnFix)?;
+        origin
             .to_local(target.fix.lat, target.fix.lon)
             .ok_or(Halt::TargetFix)?;
-        let Some(guidance) = self.guidance.as_mut() else {
+        let (Some(guidance), Some(tracking)) = (self.guidance.as_mut(), self.tracking.as_mut())
+        else {
             return Err(Halt::Law(Status::InvalidLimits));
         };
-        let limits = guidance.law().limits;
-        let (pursuer, evader) = limits
-            .states([xp, yp, own.heading], [xe, ye, target.fix.heading])
+        let estimated = tracking.states(own.sent_ms).map_err(|stale| match stale {
+            Stale::Own => Halt::OwnStale,
+            Stale::Target => Halt::TargetStale,
+        })?;
+        let decision = guidance
+            .decide_estimated(&estimated)
             .map_err(|e| Halt::Law(e.status()))?;
-        let decision = guidance.decide(&pursuer, &evader);
         match decision.status {
             Status::Ok | Status::NoValidTangent | Status::Captured => Ok(decision),
             status => Err(Halt::Law(status)),

@@ -15,6 +15,7 @@ pub mod params;
 #[cfg(feature = "firmware")]
 pub mod service;
 pub mod signing;
+mod tracking;
 
 pub use endpoint::{
     Endpoint, EndpointCounters, Halt, BOARD_NOTICE_MS, FALLBACK_CLOCK_TEXT, SIGNATURE_COUNTERS,

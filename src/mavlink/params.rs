@@ -1,4 +1,4 @@
-//! The endpoint's parameters (docs/mavlink.md): eleven REAL32 values
+//! The endpoint's parameters (docs/mavlink.md): fifteen REAL32 values
 //! read and set by name or index, each checked against its range, the limits also as a whole.
 
 use crate::law::geometry::Limits;
@@ -64,11 +64,21 @@ pub mod index {
     /// The guidance period, s: the shortest time a turn is planned over (0: the own states'
     /// spacing).
     pub const PERIOD: usize = 10;
+    /// The target fixes' transport lag, s: from when the target was there to when its fix
+    /// arrives.
+    pub const TGT_LAG: usize = 11;
+    /// One sigma of the target fixes' position, m.
+    pub const TGT_SIG: usize = 12;
+    /// One sigma of the target fixes' heading, rad.
+    pub const TGT_SIGH: usize = 13;
+    /// How long after a setpoint the vehicle turns as told, s: both states are carried that
+    /// far ahead.
+    pub const LEAD: usize = 14;
 }
 
 /// Every parameter, in index order. Speeds and curvatures span the law's envelope
 /// ([`crate::law::geometry::MAX_SPEED`] and its kin); the limits are also checked together.
-pub const SPECS: [Spec; 11] = [
+pub const SPECS: [Spec; 15] = [
     real("TC_V_PM", 2.0, 1.0e-3, 1.0e4),
     real("TC_W_PM", 2.0, 1.0e-4, 1.0e4),
     real("TC_V_EM", 1.0, 1.0e-3, 1.0e4),
@@ -80,6 +90,10 @@ pub const SPECS: [Spec; 11] = [
     whole("TC_SYSID", 1.0, 1.0, 255.0),
     real("TC_CAPTURE", 0.0, 0.0, 100.0),
     real("TC_PERIOD", 0.0, 0.0, 1.0),
+    real("TC_TGT_LAG", 0.0, 0.0, 5.0),
+    real("TC_TGT_SIG", 0.0, 0.0, 100.0),
+    real("TC_TGT_SIGH", 0.0, 0.0, 3.0),
+    real("TC_LEAD", 0.0, 0.0, 5.0),
 ];
 
 /// Why a PARAM_SET was refused (the STATUSTEXT says which).
@@ -91,6 +105,8 @@ pub enum Refusal {
     OutOfRange,
     /// The four limits would break v_pm > v_em > 0, w_pm > w_em > 0 or the law's envelope.
     InvalidLimits,
+    /// TC_TGT_LAG or TC_LEAD would reach TC_TIMEOUT: a fix would be stale when it acts.
+    LagBeyondTimeout,
 }
 
 impl Refusal {
@@ -100,6 +116,7 @@ impl Refusal {
             Refusal::UnknownName => "TC: no such parameter",
             Refusal::OutOfRange => "TC: parameter out of range, kept",
             Refusal::InvalidLimits => "TC: limits invalid (need v_pm>v_em, w_pm>w_em)",
+            Refusal::LagBeyondTimeout => "TC: lag and lead must stay below TC_TIMEOUT",
         }
     }
 }
@@ -156,6 +173,11 @@ impl Params {
             *slot = value;
         }
         next.limits().ok_or(Refusal::InvalidLimits)?;
+        let timeout = next.get(index::TIMEOUT).unwrap_or(0.0);
+        let below = |i| next.get(i).is_some_and(|v| v < timeout);
+        if !(below(index::TGT_LAG) && below(index::LEAD)) {
+            return Err(Refusal::LagBeyondTimeout);
+        }
         *self = next;
         Ok(())
     }

@@ -23,9 +23,9 @@ use crate::firmware::emulator;
 /// pymavlink's version in the virtual environment.
 const PYMAVLINK: &str = "pymavlink==2.4.49";
 /// Lengths and speeds times this (times unchanged).
-const SCALE: f64 = 10.0;
+pub const SCALE: f64 = 10.0;
 /// Control period, s.
-const DT: f64 = 0.01;
+pub const DT: f64 = 0.01;
 /// Capture distance at the scale, metres (`cargo xtask run`'s 0.01 m, scaled).
 const EPS: f64 = 0.01 * SCALE;
 /// A capture within this many periods of the reference counts as on time.
@@ -114,14 +114,15 @@ pub fn signing_key() -> Result<Option<String>, String> {
 }
 
 /// The pymavlink peer in `serve` mode: one JSON request, one JSON answer.
-struct Peer {
+pub struct Peer {
     child: Child,
     input: ChildStdin,
     output: BufReader<ChildStdout>,
 }
 
 impl Peer {
-    fn start(port: u16) -> Result<Peer, String> {
+    /// The peer against the unit on TCP `port`, signing where a key is set.
+    pub fn start(port: u16) -> Result<Peer, String> {
         let mut command = Command::new(python()?);
         command
             .arg(peer_script())
@@ -144,7 +145,8 @@ impl Peer {
         })
     }
 
-    fn ask(&mut self, request: &str) -> Result<String, String> {
+    /// One JSON request; its JSON answer.
+    pub fn ask(&mut self, request: &str) -> Result<String, String> {
         writeln!(self.input, "{request}").map_err(|e| format!("to mavlink_peer.py: {e}"))?;
         let mut line = String::new();
         self.output
@@ -165,7 +167,7 @@ impl Drop for Peer {
 }
 
 /// A number after `"key": ` in a flat JSON answer.
-fn field(answer: &str, key: &str) -> Option<f64> {
+pub fn field(answer: &str, key: &str) -> Option<f64> {
     let at = answer.find(&format!("\"{key}\": "))? + key.len() + 4;
     let rest = answer.get(at..)?;
     let end = rest.find([',', '}']).unwrap_or(rest.len());
@@ -180,12 +182,51 @@ fn field(answer: &str, key: &str) -> Option<f64> {
 
 /// The GLOBAL_POSITION_INT fields of a vehicle at `state` (metres north and east of home,
 /// heading clockwise from north) moving at `speed`, stamped `time_ms`, as a JSON array.
-fn report(plane: &Plane, time_ms: u32, state: [f64; 3], speed: f64) -> String {
+pub fn report(plane: &Plane, time_ms: u32, state: [f64; 3], speed: f64) -> String {
     let (lat, lon) = plane.fix(state[0], state[1]);
     let (vx, vy) = velocity_cm_s(speed, state[2]);
     format!(
         "[{time_ms}, [{lat}, {lon}], [{vx}, {vy}], {}]",
         hdg_cdeg(state[2])
+    )
+}
+
+/// The paper's limits at [`SCALE`]: speeds times it, curvatures divided by it.
+pub fn scaled_limits() -> [f32; 4] {
+    let limits = PAPER_LIMITS.map(|v| v as f32);
+    [
+        limits[0] * SCALE as f32,
+        limits[1] / SCALE as f32,
+        limits[2] * SCALE as f32,
+        limits[3] / SCALE as f32,
+    ]
+}
+
+/// PARAM_SETs of `values`, in order; whether each was read back as set.
+pub fn set_params(peer: &mut Peer, values: &[(&str, f32)]) -> Result<bool, String> {
+    let mut ok = true;
+    for &(name, value) in values {
+        let answer = peer.ask(&format!(
+            r#"{{"op": "set", "name": "{name}", "value": {value}}}"#
+        ))?;
+        println!("PARAM_SET {name} = {value}: PARAM_VALUE {answer}");
+        ok &= field(&answer, "value") == Some(f64::from(value));
+    }
+    Ok(ok)
+}
+
+/// The unit's limits set to [`scaled_limits`], in an order each step keeps valid: speeds
+/// first, then the evader's curvature; whether each was read back.
+pub fn set_scaled_limits(peer: &mut Peer) -> Result<bool, String> {
+    let scaled = scaled_limits();
+    set_params(
+        peer,
+        &[
+            ("TC_V_PM", scaled[0]),
+            ("TC_V_EM", scaled[2]),
+            ("TC_W_EM", scaled[3]),
+            ("TC_W_PM", scaled[1]),
+        ],
     )
 }
 
@@ -246,14 +287,7 @@ fn signature_refusals(peer: &mut Peer) -> Result<bool, String> {
 
 /// The closed loop of `run --link mavlink` on `board`'s image: whether every capture was on time.
 pub fn run_cases(board: Board) -> Result<bool, String> {
-    let limits = PAPER_LIMITS.map(|v| v as f32);
-    // Speeds times the scale, curvatures divided by it.
-    let scaled = [
-        limits[0] * SCALE as f32,
-        limits[1] / SCALE as f32,
-        limits[2] * SCALE as f32,
-        limits[3] / SCALE as f32,
-    ];
+    let scaled = scaled_limits();
     let (elf, size) = build::build_checked(board)?;
     println!(
         "{}: {} B flash; pymavlink plays the autopilot (system 1) and the target (system 2)",
@@ -271,20 +305,7 @@ pub fn run_cases(board: Board) -> Result<bool, String> {
     ok &= heartbeat.contains(twocars::mavlink::FALLBACK_CLOCK_TEXT) == fallback;
     // An image built without a key says so with its first heartbeat.
     ok &= heartbeat.contains(twocars::mavlink::UNSIGNED_TEXT) == signing_key()?.is_none();
-    // Each step keeps the limits valid: speeds first, then the evader's curvature.
-    for (name, value) in [
-        ("TC_V_PM", scaled[0]),
-        ("TC_V_EM", scaled[2]),
-        ("TC_W_EM", scaled[3]),
-        ("TC_W_PM", scaled[1]),
-    ] {
-        let answer = peer.ask(&format!(
-            r#"{{"op": "set", "name": "{name}", "value": {value}}}"#
-        ))?;
-        let read_back = field(&answer, "value");
-        println!("PARAM_SET {name} = {value}: PARAM_VALUE {answer}");
-        ok &= read_back == Some(f64::from(value));
-    }
+    ok &= set_scaled_limits(&mut peer)?;
     // Every parameter listed: the list is paced to the transmit queue's room.
     let list = peer.ask(r#"{"op": "list"}"#)?;
     println!("PARAM_REQUEST_LIST: {list}");

@@ -6,6 +6,7 @@ pub mod build;
 pub mod closed_loop;
 pub mod emulator;
 pub mod mavlink;
+pub mod mavlink_field;
 pub mod qemu;
 pub mod rp2040js;
 pub mod run;

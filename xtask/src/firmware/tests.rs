@@ -557,6 +557,16 @@ pub fn run() -> (u64, u64) {
         );
     }
     record(
+        "qemu::mavlink_late_sparse_noisy_target_is_captured_without_chatter",
+        crate::firmware::mavlink_field::run_field(Board::QemuMavlink).and_then(|ok| {
+            if ok {
+                Ok("four captures, median sign flips within 5".to_string())
+            } else {
+                Err("a chase was not captured, or the setpoint chattered".to_string())
+            }
+        }),
+    );
+    record(
         "qemu::mavlink_signed_closed_loop_captures_and_refuses_unsigned_and_forged_frames",
         signed_closed_loop(),
     );
