@@ -73,3 +73,25 @@ pub const TABLE_POINTS: [[f32; 3]; 8] = [
     [-0.5, -1.5, -1.0],
     [3.5, 0.5, 3.0],
 ];
+
+/// The estimator bench's fixes: a target on a slow left turn at 1 m/s, a fix every 200 ms,
+/// each with a deterministic offset of up to 0.1 m and 0.05 rad (x, y metres, heading
+/// radians), and the noise the estimator is told.
+pub fn estimate_fix(i: u32) -> [f32; 3] {
+    let k = i as f32;
+    // A small integer hash for the offsets: the same on every target.
+    let h = i.wrapping_mul(2_654_435_761) >> 16;
+    let jitter = |bits: u32| ((bits & 0xFF) as f32 / 255.0 - 0.5) * 0.2;
+    [
+        0.2 * k + jitter(h),
+        0.004 * k * k + jitter(h >> 8),
+        0.04 * k + 0.5 * jitter(h >> 4),
+    ]
+}
+
+/// Fixes the estimator bench takes.
+pub const ESTIMATE_FIXES: u32 = 24;
+/// Time between them, microseconds.
+pub const ESTIMATE_INTERVAL_US: u32 = 200_000;
+/// One sigma of their noise: position (m), heading (rad).
+pub const ESTIMATE_NOISE: [f32; 2] = [0.1, 0.05];

@@ -253,3 +253,27 @@ fn noisy_fixes_through_the_estimator_do_not_chatter() {
         "median flips {est} through the estimator, {raw} raw"
     );
 }
+
+#[test]
+fn decisions_between_fixes_coast_and_are_counted() {
+    let limits = [2.0, 2.0, 1.0, 1.0];
+    let mut estimator = Estimator::new(limits, FieldSettings::exact(1.0)).expect("valid");
+    // A target fix every 100 ms, a decision every 10 ms: 9 of each 10 decisions coast.
+    for k in 0..30_u32 {
+        let t = f64::from(k) * 0.01;
+        estimator.own_fix(&fix([0.0, 0.0, 0.0], t)).expect("own");
+        if k % 10 == 0 {
+            estimator
+                .target_fix(&fix([5.0 + t, 0.0, 0.0], t))
+                .expect("target");
+        }
+        let est = estimator.states((t * 1e6).round() as u32).expect("fresh");
+        // Carried on at 1 m/s: x = 5 + t whatever the age.
+        assert!(
+            (f64::from(est.target[0]) - (5.0 + t)).abs() < 1e-4,
+            "{est:?} at {t}"
+        );
+    }
+    let counters = estimator.counters();
+    assert_eq!((counters.target_fixes, counters.coasted), (3, 27));
+}

@@ -1,6 +1,7 @@
 //! The measuring harness the bench images share on the target (QEMU, semihosting): each image
 //! in `src/bin/` is its `main` calling one of these `run`s.
 
+pub mod estimate;
 pub mod law;
 #[cfg(feature = "mavlink")]
 pub mod mavlink;

@@ -12,6 +12,7 @@ use crate::bench::serial::LoopImage;
 use crate::firmware::build::{self, Board};
 use crate::workspace::root;
 
+pub mod estimate;
 pub mod image;
 pub mod law;
 pub mod mavlink;
@@ -62,13 +63,14 @@ fn host_throughput() -> (f64, f64) {
 
 /// Runs the bench, prints its report and writes it to `docs/bench.md`; returns the exit code.
 pub fn run() -> i32 {
-    let sections: [fn() -> Result<String, String>; 8] = [
+    let sections: [fn() -> Result<String, String>; 9] = [
         crate::bench::law::section,
         || crate::bench::serial::section(LoopImage::M4fFloat),
         || crate::bench::serial::section(LoopImage::M0Fixed),
         || crate::bench::serial::section(LoopImage::M4fTables),
         || crate::bench::mavlink::measure().map(|m| crate::bench::mavlink::paragraph(&m)),
         || crate::bench::table::measure().map(|m| crate::bench::table::paragraph(&m)),
+        crate::bench::estimate::section,
         || Ok(firmware_sizes()),
         || Ok(host()),
     ];
