@@ -13,6 +13,7 @@ use host_tests::sim::{simulate_with_turns, Setup, SimParams, SimStatus};
 use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 use twocars::{Policy, Variant};
 
+use super::field::Delayed;
 use super::harness::{Harness, Injector, RoverFix};
 use super::router::Source;
 use super::vehicle::wait_stopped;
@@ -29,7 +30,7 @@ pub struct Start {
 }
 
 /// The evader as the host simulates it.
-struct Target {
+pub struct Target {
     adversary: Adversary,
     state: [f64; 3],
     command: (f64, f64),
@@ -164,13 +165,15 @@ impl Marks {
     }
 }
 
-/// Flies `start` from where the rover stands; `limits` are the law's (v_pm, w_pm, v_em, w_em).
+/// Flies `start` from where the rover stands; `limits` are the law's (v_pm, w_pm, v_em, w_em);
+/// with `field` the target's fixes come through [`Delayed`].
 pub fn fly(
     h: &mut Harness,
     start: Start,
     limits: [f64; 4],
     eps: f64,
     seed: u64,
+    field: bool,
 ) -> Result<Outcome, String> {
     let rover = h.rover.ok_or("no fix from the rover")?;
     let evader0 = place(rover.state, &start);
@@ -185,7 +188,7 @@ pub fn fly(
     let ideal = ideal_run(&params, start.evader, seed);
     let adversary = Adversary::new(Opponent::Evader(start.evader), limits, params.dt, eps, seed)
         .ok_or("the adversary's limits are invalid")?;
-    let mut target = Target {
+    let target = Target {
         adversary,
         state: evader0,
         command: (0.0, limits[2]),
@@ -199,15 +202,23 @@ pub fn fly(
     };
     let marks = Marks::now(h);
     let wall = std::time::Instant::now() + Duration::from_secs_f64(params.t_max * 2.0 + 10.0);
-    while target.on {
+    // Through the field, the target's fixes come late, sparse and noisy.
+    let mut delayed = Delayed::new(target, seed);
+    while delayed.inner().on {
         if std::time::Instant::now() > wall {
             return Err("the chase outran its wall-clock limit".to_string());
         }
-        h.pump_until(&mut target, Duration::from_millis(100), &mut |_| false)?;
+        let injector: &mut dyn Injector = if field {
+            &mut delayed
+        } else {
+            delayed.inner_mut()
+        };
+        h.pump_until(injector, Duration::from_millis(100), &mut |_| false)?;
     }
     let end_ms = h.now_ms();
     // The failsafe: the target is silent from here; the rover must come to a standstill.
-    let stopped_ms = wait_stopped(h, &mut target, 15.0).ok();
+    let stopped_ms = wait_stopped(h, &mut delayed, 15.0).ok();
+    let target = delayed.inner();
     let ended = Ended {
         start,
         rover,

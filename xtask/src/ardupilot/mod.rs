@@ -4,6 +4,7 @@
 //! simulated as a Dubins car and reported as system 2's GLOBAL_POSITION_INT (docs/ardupilot.md).
 
 mod chase;
+mod field;
 mod harness;
 mod router;
 mod sitl;
@@ -40,6 +41,9 @@ pub struct Options {
     pub ardurover: Option<PathBuf>,
     /// One short chase instead of the whole set (what `cargo xtask test` flies).
     pub short: bool,
+    /// The target's fixes late, sparse and noisy ([`field`]), the unit told so, and wind and
+    /// GPS noise on the rover.
+    pub field: bool,
 }
 
 /// The law's limits for the measured rover: v_pm its top speed, w_pm the curvature of
@@ -101,15 +105,46 @@ fn starts(limits: [f64; 4], short: bool) -> Vec<Start> {
 /// Sets the unit's TC_* parameters (speeds first, so each step keeps the limits valid); Err
 /// where one is not echoed.
 fn configure_unit(h: &mut Harness, limits: [f64; 4], period: f64) -> Result<(), String> {
+    set_unit_params(
+        h,
+        &[
+            ("TC_V_PM", limits[0]),
+            ("TC_V_EM", limits[2]),
+            ("TC_W_EM", limits[3]),
+            ("TC_W_PM", limits[1]),
+            ("TC_CAPTURE", CAPTURE_RADIUS),
+            ("TC_PERIOD", period),
+        ],
+    )
+}
+
+/// The field: the unit told the target's lag and noise; wind and GPS noise on the rover
+/// (SIM_WIND_SPD 3 m/s, SIM_GPS1_NOISE 0.5 m).
+fn configure_field(h: &mut Harness) -> Result<(), String> {
+    set_unit_params(
+        h,
+        &[
+            ("TC_TGT_LAG", field::LAG_S),
+            ("TC_TGT_SIG", field::SIGMA_M),
+            ("TC_TGT_SIGH", field::SIGMA_HEADING),
+        ],
+    )?;
+    vehicle::set_autopilot_param(h, "SIM_WIND_SPD", 3.0)?;
+    vehicle::set_autopilot_param(h, "SIM_GPS1_NOISE", 0.5)?;
+    println!(
+        "the field: target fixes {} s late, every {} s, sigma {} m and {} rad; SIM_WIND_SPD 3 m/s, SIM_GPS1_NOISE 0.5 m",
+        field::LAG_S,
+        field::INTERVAL_S,
+        field::SIGMA_M,
+        field::SIGMA_HEADING
+    );
+    Ok(())
+}
+
+/// Sets the unit's `values` in order; Err where one is not echoed.
+fn set_unit_params(h: &mut Harness, values: &[(&str, f64)]) -> Result<(), String> {
     let unit = (1, UNIT_COMPONENT);
-    for (name, value) in [
-        ("TC_V_PM", limits[0]),
-        ("TC_V_EM", limits[2]),
-        ("TC_W_EM", limits[3]),
-        ("TC_W_PM", limits[1]),
-        ("TC_CAPTURE", CAPTURE_RADIUS),
-        ("TC_PERIOD", period),
-    ] {
+    for &(name, value) in values {
         let value = value as f32;
         let from = h.params.len();
         let message = vehicle::param_set(unit, name, value);
@@ -179,9 +214,19 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
     // between its fixes, the rate controller's lag makes the rover weave (docs/ardupilot.md).
     let period = (measured.response * 100.0).round() / 100.0;
     configure_unit(&mut h, limits, period)?;
+    if options.field {
+        configure_field(&mut h)?;
+    }
     let mut outcomes = Vec::new();
     for (i, start) in starts(limits, options.short).into_iter().enumerate() {
-        let outcome = chase::fly(&mut h, start, limits, CAPTURE_RADIUS, 7 + i as u64)?;
+        let outcome = chase::fly(
+            &mut h,
+            start,
+            limits,
+            CAPTURE_RADIUS,
+            7 + i as u64,
+            options.field,
+        )?;
         println!("{}", report(&outcome, limits));
         outcomes.push(outcome);
     }
@@ -377,6 +422,7 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
     let options = Options {
         ardurover: None,
         short: true,
+        field: false,
     };
     let flown = fly(&options);
     record(

@@ -89,7 +89,8 @@ pub struct RunArgs {
     #[arg(long)]
     ardurover: Option<std::path::PathBuf>,
     /// With `--link mavlink`: the target's fixes 200 ms late, 5 a second, with GPS noise of
-    /// 0.2 r_p, through the unit's estimator (docs/field.md).
+    /// 0.2 r_p, through the unit's estimator; with `--link ardupilot`: 300 ms late, 5 a
+    /// second, 1 m and 5 degrees, wind and GPS noise on the rover (docs/field.md).
     #[arg(long)]
     field: bool,
 }
@@ -308,6 +309,7 @@ pub fn run(args: &RunArgs) -> i32 {
         let options = crate::ardupilot::Options {
             ardurover: args.ardurover.clone(),
             short: false,
+            field: args.field,
         };
         return crate::ardupilot::run(&options);
     }

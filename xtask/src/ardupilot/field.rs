@@ -1,0 +1,93 @@
+//! The target's fixes as a radio brings them (`cargo xtask run --link ardupilot --field`):
+//! taken 5 times a second, with GPS noise of 1 m and 5 degrees, each put on the unit's link
+//! 300 ms after it was taken, stamped with the time it was taken (docs/field.md).
+
+use std::collections::VecDeque;
+
+use host_tests::rng::Rng;
+use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
+
+use super::harness::{Injector, RoverFix};
+
+/// The fixes' transport lag, s.
+pub const LAG_S: f64 = 0.3;
+/// Time between fixes, s.
+pub const INTERVAL_S: f64 = 0.2;
+/// One sigma of a fix's position, m.
+pub const SIGMA_M: f64 = 1.0;
+/// One sigma of a fix's heading, rad (5 degrees).
+pub const SIGMA_HEADING: f64 = 0.087;
+
+/// Metres per degree of latitude (WGS-84 mean), for the noise on a fix.
+const METRES_PER_DEGREE: f64 = 111_320.0;
+
+/// A target whose fixes come late, sparse and noisy: `inner`'s fixes, sampled, noised and
+/// delayed.
+pub struct Delayed<T> {
+    inner: T,
+    rng: Rng,
+    last_sample_ms: Option<u32>,
+    pending: VecDeque<(u32, GLOBAL_POSITION_INT_DATA)>,
+}
+
+impl<T> Delayed<T> {
+    /// `inner`'s fixes through the field, the noise seeded by `seed`.
+    pub fn new(inner: T, seed: u64) -> Self {
+        Delayed {
+            inner,
+            rng: Rng::new(seed),
+            last_sample_ms: None,
+            pending: VecDeque::new(),
+        }
+    }
+
+    /// The target underneath.
+    pub fn inner(&self) -> &T {
+        &self.inner
+    }
+
+    /// The target underneath, to take its fixes as they are.
+    pub fn inner_mut(&mut self) -> &mut T {
+        &mut self.inner
+    }
+
+    fn noisy(&mut self, mut fix: GLOBAL_POSITION_INT_DATA) -> GLOBAL_POSITION_INT_DATA {
+        let lat_deg = f64::from(fix.lat) * 1e-7;
+        let north = SIGMA_M * self.rng.normal();
+        let east = SIGMA_M * self.rng.normal();
+        fix.lat += (north / METRES_PER_DEGREE * 1e7).round() as i32;
+        let per_degree_east = METRES_PER_DEGREE * lat_deg.to_radians().cos();
+        fix.lon += (east / per_degree_east * 1e7).round() as i32;
+        let hdg = f64::from(fix.hdg) + SIGMA_HEADING.to_degrees() * 100.0 * self.rng.normal();
+        fix.hdg = hdg.rem_euclid(36_000.0) as u16;
+        fix
+    }
+}
+
+impl<T: Injector> Injector for Delayed<T> {
+    fn before(&mut self, rover: &RoverFix) -> Option<GLOBAL_POSITION_INT_DATA> {
+        // The target moves (and may be caught) at every rover fix, seen or not.
+        let Some(truth) = self.inner.before(rover) else {
+            self.pending.clear();
+            return None;
+        };
+        let due = self
+            .last_sample_ms
+            .is_none_or(|last| f64::from(rover.time_ms.wrapping_sub(last)) >= INTERVAL_S * 1e3);
+        if due {
+            self.last_sample_ms = Some(rover.time_ms);
+            let noisy = self.noisy(truth);
+            let arrives = rover.time_ms.wrapping_add((LAG_S * 1e3) as u32);
+            self.pending.push_back((arrives, noisy));
+        }
+        let ready = self
+            .pending
+            .front()
+            .is_some_and(|(at, _)| rover.time_ms.wrapping_sub(*at) as i32 >= 0);
+        if ready {
+            self.pending.pop_front().map(|(_, fix)| fix)
+        } else {
+            None
+        }
+    }
+}
