@@ -61,8 +61,9 @@ enum Cmd {
     /// The game's value function by value iteration on the Hamilton-Jacobi-Isaacs grid, checked
     /// against the tail chase's exact value on three grid sizes.
     Hj(hj::HjArgs),
-    /// SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatters.
-    Plot,
+    /// SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatters,
+    /// the field's figures.
+    Plot(plot::PlotArgs),
 }
 
 impl Cmd {
@@ -104,7 +105,7 @@ fn main() -> ExitCode {
         Cmd::Fuzz(args) => fuzz::command(args),
         Cmd::Report(args) => report::command(args),
         Cmd::Hj(args) => hj::command(args),
-        Cmd::Plot => plot::command(),
+        Cmd::Plot(args) => plot::command(args),
         Cmd::Profile => profile::command(),
         Cmd::Build(args) => firmware::build::build_command(args),
     };

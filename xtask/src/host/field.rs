@@ -179,6 +179,48 @@ pub fn sweep(
 /// Which of a start's chases a figure reads.
 pub type Pick = fn(&Chases) -> &SimResult;
 
+/// The control period's cost (the paper's open question: what sampling does to optimality):
+/// for each of `dts`, p90 over `runs` seeded starts of (capture at dt - capture at `base`) /
+/// capture at `base`, exact states, the pursuer turning as told, against `evader`.
+pub fn discretization(
+    limits: [f64; 4],
+    evader: EvaderKind,
+    runs: usize,
+    seed: u64,
+    base: f64,
+    dts: &[f64],
+) -> Vec<f64> {
+    let mut rng = Rng::new(seed);
+    let starts: Vec<(SimParams, u64)> = (0..runs)
+        .map(|_| (start(&mut rng, limits, base), rng.next_u64()))
+        .collect();
+    let captured = |params: &SimParams, dt: f64, seed: u64| {
+        let params = SimParams {
+            dt,
+            t_max: 120.0,
+            ..*params
+        };
+        let r = chase(&params, evader, seed, &FieldModel::EXACT, Receiver::Raw);
+        (r.status == SimStatus::Captured).then_some(r.t_capture)
+    };
+    dts.iter()
+        .map(|&dt| {
+            let mut excess: Vec<f64> = starts
+                .par_iter()
+                .filter_map(|(params, seed)| {
+                    let at_base = captured(params, base, *seed)?;
+                    Some(
+                        captured(params, dt, *seed)
+                            .map_or(f64::INFINITY, |t| (t - at_base) / at_base),
+                    )
+                })
+                .collect();
+            excess.sort_by(f64::total_cmp);
+            quantile(&excess, 0.9)
+        })
+        .collect()
+}
+
 /// Figures of one receiver over a set of chases.
 pub struct Figures {
     /// Never captured.

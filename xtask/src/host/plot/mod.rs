@@ -4,6 +4,7 @@
 //! The SVG is written here by hand (lines, circles, rectangles, text): no font or plotting
 //! dependency.
 
+mod field;
 mod figure;
 mod near_field;
 mod paper;
@@ -247,17 +248,29 @@ fn scatter(
     Ok(path)
 }
 
-/// `cargo xtask plot`.
-pub fn command() -> i32 {
+/// `cargo xtask plot`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct PlotArgs {
+    /// The field's figures only (late, sparse, noisy fixes; the control period).
+    #[arg(long)]
+    field: bool,
+}
+
+/// `cargo xtask plot [--field]`.
+pub fn command(args: &PlotArgs) -> i32 {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/plots");
     let result = (|| -> Result<Vec<PathBuf>, String> {
         std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+        if args.field {
+            return field::figures(&dir);
+        }
         let mut written = Vec::new();
         for case in paper_cases() {
             written.push(paper_case(&dir, case.name, case.pursuer, case.evader)?);
         }
         written.extend(value_map(&dir)?);
         written.extend(near_field::maps(&dir)?);
+        written.extend(field::figures(&dir)?);
         let evaders = host_tests::adversary::EvaderKind::ALL;
         let progress = crate::progress::Progress::new(
             600 + 300 * evaders.len() as u64,
