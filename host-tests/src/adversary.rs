@@ -97,33 +97,15 @@ impl EvaderKind {
     ];
 
     /// The evaders of the field's sweep: the suite and [`EvaderKind::Zigzag`].
-    pub const FIELD: [EvaderKind; 13] = [
-        EvaderKind::Law,
-        EvaderKind::LawMemoryless,
-        EvaderKind::Straight,
-        EvaderKind::Circle {
-            left: true,
-            half: false,
-        },
-        EvaderKind::Circle {
-            left: false,
-            half: false,
-        },
-        EvaderKind::Circle {
-            left: true,
-            half: true,
-        },
-        EvaderKind::Circle {
-            left: false,
-            half: true,
-        },
-        EvaderKind::Random,
-        EvaderKind::BangBang,
-        EvaderKind::Greedy { periods: 1 },
-        EvaderKind::Greedy { periods: 10 },
-        EvaderKind::Slowing,
-        EvaderKind::Zigzag,
-    ];
+    pub const FIELD: [EvaderKind; 13] = {
+        let mut field = [EvaderKind::Zigzag; 13];
+        let mut i = 0;
+        while i < Self::ALL.len() {
+            field[i] = Self::ALL[i];
+            i += 1;
+        }
+        field
+    };
 
     /// The name `cargo xtask report --evader` takes.
     pub fn name(self) -> &'static str {

@@ -202,6 +202,20 @@ pub fn scaled_limits() -> [f32; 4] {
     ]
 }
 
+/// The paper's `case` at [`SCALE`] with the [`scaled_limits`], period [`DT`], time limit
+/// `t_max` (s) and capture distance `eps` (m).
+pub fn scaled_case(case: &host_tests::scenarios::Case, t_max: f64, eps: f64) -> SimParams {
+    let scale = |s: [f64; 3]| [s[0] * SCALE, s[1] * SCALE, s[2]];
+    SimParams {
+        limits: scaled_limits().map(f64::from),
+        pursuer: scale(case.pursuer),
+        evader: scale(case.evader),
+        dt: DT,
+        t_max,
+        eps,
+    }
+}
+
 /// PARAM_SETs of `values`, in order; whether each was read back as set.
 pub fn set_params(peer: &mut Peer, values: &[(&str, f32)]) -> Result<bool, String> {
     let mut ok = true;
@@ -318,22 +332,7 @@ pub fn run_cases(board: Board) -> Result<bool, String> {
     let plane = Plane::new(HOME);
     let mut clock_ms = 0_u32;
     for (case, reference) in paper_cases().into_iter().zip(REFERENCE) {
-        let params = SimParams {
-            limits: scaled.map(f64::from),
-            pursuer: [
-                case.pursuer[0] * SCALE,
-                case.pursuer[1] * SCALE,
-                case.pursuer[2],
-            ],
-            evader: [
-                case.evader[0] * SCALE,
-                case.evader[1] * SCALE,
-                case.evader[2],
-            ],
-            dt: DT,
-            t_max: 30.0,
-            eps: EPS,
-        };
+        let params = scaled_case(&case, 30.0, EPS);
         // The evader plays the paper's law on the exact states.
         let mut evader_law = Guidance::new(
             Law::new(law_limits, Variant::Paper),

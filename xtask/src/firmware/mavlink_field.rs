@@ -18,7 +18,7 @@ use host_tests::sim::{advance, capture_within, distance, wrap_pi, SimParams, Sim
 use super::build::{self, Board};
 use super::emulator;
 use super::mavlink::{
-    field, report, scaled_limits, set_params, set_scaled_limits, Peer, DT, SCALE,
+    field, report, scaled_case, scaled_limits, set_params, set_scaled_limits, Peer, DT,
 };
 
 /// The target fixes' lag (s), interval (s), position and heading noise (m at the scale, rad).
@@ -171,22 +171,7 @@ pub fn run_field(board: Board) -> Result<bool, String> {
     let mut clock_ms = 10_000;
     let mut flips = Vec::new();
     for (i, case) in paper_cases().into_iter().enumerate() {
-        let params = SimParams {
-            limits,
-            pursuer: [
-                case.pursuer[0] * SCALE,
-                case.pursuer[1] * SCALE,
-                case.pursuer[2],
-            ],
-            evader: [
-                case.evader[0] * SCALE,
-                case.evader[1] * SCALE,
-                case.evader[2],
-            ],
-            dt: DT,
-            t_max: 40.0,
-            eps: CAPTURE_RADII * r_p,
-        };
+        let params = scaled_case(&case, 40.0, CAPTURE_RADII * r_p);
         let c = fly(&mut peer, &params, 17 + i as u64, &mut clock_ms)?;
         let captured = c.t_capture.is_finite();
         ok &= captured;
