@@ -77,7 +77,11 @@ fn noise_is_filtered_to_well_below_the_fixes() {
 
 #[test]
 fn bad_fixes_are_refused_and_a_vehicle_that_moved_is_found_again() {
-    let mut track = Track::new(1.0, 1.0, FixNoise::default()).expect("valid");
+    let noise = FixNoise {
+        position: 0.1,
+        heading: 0.05,
+    };
+    let mut track = Track::new(1.0, 1.0, noise).expect("valid");
     track
         .update(&fix([0.0, 0.0, 0.0], 1.0), SECOND)
         .expect("first");

@@ -711,3 +711,54 @@ fn a_lag_at_or_beyond_the_timeout_is_refused() {
     assert_eq!(param(&link.set("TC_TIMEOUT", 2.0)[0]).1, 2.0);
     assert_eq!(param(&link.set("TC_TGT_LAG", 1.0)[0]).1, 1.0);
 }
+
+/// A target from another sender, on another clock (FOLLOW_TARGET stamped 5,000 ms while the
+/// positions are stamped 100 ms apart from 0), starts a new track: the setpoint follows it,
+/// and then follows the first sender again when it speaks.
+#[test]
+fn a_target_from_another_sender_starts_its_own_track() {
+    let tc_t = |sent: &[Sent]| named(of(sent, NAMED_VALUE_FLOAT)[0]).1;
+    let mut link = Link::new();
+    link.scale_tenfold();
+    // 72 m away, then 14 m away by the other sender (within the 100 m a fix may move).
+    link.position(TARGET, 100, [60.0, 40.0, 0.0], 10.0);
+    let first = tc_t(&link.position(OWN, 100, [0.0, 0.0, 0.3], 20.0));
+    link.now_ms = 100;
+    let (lat, lon) = link.plane.fix(10.0, 10.0);
+    let other = follow_target_payload(lat, lon, [1.0, 0.0, 0.0], [0.0; 4], 1 | 2);
+    link.send((7, 1), FOLLOW_TARGET, &other);
+    let followed = tc_t(&link.position(OWN, 200, [0.0, 0.0, 0.3], 20.0));
+    link.now_ms = 200;
+    link.position(TARGET, 300, [60.0, 40.0, 0.0], 10.0);
+    let back = tc_t(&link.position(OWN, 300, [0.0, 0.0, 0.3], 20.0));
+    assert!((followed - first).abs() > 1.0, "{first} then {followed}");
+    assert!((back - first).abs() < 0.5, "{first} then back to {back}");
+    assert_eq!(link.endpoint.counters().fixes_refused, 0);
+}
+
+/// On a unit whose clock runs ten times the autopilot's (an STM32F405 image in QEMU), a target
+/// fix that came 500 of our milliseconds before the own fix came 50 of the autopilot's
+/// before it: the rate, measured over the own fixes, places it there.
+#[test]
+fn a_fast_unit_clock_is_read_at_the_autopilots_rate() {
+    let tc_t = |ours_per_theirs: u32| {
+        let mut link = Link::new();
+        link.scale_tenfold();
+        let mut upper = f32::NAN;
+        for k in 1..8_u32 {
+            let t = 100 * k;
+            // The target stamped and sent 50 ms (the autopilot's) before the own fix.
+            link.now_ms = (t - 50) * ours_per_theirs;
+            let north = 80.0 + 10.0 * f64::from(t - 50) / 1000.0;
+            link.position(TARGET, t - 50, [north, 60.0, 0.0], 10.0);
+            link.now_ms = t * ours_per_theirs;
+            let sent = link.position(OWN, t, [0.0, 0.0, 0.4], 20.0);
+            if let Some(v) = of(&sent, NAMED_VALUE_FLOAT).first() {
+                upper = named(v).1;
+            }
+        }
+        upper
+    };
+    let (alike, fast) = (tc_t(1), tc_t(10));
+    assert!((fast - alike).abs() < 2e-3, "{fast} against {alike}");
+}

@@ -56,7 +56,8 @@ pub enum Refused {
     /// Older than the fix the track holds, or the same time: out of order or repeated.
     OutOfOrder,
     /// Farther from the track's prediction than the car can go in the time plus six sigma of
-    /// the noise. After [`OUTLIERS_TO_RESTART`] in a row the next one restarts the track.
+    /// the noise. After [`OUTLIERS_TO_RESTART`] in a row the next one restarts the track; a
+    /// track whose fixes have no noise restarts at the first.
     Outlier,
 }
 
@@ -202,7 +203,9 @@ impl Track {
         let reach = 2.0 * self.speed_max * interval + 6.0 * (self.noise.position + last.spread);
         if rx * rx + ry * ry > reach * reach {
             self.outliers = self.outliers.saturating_add(1);
-            if self.outliers > OUTLIERS_TO_RESTART {
+            // Fixes said to be exact are the truth: the model was wrong (a target faster than
+            // v_max, another source), and the track restarts at once.
+            if self.outliers > OUTLIERS_TO_RESTART || self.noise.position <= 0.0 {
                 self.restart(fix);
                 return Ok(());
             }

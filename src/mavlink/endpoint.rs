@@ -35,7 +35,7 @@ use super::messages::{decode, extra_crc, Message};
 use super::outgoing::{Outbox, COMPONENT, MAX_PARAM_VALUE};
 use super::params::{index, Params, Refusal, SPECS};
 use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN, LINK_ID, PROVISIONED};
-use super::tracking::Tracking;
+use super::tracking::{ClockRate, Tracking};
 use crate::estimate::Stale;
 use crate::geodetic::{
     bank_angle, course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
@@ -167,6 +167,9 @@ struct Fix {
 struct Target {
     fix: Fix,
     confirmed: bool,
+    /// Who sent it: system and component, and whether by FOLLOW_TARGET (each sender's clock
+    /// is its own).
+    source: (u8, u8, bool),
 }
 
 /// Whether setpoints are flowing.
@@ -197,6 +200,10 @@ struct Session {
     /// The target's last fix not yet in its track, and whether it starts a new track: placed
     /// on the autopilot's clock by the next own fix.
     pending_target: Option<(Fix, bool)>,
+    /// The autopilot's clock against ours, for that placement; whether its first measurement
+    /// came since the target's last placement (its track then restarts).
+    clock: ClockRate,
+    clock_measured: bool,
     period_ms: u32,
     origin: Option<LocalFrame>,
     own: Option<Fix>,
@@ -234,6 +241,8 @@ impl Endpoint {
             guidance: None,
             tracking: None,
             pending_target: None,
+            clock: ClockRate::new(),
+            clock_measured: false,
             period_ms: DEFAULT_PERIOD_MS,
             origin: None,
             own: None,
@@ -503,14 +512,14 @@ impl Session {
                     self.own_state(&m, now_ms, send);
                 } else if frame.system == self.params.byte(index::TGT_SYSID) {
                     let fix = position_fix(&m, now_ms);
-                    self.target_fix(fix, now_ms);
+                    self.target_fix(fix, now_ms, (frame.system, frame.component, false));
                 } else {
                     self.counters.ignored = self.counters.ignored.wrapping_add(1);
                 }
             }
             Message::FollowTarget(m) => {
                 let fix = follow_fix(&m, now_ms);
-                self.target_fix(fix, now_ms);
+                self.target_fix(fix, now_ms, (frame.system, frame.component, true));
             }
             Message::ParamSet(m) if for_us(m.target_system, m.target_component) => {
                 self.param_set(&m.param_id[..], m.param_value, send);
@@ -562,7 +571,7 @@ impl Session {
     }
 
     /// A target fix (`None`: invalid): taken, or held as a jump until confirmed.
-    fn target_fix(&mut self, fix: Option<Fix>, now_ms: u32) {
+    fn target_fix(&mut self, fix: Option<Fix>, now_ms: u32, source: (u8, u8, bool)) {
         let Some(fix) = fix else {
             self.counters.target_refused = self.counters.target_refused.wrapping_add(1);
             return;
@@ -596,11 +605,13 @@ impl Session {
         if jumped {
             self.counters.target_jumps = self.counters.target_jumps.wrapping_add(1);
         }
-        // A jump confirmed, or a fix after a stale track, starts a new track.
-        let fresh = live.is_none_or(|last| !last.confirmed);
+        // A jump confirmed, a fix after a stale track, or one from another sender (another
+        // clock) starts a new track.
+        let fresh = live.is_none_or(|last| !last.confirmed || last.source != source);
         self.target = Some(Target {
             fix,
             confirmed: !jumped,
+            source,
         });
         if !jumped {
             let fresh = fresh || self.pending_target.is_some_and(|(_, f)| f);
@@ -610,7 +621,7 @@ impl Session {
 
     /// The own fix into its track, then the target's fix waiting for it (module docs of
     /// `tracking`), placed on the autopilot's clock by this own fix: its time less our clock
-    /// from the target fix's arrival to its own. With no target track, the last confirmed fix
+    /// from the target fix's arrival to its own, at the autopilot clock's rate. With no target track, the last confirmed fix
     /// starts one (a fix that came before the first own fix, or before the plane moved).
     fn track(&mut self, own: &Fix) {
         let (Some(origin), Some(tracking)) = (self.origin, self.tracking.as_mut()) else {
@@ -625,8 +636,11 @@ impl Session {
         let Some((fix, fresh)) = self.pending_target.take() else {
             return;
         };
+        let fresh = fresh || core::mem::take(&mut self.clock_measured);
         if let Some((x, y)) = origin.to_local(fix.lat, fix.lon) {
-            let before = own.arrived_ms.wrapping_sub(fix.arrived_ms);
+            let before = self
+                .clock
+                .theirs(own.arrived_ms.wrapping_sub(fix.arrived_ms));
             let arrival_ms = own.sent_ms.wrapping_sub(before);
             // Refusals are counted by the estimator.
             let _ = tracking.target([x, y, fix.heading], fix.sent_ms, arrival_ms, fresh);
@@ -652,6 +666,11 @@ impl Session {
         if let Some(last) = self.own {
             self.measure_period(fix.sent_ms.wrapping_sub(last.sent_ms));
         }
+        let timeout = self.params.timeout_ms();
+        let stale = self
+            .own
+            .is_none_or(|last| fix.arrived_ms.wrapping_sub(last.arrived_ms) > timeout);
+        self.clock_measured |= self.clock.own_fix(fix.sent_ms, fix.arrived_ms, stale);
         self.own = Some(fix);
         // The plane about the first own fix, moved to the own fix once that is REANCHOR_M
         // away: the projection's error grows with the square of the distance, the law only

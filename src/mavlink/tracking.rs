@@ -7,9 +7,9 @@
 //! (the autopilot's clock when the fix arrives - the fix's time) over the track, the fix that
 //! came soonest; TC_TGT_LAG is that soonest fix's transport lag, so that a fix's time is
 //! its own time + offset - TC_TGT_LAG. The autopilot's clock when a target fix arrived is
-//! read off the next own fix: its time less our clock from the one arrival to the other (an
-//! autopilot streams its own state far oftener than a radio brings the target's). A new
-//! track forgets its offset.
+//! read off the next own fix: its time less our clock from the one arrival to the other,
+//! converted at the rate the two clocks run at ([`ClockRate`]; an autopilot streams its own
+//! state far oftener than a radio brings the target's). A new track forgets its offset.
 
 use super::params::{index, Params};
 use crate::estimate::{Estimated, Estimator, FieldSettings, Fix, FixNoise, Refused, Stale};
@@ -98,5 +98,61 @@ impl Tracking {
     /// The estimator's counters.
     pub fn counters(&self) -> crate::estimate::EstimatorCounters {
         self.estimator.counters()
+    }
+}
+
+/// How fast the autopilot's clock runs against ours, from the own fixes: the autopilot's
+/// milliseconds per one of ours, over at least [`ClockRate::BASELINE_MS`] of our clock (the
+/// first measurement taken as it is, each later one averaged with the last). A gap measured on
+/// our clock becomes the autopilot's through it: 1 on hardware; in a harness that steps the
+/// autopilot's clock, its pace; on a board whose clock runs fast, the correction. Until the
+/// first measurement a gap counts as nothing: a target fix is placed at the next own fix's
+/// time, at most one own period late, and its track restarts once the rate is known.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct ClockRate {
+    anchor: Option<(u32, u32)>,
+    rate: Option<f32>,
+}
+
+impl ClockRate {
+    /// Our clock's milliseconds a measurement spans at the least.
+    pub const BASELINE_MS: u32 = 200;
+    /// The rates believed, autopilot ms per ours.
+    const RANGE: (f32, f32) = (0.01, 100.0);
+
+    /// No measurement yet.
+    pub const fn new() -> Self {
+        ClockRate {
+            anchor: None,
+            rate: None,
+        }
+    }
+
+    /// An own fix `sent_ms` on the autopilot's clock, arrived at `arrived_ms` on ours;
+    /// `stale`: the last one is older than the timeout (a new baseline). Whether this was the
+    /// first measurement: the target's fixes placed before it were placed without the gap.
+    pub fn own_fix(&mut self, sent_ms: u32, arrived_ms: u32, stale: bool) -> bool {
+        let Some((sent0, arrived0)) = self.anchor.filter(|_| !stale) else {
+            self.anchor = Some((sent_ms, arrived_ms));
+            return false;
+        };
+        let ours = arrived_ms.wrapping_sub(arrived0);
+        if ours < Self::BASELINE_MS {
+            return false;
+        }
+        self.anchor = Some((sent_ms, arrived_ms));
+        let rate = sent_ms.wrapping_sub(sent0) as f32 / ours as f32;
+        if !(rate >= Self::RANGE.0 && rate <= Self::RANGE.1) {
+            return false;
+        }
+        let first = self.rate.is_none();
+        self.rate = Some(self.rate.map_or(rate, |last| 0.5 * (last + rate)));
+        first
+    }
+
+    /// `ours_ms` of our clock in the autopilot's milliseconds (0 before the first
+    /// measurement).
+    pub fn theirs(&self, ours_ms: u32) -> u32 {
+        (ours_ms as f32 * self.rate.unwrap_or(0.0)) as u32
     }
 }
