@@ -248,44 +248,9 @@ impl Adversary {
                         self.hold.curvature * w_em
                     }
                     EvaderKind::BangBang => {
-                        if t >= self.hold.until {
-                            let side = if self.hold.until == f64::NEG_INFINITY {
-                                if self.rng.uniform(0.0, 1.0) < 0.5 {
-                                    1.0
-                                } else {
-                                    -1.0
-                                }
-                            } else {
-                                -self.hold.curvature
-                            };
-                            self.hold = Hold {
-                                until: t + self.rng.uniform(0.1, 3.0),
-                                curvature: side,
-                                speed: 1.0,
-                            };
-                        }
-                        self.hold.curvature * w_em
+                        self.switch_sides(t, |rng| rng.uniform(0.1, 3.0)) * w_em
                     }
-                    EvaderKind::Zigzag => {
-                        let first = self.hold.until == f64::NEG_INFINITY;
-                        if t >= self.hold.until {
-                            let side = if first {
-                                if self.rng.uniform(0.0, 1.0) < 0.5 {
-                                    1.0
-                                } else {
-                                    -1.0
-                                }
-                            } else {
-                                -self.hold.curvature
-                            };
-                            self.hold = Hold {
-                                until: t + ZIGZAG_SECONDS,
-                                curvature: side,
-                                speed: 1.0,
-                            };
-                        }
-                        self.hold.curvature * w_em
-                    }
+                    EvaderKind::Zigzag => self.switch_sides(t, |_| ZIGZAG_SECONDS) * w_em,
                     EvaderKind::Greedy { periods } => self.greedy(pursuer, evader, periods, false),
                     EvaderKind::Slowing => {
                         self.renew(t, 0.2, 2.0, |rng| (0.0, rng.uniform(0.0, 1.0)));
@@ -311,6 +276,28 @@ impl Adversary {
                 (w, v_pm)
             }
         }
+    }
+
+    /// Full turns that switch side whenever the hold ends, each held for what `hold_for`
+    /// draws (s); the first side at random. The curvature as a fraction of w_max.
+    fn switch_sides(&mut self, t: f64, hold_for: impl FnOnce(&mut Rng) -> f64) -> f64 {
+        if t >= self.hold.until {
+            let side = if self.hold.until == f64::NEG_INFINITY {
+                if self.rng.uniform(0.0, 1.0) < 0.5 {
+                    1.0
+                } else {
+                    -1.0
+                }
+            } else {
+                -self.hold.curvature
+            };
+            self.hold = Hold {
+                until: t + hold_for(&mut self.rng),
+                curvature: side,
+                speed: 1.0,
+            };
+        }
+        self.hold.curvature
     }
 
     /// Draws a new hold (curvature and speed fractions) lasting `lo` to `hi` seconds once the

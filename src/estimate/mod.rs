@@ -215,16 +215,17 @@ impl Estimator {
     /// [`Stale`] names the estimate that is missing or older than the timeout (counted).
     pub fn states(&mut self, now_us: u32) -> Result<Estimated, Stale> {
         let acts = now_us.wrapping_add(self.lead_us);
-        let own = self.own.at(acts, self.stale_us);
-        let target = self.target.at(acts, self.stale_us);
-        let (Some((own, own_spread)), Some((target, target_spread))) = (own, target) else {
-            self.counters.stale = self.counters.stale.saturating_add(1);
-            return Err(if self.own.at(acts, self.stale_us).is_none() {
-                Stale::Own
-            } else {
-                Stale::Target
-            });
+        let carried = match (
+            self.own.at(acts, self.stale_us),
+            self.target.at(acts, self.stale_us),
+        ) {
+            (None, _) => Err(Stale::Own),
+            (_, None) => Err(Stale::Target),
+            (Some(own), Some(target)) => Ok((own, target)),
         };
+        let ((own, own_spread), (target, target_spread)) = carried.inspect_err(|_| {
+            self.counters.stale = self.counters.stale.saturating_add(1);
+        })?;
         let last = self.target.last_fix_us();
         if last == self.decided_on {
             self.counters.coasted = self.counters.coasted.saturating_add(1);
