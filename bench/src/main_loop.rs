@@ -7,7 +7,8 @@
 //! The script configures the paper's limits at [`DT`] for both roles, sends the bench [`STATES`]
 //! under the paper policy, configures again under the near-field policy and sends them again,
 //! then four inputs the unit refuses (an unknown type, a short State, a State with a NaN heading,
-//! a bad CRC), ReadCounters and Shutdown. Without the states it is
+//! a bad CRC), ReadCounters and Shutdown, in protocol version 1 (exact states: the estimator's
+//! cost is a bench of its own). Without the states it is
 //! the same session less its State frames: the difference of the two is the State frames' cost.
 //! With the tables, one Configure selects the value tables (policy 2) and the states are the
 //! points where the bench reads them ([`TABLE_POINTS`], the pursuer at the origin heading +x).
@@ -15,9 +16,11 @@
 use twocars::num::Scalar;
 use twocars::protocol::endpoint::Unit;
 use twocars::protocol::frame::{
-    cobs_encode, encode_frame, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME,
+    cobs_encode, encode_frame_as, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME, VERSION_1,
 };
-use twocars::protocol::message::{kind, Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use twocars::protocol::message::{
+    kind, Configure, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER,
+};
 use twocars::serial::{service, Board, Line, RxFlags, UartRegisters};
 
 use twocars::value_tables::ValueTables;
@@ -74,7 +77,7 @@ impl Script<'_> {
         payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
     ) -> Option<()> {
         let rest = self.out.get_mut(self.len..)?;
-        self.len += encode_frame(message_type, sequence, payload, rest)?;
+        self.len += encode_frame_as(VERSION_1, message_type, sequence, payload, rest)?;
         Some(())
     }
 
@@ -119,32 +122,25 @@ pub fn script(with_states: bool, tables: bool, out: &mut [u8]) -> Option<usize> 
             roles: ROLE_PURSUER | ROLE_EVADER,
             variant: 0,
             policy,
+            field: FieldConfig::EXACT,
         };
-        script.frame(kind::CONFIGURE, |w| configure.emit(w))?;
+        script.frame(kind::CONFIGURE, |w| configure.emit_v1(w))?;
         if with_states {
             for (i, (pursuer, evader)) in states(tables).enumerate() {
-                let state = StateMsg {
-                    time_ms: 10 * i as u32,
-                    pursuer,
-                    evader,
-                };
-                script.frame(kind::STATE, |w| state.emit(w))?;
+                let state = StateMsg::exact(10 * i as u32, pursuer, evader);
+                script.frame(kind::STATE, |w| state.emit_v1(w))?;
             }
         }
     }
-    let state = StateMsg {
-        time_ms: 1_000,
-        pursuer: [0.0; 3],
-        evader: [5.0, 5.0, 0.0],
-    };
+    let state = StateMsg::exact(1_000, [0.0; 3], [5.0, 5.0, 0.0]);
     script.frame(0x7E, |_| Some(()))?;
     script.frame(kind::STATE, |w| w.u32(state.time_ms))?;
     let lost = StateMsg {
         evader: [5.0, 5.0, f32::NAN],
         ..state
     };
-    script.frame(kind::STATE, |w| lost.emit(w))?;
-    script.frame_with_bad_crc(kind::STATE, |w| state.emit(w))?;
+    script.frame(kind::STATE, |w| lost.emit_v1(w))?;
+    script.frame_with_bad_crc(kind::STATE, |w| state.emit_v1(w))?;
     script.frame(kind::READ_COUNTERS, |_| Some(()))?;
     script.frame(kind::SHUTDOWN, |_| Some(()))?;
     Some(script.len)

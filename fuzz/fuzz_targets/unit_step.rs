@@ -8,7 +8,7 @@ use libfuzzer_sys::fuzz_target;
 use twocars::num::fixed::Fixed;
 use twocars::protocol::endpoint::Unit;
 use twocars::protocol::frame::{encode_frame, Deframer, Feed, Frame, MAX_ENCODED, MAX_FRAME};
-use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg};
+use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, FieldConfig};
 use twocars::Scalar;
 
 const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];
@@ -70,6 +70,17 @@ fn session<S: Scalar>(data: &[u8]) {
             roles: 3,
             variant: 0,
             policy: 0,
+            // Half the sessions through the estimator with every setting of the field.
+            field: if data.first().is_some_and(|b| b & 2 == 2) {
+                FieldConfig {
+                    target_lag: 0.1,
+                    target_sigma: 0.2,
+                    target_heading_sigma: 0.1,
+                    own_lead: 0.05,
+                }
+            } else {
+                FieldConfig::EXACT
+            },
         };
         let mut out = [0u8; MAX_ENCODED];
         let n = encode_frame(kind::CONFIGURE, 1, |w| c.emit(w), &mut out).expect("fits");

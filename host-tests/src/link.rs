@@ -2,7 +2,8 @@
 //! the same wire code the firmware uses.
 
 use twocars::protocol::frame::{
-    encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
+    encode_frame, encode_frame_as, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
+    VERSION_1,
 };
 use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
 
@@ -42,6 +43,28 @@ pub fn configure(sequence: u16, m: &Configure) -> Vec<u8> {
 /// A State frame.
 pub fn state(sequence: u16, m: &StateMsg) -> Vec<u8> {
     frame(kind::STATE, sequence, |w| m.emit(w))
+}
+
+/// A State frame of protocol version 1 (the evader's fix at the timestamp).
+pub fn state_v1(sequence: u16, m: &StateMsg) -> Vec<u8> {
+    let mut out = [0u8; MAX_ENCODED];
+    let n = encode_frame_as(VERSION_1, kind::STATE, sequence, |w| m.emit_v1(w), &mut out)
+        .expect("message fits a frame");
+    out[..n].to_vec()
+}
+
+/// A Configure frame of protocol version 1 (no field settings).
+pub fn configure_v1(sequence: u16, m: &Configure) -> Vec<u8> {
+    let mut out = [0u8; MAX_ENCODED];
+    let n = encode_frame_as(
+        VERSION_1,
+        kind::CONFIGURE,
+        sequence,
+        |w| m.emit_v1(w),
+        &mut out,
+    )
+    .expect("message fits a frame");
+    out[..n].to_vec()
 }
 
 /// A ReadCounters frame.

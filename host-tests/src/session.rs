@@ -4,7 +4,7 @@
 
 use crate::link;
 use twocars::protocol::frame::{cobs_encode, crc16, WireError};
-use twocars::protocol::message::{Configure, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use twocars::protocol::message::{Configure, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 
 /// What a step must get back.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,11 +41,12 @@ pub fn paper_configure() -> Configure {
         roles: ROLE_PURSUER | ROLE_EVADER,
         variant: 0,
         policy: 0,
+        field: FieldConfig::EXACT,
     }
 }
 
 fn with_bad_version(sequence: u16) -> Vec<u8> {
-    let mut raw = vec![2u8, 0x02, sequence as u8, (sequence >> 8) as u8];
+    let mut raw = vec![3u8, 0x02, sequence as u8, (sequence >> 8) as u8];
     let crc = crc16(&raw);
     raw.extend(crc.to_le_bytes());
     let mut out = [0u8; 32];
@@ -65,11 +66,11 @@ fn with_bad_crc(sequence: u16) -> Vec<u8> {
 pub fn paper_state(case: usize, t_ms: u32) -> StateMsg {
     let cases = crate::scenarios::paper_cases();
     let c = cases[case % cases.len()];
-    StateMsg {
-        time_ms: t_ms,
-        pursuer: c.pursuer.map(|v| v as f32),
-        evader: c.evader.map(|v| v as f32),
-    }
+    StateMsg::exact(
+        t_ms,
+        c.pursuer.map(|v| v as f32),
+        c.evader.map(|v| v as f32),
+    )
 }
 
 /// The script.
@@ -85,6 +86,11 @@ pub fn script() -> Vec<Step> {
     nan_state.evader[1] = f32::NAN;
     let mut far_state = paper_state(0, 10);
     far_state.pursuer[0] = 1.0e7;
+    // The evader's fix 140 ms older than the State, carried to it by the unit's estimator.
+    let late_state = StateMsg {
+        evader_time_ms: 60,
+        ..paper_state(1, 200)
+    };
     vec![
         step(
             "state before configure",
@@ -198,7 +204,7 @@ pub fn script() -> Vec<Step> {
         step(
             "long state",
             17,
-            link::raw(0x02, 17, &[0; 30]),
+            link::raw(0x02, 17, &[0; 34]),
             Expect::Error(WireError::Oversized, true),
         ),
         step(
@@ -225,6 +231,39 @@ pub fn script() -> Vec<Step> {
             link::state(21, &paper_state(3, 50)),
             Expect::Command(0),
         ),
-        step("counters", 22, link::read_counters(22), Expect::Counters),
+        step(
+            "late target fix",
+            22,
+            link::state(22, &late_state),
+            Expect::Command(0),
+        ),
+        step(
+            "version 1 state",
+            23,
+            link::state_v1(23, &paper_state(1, 250)),
+            Expect::Command(0),
+        ),
+        step(
+            "lag beyond the watchdog",
+            24,
+            link::configure(
+                24,
+                &Configure {
+                    field: FieldConfig {
+                        target_lag: good.watchdog,
+                        ..FieldConfig::EXACT
+                    },
+                    ..good
+                },
+            ),
+            Expect::Error(WireError::InvalidConfig, true),
+        ),
+        step("counters", 25, link::read_counters(25), Expect::Counters),
     ]
+}
+
+/// Inputs the script's Counters count as accepted: its Acks and Commands.
+pub fn accepted() -> u32 {
+    let answered = |s: &&Step| matches!(s.expect, Expect::Ack | Expect::Command(_));
+    script().iter().filter(answered).count() as u32
 }

@@ -214,11 +214,7 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
     };
     // A State 1.2 m apart, the evader behind on the pursuer's left: the pursuer's rate.
     let rate = |unit: &mut Unit| -> f32 {
-        let state = StateMsg {
-            time_ms: 10,
-            pursuer: [0.0, 0.0, 0.0],
-            evader: [-0.9, 0.8, 2.0],
-        };
+        let state = StateMsg::exact(10, [0.0, 0.0, 0.0], [-0.9, 0.8, 2.0]);
         let mut decoder = ReplyDecoder::default();
         let mut command = None;
         for &b in &link::state(8, &state) {

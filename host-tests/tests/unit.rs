@@ -48,12 +48,12 @@ fn the_scripted_session_gets_the_documented_replies_and_the_loop_survives() {
                 // Every error kind at least once; five kinds twice.
                 assert!(WireError::ALL.iter().all(|e| c.of(*e) >= 1), "{c:?}");
                 assert_eq!(c.of(WireError::BadCrc), 1);
-                assert_eq!(c.of(WireError::InvalidConfig), 2);
+                assert_eq!(c.of(WireError::InvalidConfig), 3);
                 assert_eq!(c.of(WireError::NonFiniteField), 2);
                 assert_eq!(c.of(WireError::Truncated), 2);
                 assert_eq!(c.of(WireError::Oversized), 2);
-                assert_eq!(c.errors.iter().sum::<u32>(), 16);
-                assert_eq!(c.accepted, 5);
+                assert_eq!(c.errors.iter().sum::<u32>(), 17);
+                assert_eq!(c.accepted, host_tests::session::accepted());
             }
             (want, got) => panic!("{}: expected {want:?}, got {got:?}", step.name),
         }
@@ -62,8 +62,21 @@ fn the_scripted_session_gets_the_documented_replies_and_the_loop_survives() {
 
 #[test]
 fn commands_equal_the_host_law_bit_for_bit() {
-    let mut unit = Unit::<f32>::new();
-    send(&mut unit, &link::configure(1, &paper_configure()), 0);
+    // Protocol version 1 steers on the states as they are; version 2 through the estimator,
+    // which carries exact, instant fixes unchanged.
+    for version in [1, 2] {
+        let mut unit = Unit::<f32>::new();
+        let configure = if version == 1 {
+            link::configure_v1
+        } else {
+            link::configure
+        };
+        send(&mut unit, &configure(1, &paper_configure()), 0);
+        each_paper_case_as_the_host_law(&mut unit, version);
+    }
+}
+
+fn each_paper_case_as_the_host_law(unit: &mut Unit<f32>, version: u8) {
     let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
     let mut guidance = Guidance::new(
         Law::new(limits, Variant::Paper),
@@ -72,8 +85,14 @@ fn commands_equal_the_host_law_bit_for_bit() {
     )
     .unwrap();
     for case in 0..4 {
-        let s = paper_state(case, 0);
-        let replies = send(&mut unit, &link::state(2, &s), 0);
+        let t_ms = 10 * case as u32;
+        let s = paper_state(case, t_ms);
+        let frame = if version == 1 {
+            link::state_v1(2, &s)
+        } else {
+            link::state(2, &s)
+        };
+        let replies = send(unit, &frame, t_ms);
         let Reply::Command(_, c) = replies[0] else {
             panic!("{replies:?}")
         };
@@ -103,9 +122,10 @@ fn the_fixed_point_unit_answers_with_the_fixed_point_law_in_wire_units() {
     let mut float = Unit::<f32>::new();
     send(&mut float, &link::configure(1, &paper_configure()), 0);
     for case in 0..4 {
-        let s = paper_state(case, 0);
-        let want = f64::from(command(&send(&mut float, &link::state(2, &s), 0)).predicted);
-        let c = command(&send(&mut unit, &link::state(2, &s), 0));
+        let t_ms = 10 * case as u32;
+        let s = paper_state(case, t_ms);
+        let want = f64::from(command(&send(&mut float, &link::state(2, &s), t_ms)).predicted);
+        let c = command(&send(&mut unit, &link::state(2, &s), t_ms));
         let (p, e) = limits.states(s.pursuer, s.evader).unwrap();
         let ev = guidance.step(&p, &e);
         let units = ev.units;
@@ -242,11 +262,7 @@ fn the_configure_message_selects_the_policy() {
     let state = (0..360)
         .map(|k| {
             let theta_e = k as f32 * core::f32::consts::TAU / 360.0;
-            twocars::protocol::message::StateMsg {
-                time_ms: 0,
-                pursuer: [0.0, 0.0, 0.0],
-                evader: [0.6, 0.8, theta_e],
-            }
+            twocars::protocol::message::StateMsg::exact(0, [0.0, 0.0, 0.0], [0.6, 0.8, theta_e])
         })
         .find(|s| {
             let (p, e) = si_states(s.pursuer, s.evader);
@@ -372,13 +388,12 @@ fn last_reply_bytes(unit: &mut Unit, bytes: &[u8], now_ms: u32) -> Option<Vec<u8
     reply
 }
 
-/// Golden bytes: a State of protocol version 2, sequence 0x0278, valid CRC.
+/// Golden bytes: a State of protocol version 3, sequence 0x0278, valid CRC.
 /// Its header is readable, so the Error (code 6, bad_version) echoes its sequence: reply body
-/// `01 8f 78 02 06 01` with CRC 0x1fc8, COBS-framed. Before, the reply carried sequence 0 and
-/// echo 0 (`03 01 8f 01 02 06 03 3f a6 00`).
+/// `02 8f 78 02 06 01` (in the unit's own version, 2) with CRC 0xd128, COBS-framed.
 #[test]
 fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
-    let mut body = vec![0x02, 0x02, 0x78, 0x02];
+    let mut body = vec![0x03, 0x02, 0x78, 0x02];
     body.extend([0x5a; 44]);
     let crc = twocars::protocol::frame::crc16(&body);
     body.extend(crc.to_le_bytes());
@@ -389,15 +404,15 @@ fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
     let reply = last_reply_bytes(&mut Unit::<f32>::new(), &frame, 0);
     assert_eq!(
         reply.as_deref(),
-        Some(&[0x09, 0x01, 0x8f, 0x78, 0x02, 0x06, 0x01, 0xc8, 0x1f, 0x00][..])
+        Some(&[0x09, 0x02, 0x8f, 0x78, 0x02, 0x06, 0x01, 0x28, 0xd1, 0x00][..])
     );
 }
 
 /// Golden bytes: the contract checks non-finite fields before the envelope,
 /// across the whole State. A State (sequence 0x0102) whose pursuer heading is out of the envelope
 /// (2e4 rad) and whose evader y is NaN gets Error 7 (non_finite_field) with its sequence echoed,
-/// `01 8f 02 01 07 01` with CRC 0x5f77; before, the pursuer's fields were checked first and the
-/// reply was Error 8 (out_of_range_field).
+/// `02 8f 02 01 07 01` with CRC 0x9197, not Error 8 (out_of_range_field) for the heading met
+/// first.
 #[test]
 fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_state() {
     let mut unit = Unit::<f32>::new();
@@ -409,7 +424,7 @@ fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_stat
     let reply = last_reply_bytes(&mut unit, &link::state(0x0102, &state), 10);
     assert_eq!(
         reply.as_deref(),
-        Some(&[0x09, 0x01, 0x8f, 0x02, 0x01, 0x07, 0x01, 0x77, 0x5f, 0x00][..])
+        Some(&[0x09, 0x02, 0x8f, 0x02, 0x01, 0x07, 0x01, 0x97, 0x91, 0x00][..])
     );
 }
 
@@ -438,11 +453,8 @@ fn fallback_commands_name_the_circle_actually_turned() {
                     -2.0 + 0.2 * j as f32,
                     -3.0 + 0.75 * k as f32,
                 ];
-                let state = twocars::protocol::message::StateMsg {
-                    time_ms: t_ms,
-                    pursuer: [0.0, 0.0, 0.0],
-                    evader,
-                };
+                let state =
+                    twocars::protocol::message::StateMsg::exact(t_ms, [0.0, 0.0, 0.0], evader);
                 let replies = send(&mut unit, &link::state(7, &state), t_ms);
                 t_ms += 10;
                 let c = command(&replies);

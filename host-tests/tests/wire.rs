@@ -4,7 +4,7 @@ use twocars::protocol::frame::{
     cobs_encode, crc16, encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
     VERSION,
 };
-use twocars::protocol::message::{CommandMsg, Configure, StateMsg};
+use twocars::protocol::message::{CommandMsg, Configure, FieldConfig, StateMsg};
 
 /// The one frame a deframer of `N` decoded bytes makes of `encoded` (delimiter included), or its
 /// refusal; panics unless exactly the last byte ends it.
@@ -121,26 +121,35 @@ fn encode_frame_is_cobs_of_the_frame_and_refuses_what_does_not_fit() {
 #[test]
 fn golden_state_frame() {
     let state = StateMsg {
-        time_ms: 1,
-        pursuer: [0.0, 0.0, 1.0],
-        evader: [-3.0, -6.0, 1.0],
+        evader_time_ms: 0x0A0B_0C0D,
+        ..StateMsg::exact(1, [0.0, 0.0, 1.0], [-3.0, -6.0, 1.0])
     };
     let bytes = host_tests::link::state(0x0102, &state);
-    // version 1, type 2, seq 0x0102 LE, t = 1 LE, then f32s; zeros stuffed by COBS.
+    // version 2, type 2, seq 0x0102 LE, t = 1 LE, then f32s, then the evader's fix time;
+    // zeros stuffed by COBS.
     let decoded = &deframe::<MAX_FRAME>(&bytes).unwrap()[..];
     assert_eq!(
         &decoded[..8],
-        &[0x01, 0x02, 0x02, 0x01, 0x01, 0x00, 0x00, 0x00]
+        &[0x02, 0x02, 0x02, 0x01, 0x01, 0x00, 0x00, 0x00]
     );
     assert_eq!(&decoded[16..20], &1.0f32.to_le_bytes());
     assert_eq!(&decoded[20..24], &(-3.0f32).to_le_bytes());
+    assert_eq!(&decoded[32..36], &[0x0D, 0x0C, 0x0B, 0x0A]);
     assert_eq!(decoded.len(), 4 + StateMsg::LEN + 2);
     let crc = crc16(&decoded[..decoded.len() - 2]);
     assert_eq!(&decoded[decoded.len() - 2..], &crc.to_le_bytes());
     assert_eq!(*bytes.last().unwrap(), 0);
     let frame = Frame::new_checked(decoded).unwrap();
     assert_eq!(frame.sequence(), 0x0102);
+    assert_eq!(frame.version(), 2);
     assert_eq!(StateMsg::parse(frame.payload()).unwrap(), state);
+    // Version 1's State is the first 28 bytes, its evader fixed at the timestamp.
+    let v1 = StateMsg::parse_v1(&frame.payload()[..StateMsg::LEN_V1]).unwrap();
+    assert_eq!(v1, StateMsg::exact(1, state.pursuer, state.evader));
+    assert_eq!(
+        StateMsg::parse_v1(frame.payload()),
+        Err(WireError::Oversized)
+    );
 }
 
 #[test]
@@ -152,6 +161,12 @@ fn messages_round_trip() {
         roles: 3,
         variant: 1,
         policy: 0,
+        field: FieldConfig {
+            target_lag: 0.2,
+            target_sigma: 0.1,
+            target_heading_sigma: 0.05,
+            own_lead: 0.3,
+        },
     };
     let mut buf = [0u8; 64];
     let mut w = twocars::protocol::frame::Writer::new(&mut buf);
@@ -160,6 +175,19 @@ fn messages_round_trip() {
     assert_eq!(n, Configure::LEN);
     assert_eq!(Configure::parse(&buf[..n]).unwrap(), c);
     assert_eq!(Configure::parse(&buf[..n - 1]), Err(WireError::Truncated));
+    // Version 1 is the same first 27 bytes, without the field's settings.
+    let v1 = Configure::parse_v1(&buf[..Configure::LEN_V1]).unwrap();
+    assert_eq!(
+        v1,
+        Configure {
+            field: FieldConfig::EXACT,
+            ..c
+        }
+    );
+    assert_eq!(
+        Configure::parse(&buf[..Configure::LEN_V1]),
+        Err(WireError::Truncated)
+    );
     let cmd = CommandMsg {
         status: 0,
         roles: 3,
@@ -195,6 +223,7 @@ fn frame_checks_refuse_each_defect() {
     let mut bad_crc = good;
     bad_crc[2] ^= 0x40;
     assert_eq!(Frame::new_checked(&bad_crc), Err(WireError::BadCrc));
+    assert_eq!(Frame::new_checked(&good).unwrap().version(), 1);
     let mut bad_version = good;
     bad_version[0] = 9;
     let crc = crc16(&bad_version[..4]).to_le_bytes();
@@ -204,11 +233,7 @@ fn frame_checks_refuse_each_defect() {
 
 #[test]
 fn deframer_resynchronises_after_garbage_and_overflow() {
-    let state = StateMsg {
-        time_ms: 7,
-        pursuer: [1.0, 2.0, 3.0],
-        evader: [4.0, 5.0, 6.0],
-    };
+    let state = StateMsg::exact(7, [1.0, 2.0, 3.0], [4.0, 5.0, 6.0]);
     let good = host_tests::link::state(9, &state);
     let mut stream = vec![0x13, 0x37, 0xFF, 0x00]; // garbage, then a delimiter
     stream.extend(std::iter::repeat_n(0x55, 100)); // oversized garbage
@@ -249,11 +274,7 @@ fn error_codes_are_stable_and_distinct() {
 /// refusals of the same stream, cut into slices of every length from 1 to past the stream's.
 #[test]
 fn deframing_slices_gives_what_deframing_bytes_gives() {
-    let state = StateMsg {
-        time_ms: 3,
-        pursuer: [0.0, -2.5, 1.0],
-        evader: [7.0, 0.0, -3.0],
-    };
+    let state = StateMsg::exact(3, [0.0, -2.5, 1.0], [7.0, 0.0, -3.0]);
     let mut stream = vec![0x13, 0x37, 0xFF, 0x00, 0x00];
     stream.extend(host_tests::link::state(1, &state));
     stream.extend(std::iter::repeat_n(0x55, 100));
@@ -268,9 +289,9 @@ fn deframing_slices_gives_what_deframing_bytes_gives() {
     }
 }
 
-/// Counters grew by the line's six fault counts (76 bytes) and then the board's status (80
-/// bytes) in protocol version 1: payloads of 52 and 76 bytes still parse (what they lack is
-/// 0), each is a prefix of the new layout, and any other length is refused.
+/// Counters grew by the line's six fault counts (76 bytes), the board's status (80 bytes) and
+/// the estimator's two counts (88 bytes): payloads of 52, 76 and 80 bytes still parse (what
+/// they lack is 0), each is a prefix of the new layout, and any other length is refused.
 #[test]
 fn counters_append_the_line_faults_and_the_board_status_and_read_the_old_lengths() {
     use twocars::protocol::message::{Counters, LineCounts};
@@ -289,12 +310,18 @@ fn counters_append_the_line_faults_and_the_board_status_and_read_the_old_lengths
         tx_full: 8,
     };
     c.board = 1;
+    c.coasted = 9;
+    c.fixes_refused = 10;
     let mut buf = [0u8; Counters::LEN];
     let mut w = twocars::protocol::frame::Writer::new(&mut buf);
     c.emit(&mut w).unwrap();
-    assert_eq!(w.len(), 80);
+    assert_eq!(w.len(), 88);
     assert_eq!(Counters::parse(&buf), Ok(c));
     assert_eq!(&buf[76..80], &1u32.to_le_bytes());
+    assert_eq!(&buf[80..84], &9u32.to_le_bytes());
+    assert_eq!(&buf[84..88], &10u32.to_le_bytes());
+    let v3 = Counters::parse(&buf[..Counters::LEN_V3]).unwrap();
+    assert_eq!((v3.board, v3.coasted, v3.fixes_refused), (1, 0, 0));
     let v2 = Counters::parse(&buf[..Counters::LEN_V2]).unwrap();
     assert_eq!((v2.line, v2.board), (c.line, 0));
     assert_eq!(&buf[52..56], &2u32.to_le_bytes());

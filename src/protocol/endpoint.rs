@@ -6,13 +6,15 @@
 //! fuzzers feed it anything.
 
 use crate::error::Error;
+use crate::estimate::{Estimated, Estimator, FieldSettings, Fix, FixNoise, Stale};
 use crate::guidance::{Guidance, Policy};
 use crate::law::capture::Variant;
 use crate::law::geometry::{Direction, Limits};
 use crate::law::{Decision, Law};
 use crate::num::{ieee, Scalar};
 use crate::protocol::frame::{
-    encode_frame, header_sequence, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
+    encode_frame_as, header_sequence, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
+    VERSION, VERSION_1,
 };
 use crate::protocol::message::{
     kind, CommandMsg, Configure, Counters, ErrorMsg, LineCounts, StateMsg, NO_CIRCLE, ROLE_EVADER,
@@ -82,15 +84,17 @@ impl Reply {
         message_type: 0,
     };
 
-    /// Writes the reply frame of `message_type` in place (the payload written by the closure);
-    /// false, and no reply, if it does not fit (no message of ours is that long).
+    /// Writes the reply frame of `message_type` in protocol `version` in place (the payload
+    /// written by the closure); false, and no reply, if it does not fit (no message of ours is
+    /// that long).
     fn write(
         &mut self,
+        version: u8,
         message_type: u8,
         sequence: u16,
         payload: impl FnOnce(&mut crate::protocol::frame::Writer<'_>) -> Option<()>,
     ) -> bool {
-        let written = encode_frame(message_type, sequence, payload, &mut self.bytes);
+        let written = encode_frame_as(version, message_type, sequence, payload, &mut self.bytes);
         self.len = written.unwrap_or(0);
         self.message_type = message_type;
         written.is_some()
@@ -105,11 +109,18 @@ struct Configured<S> {
     policy: u8,
     roles: u8,
     watchdog_ms: u32,
+    /// Protocol version of the Configure: unasked replies are written in it.
+    version: u8,
     /// Wire units per law unit: rad/s per turn rate, seconds per time (1 on SI backends).
     /// Derivable from the limits' units, kept to spare the M0 two soft-float divisions per
     /// State (+553 instructions per frame measured).
     rate_scale: f32,
     time_scale: f32,
+    /// Both tracks, from a version-2 Configure; version 1 steers on the State's states as they
+    /// are (the fixed-point images then make no soft-float call per State).
+    estimator: Option<Estimator>,
+    /// The last State's evader fix time, ms: the same again is no new fix.
+    last_target_ms: Option<u32>,
 }
 
 /// The unit's state: configuration, deframer, counters, watchdog, and its last reply. Generic
@@ -133,6 +144,8 @@ struct Session<S> {
     tables: &'static [ValueTables<'static>],
     counters: Counters,
     watchdog: Watchdog,
+    /// Protocol version of the last readable frame: the unit answers in it.
+    version: u8,
 }
 
 /// The stale-input watchdog. Latched: once input went stale, States get the safe command until
@@ -174,8 +187,11 @@ impl<S: Scalar> Unit<S> {
                         tx_full: 0,
                     },
                     board: 0,
+                    coasted: 0,
+                    fixes_refused: 0,
                 },
                 watchdog: Watchdog::Idle,
+                version: VERSION,
             },
             reply: Reply::EMPTY,
         }
@@ -243,7 +259,10 @@ impl<S: Scalar> Unit<S> {
                     code: error as u8,
                     sequence_known: u8::from(sequence.is_some()),
                 };
-                reply.write(kind::ERROR, sequence.unwrap_or(0), |w| message.emit(w))
+                let version = session.version;
+                reply.write(version, kind::ERROR, sequence.unwrap_or(0), |w| {
+                    message.emit(w)
+                })
             }
         };
         (taken, written.then_some(&*reply))
@@ -270,7 +289,7 @@ impl<S: Scalar> Session<S> {
                 if now_ms.wrapping_sub(arrived_ms) > configured.watchdog_ms =>
             {
                 self.latch();
-                reply.write(kind::COMMAND, 0, |w| {
+                reply.write(configured.version, kind::COMMAND, 0, |w| {
                     stale_command(configured.roles).emit(w)
                 })
             }
@@ -292,6 +311,7 @@ impl<S: Scalar> Session<S> {
         reply: &mut Reply,
     ) -> Result<bool, (WireError, Option<u16>)> {
         let sequence = frame.sequence();
+        self.version = frame.version();
         let handled = match frame.message_type() {
             kind::CONFIGURE => self.on_configure(frame.payload(), sequence, reply),
             kind::STATE => self.on_state(frame.payload(), sequence, now_ms, reply),
@@ -312,13 +332,20 @@ impl<S: Scalar> Session<S> {
         sequence: u16,
         reply: &mut Reply,
     ) -> Result<bool, WireError> {
-        let message = Configure::parse(payload)?;
+        let version = self.version;
+        let message = if version == VERSION_1 {
+            Configure::parse_v1(payload)?
+        } else {
+            Configure::parse(payload)?
+        };
         // Written in place; only its policy byte is read back (a copy of the whole
         // configuration kept for the ack cost the M0's loop 264 B of stack).
-        let configured = self.configured.insert(configure(&message, self.tables)?);
+        let configured = self
+            .configured
+            .insert(configure(&message, version, self.tables)?);
         let policy = configured.policy;
         self.watchdog = Watchdog::Idle;
-        Ok(reply.write(kind::CONFIGURE_ACK, sequence, |w| w.u8(policy)))
+        Ok(reply.write(version, kind::CONFIGURE_ACK, sequence, |w| w.u8(policy)))
     }
 
     /// State: the law's Command for the configured roles, or the stale command once the
@@ -331,7 +358,12 @@ impl<S: Scalar> Session<S> {
         now_ms: u32,
         reply: &mut Reply,
     ) -> Result<bool, WireError> {
-        let message = StateMsg::parse(payload)?;
+        let version = self.version;
+        let message = if version == VERSION_1 {
+            StateMsg::parse_v1(payload)?
+        } else {
+            StateMsg::parse(payload)?
+        };
         let configured = self.configured.as_mut().ok_or(WireError::NotConfigured)?;
         // The contract's order: a non-finite field anywhere before any envelope check
         // (on the bits: no float operation on a core without an FPU).
@@ -361,15 +393,39 @@ impl<S: Scalar> Session<S> {
             if self.watchdog != Watchdog::Latched {
                 self.latch();
             }
-            return Ok(reply.write(kind::COMMAND, sequence, |w| stale_command(roles).emit(w)));
+            return Ok(reply.write(version, kind::COMMAND, sequence, |w| {
+                stale_command(roles).emit(w)
+            }));
         }
-        let decision = configured.guidance.decide(&pursuer, &evader);
+        let decision = match configured.estimator.as_mut() {
+            None => configured.guidance.decide(&pursuer, &evader),
+            Some(estimator) => {
+                let estimated = estimate(
+                    estimator,
+                    &message,
+                    &mut configured.last_target_ms,
+                    &mut self.counters,
+                );
+                let Ok(estimated) = estimated else {
+                    // The target's track is older than the watchdog time: stale as a gap in
+                    // the States is.
+                    self.latch();
+                    return Ok(reply.write(version, kind::COMMAND, sequence, |w| {
+                        stale_command(roles).emit(w)
+                    }));
+                };
+                configured
+                    .guidance
+                    .decide_estimated(&estimated)
+                    .map_err(|_| WireError::OutOfRangeField)?
+            }
+        };
         let command = command_message(&decision, configured);
         self.watchdog = Watchdog::Armed {
             arrived_ms: now_ms,
             stamp_ms: message.time_ms,
         };
-        Ok(reply.write(kind::COMMAND, sequence, |w| command.emit(w)))
+        Ok(reply.write(version, kind::COMMAND, sequence, |w| command.emit(w)))
     }
 
     /// ReadCounters, Reset and Shutdown: requests without a payload.
@@ -384,19 +440,24 @@ impl<S: Scalar> Session<S> {
         if !payload.is_empty() {
             return Err(WireError::Oversized);
         }
+        let version = self.version;
         Ok(match request {
             kind::READ_COUNTERS => {
                 let counters = self.counters;
-                reply.write(kind::COUNTERS, sequence, |w| counters.emit(w))
+                reply.write(version, kind::COUNTERS, sequence, |w| counters.emit(w))
             }
             kind::RESET => {
                 self.watchdog = Watchdog::Idle;
                 if let Some(c) = self.configured.as_mut() {
                     c.guidance.reset();
+                    c.last_target_ms = None;
+                    if let Some(estimator) = c.estimator.as_mut() {
+                        estimator.clear();
+                    }
                 }
-                reply.write(kind::RESET_ACK, sequence, |_| Some(()))
+                reply.write(version, kind::RESET_ACK, sequence, |_| Some(()))
             }
-            _ => reply.write(kind::SHUTDOWN_ACK, sequence, |_| Some(())),
+            _ => reply.write(version, kind::SHUTDOWN_ACK, sequence, |_| Some(())),
         })
     }
 }
@@ -406,6 +467,7 @@ pub const MAX_WATCHDOG_S: f32 = 3600.0;
 
 fn configure<S: Scalar>(
     message: &Configure,
+    version: u8,
     tables: &'static [ValueTables<'static>],
 ) -> Result<Configured<S>, WireError> {
     let [v_pm, w_pm, v_em, w_em] = message.limits;
@@ -441,6 +503,11 @@ fn configure<S: Scalar>(
     }
     // In range by the check above: at most 3.6e6 ms.
     let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
+    let estimator = if version == VERSION_1 {
+        None
+    } else {
+        Some(estimator(message)?)
+    };
     let units = limits.units;
     Ok(Configured {
         guidance,
@@ -449,7 +516,72 @@ fn configure<S: Scalar>(
         watchdog_ms,
         rate_scale: units.metres_per_second / units.metres,
         time_scale: units.metres / units.metres_per_second,
+        estimator,
+        last_target_ms: None,
+        version,
     })
+}
+
+/// Largest target position sigma accepted, metres.
+pub const MAX_TARGET_SIGMA: f32 = 1.0e4;
+
+/// The estimator a version-2 Configure asks for: its timeout the watchdog time.
+///
+/// # Errors
+/// `InvalidConfig` for a lag or lead outside [0, watchdog) or a sigma outside its range.
+fn estimator(message: &Configure) -> Result<Estimator, WireError> {
+    let field = &message.field;
+    let sigma_ok = (0.0..=MAX_TARGET_SIGMA).contains(&field.target_sigma)
+        && (0.0..=core::f32::consts::PI).contains(&field.target_heading_sigma);
+    if !sigma_ok {
+        return Err(WireError::InvalidConfig);
+    }
+    let settings = FieldSettings {
+        target_noise: FixNoise {
+            position: field.target_sigma,
+            heading: field.target_heading_sigma,
+        },
+        target_lag: field.target_lag,
+        own_lead: field.own_lead,
+        ..FieldSettings::exact(message.watchdog)
+    };
+    Estimator::new(message.limits, settings).map_err(|_| WireError::InvalidConfig)
+}
+
+/// Microseconds on the estimator's clock of a sender's `ms` (wrapping: differences hold).
+fn sender_us(ms: u32) -> u32 {
+    ms.wrapping_mul(1000)
+}
+
+/// Both states for a State's Command: the pursuer's fix taken at the State's time, the evader's
+/// at its own (when new), both carried to the State's time; the estimator's counts added to
+/// `counters`.
+fn estimate(
+    estimator: &mut Estimator,
+    message: &StateMsg,
+    last_target_ms: &mut Option<u32>,
+    counters: &mut Counters,
+) -> Result<Estimated, Stale> {
+    let before = estimator.counters();
+    let now_us = sender_us(message.time_ms);
+    // Refusals are counted; the tracks coast on what they hold.
+    let _ = estimator.own_fix(&Fix {
+        state: message.pursuer,
+        time_us: now_us,
+    });
+    if *last_target_ms != Some(message.evader_time_ms) {
+        *last_target_ms = Some(message.evader_time_ms);
+        let _ = estimator.target_fix_received(message.evader, sender_us(message.evader_time_ms));
+    }
+    let estimated = estimator.states(now_us);
+    let after = estimator.counters();
+    counters.coasted = counters
+        .coasted
+        .saturating_add(after.coasted.wrapping_sub(before.coasted));
+    counters.fixes_refused = counters
+        .fixes_refused
+        .saturating_add(after.refused.wrapping_sub(before.refused));
+    estimated
 }
 
 /// Gives `guidance` the first set of `tables` that fits its limits' ratios; whether one did

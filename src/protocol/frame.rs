@@ -5,8 +5,12 @@
 //! `version (u8) | type (u8) | sequence (u16) | payload | crc (u16)`, the CRC-16/CCITT-FALSE of
 //! every byte before it. Parsing never panics: every malformed input is a [`WireError`].
 
-/// Protocol version carried in every frame.
-pub const VERSION: u8 = 1;
+/// Protocol version carried in every frame the unit writes unasked, and the one its hosts
+/// should speak: version 2 carries the target fix's time in State and the field's settings in
+/// Configure.
+pub const VERSION: u8 = 2;
+/// The first protocol version, exact states only: still read, and answered in version 1.
+pub const VERSION_1: u8 = 1;
 /// Largest decoded frame (header, payload and CRC), bytes.
 pub const MAX_FRAME: usize = 96;
 /// Largest encoded frame on the wire: COBS overhead and the 0x00 delimiter included.
@@ -33,7 +37,7 @@ pub enum WireError {
     Oversized = 4,
     /// Unknown message type.
     UnknownType = 5,
-    /// Unknown protocol version.
+    /// Unknown protocol version (neither 1 nor 2).
     BadVersion = 6,
     /// NaN or infinity in a field.
     NonFiniteField = 7,
@@ -298,10 +302,15 @@ impl<'a> Frame<'a> {
         if crc16(body) != received {
             return Err(WireError::BadCrc);
         }
-        if body.get(field::VERSION) != Some(&VERSION) {
+        if !matches!(body.get(field::VERSION), Some(&(VERSION_1..=VERSION))) {
             return Err(WireError::BadVersion);
         }
         Ok(Frame { bytes: body })
+    }
+
+    /// Protocol version: [`VERSION_1`] or [`VERSION`].
+    pub fn version(&self) -> u8 {
+        self.bytes.get(field::VERSION).copied().unwrap_or(VERSION)
     }
 
     /// Message type byte.
@@ -427,10 +436,21 @@ pub fn encode_frame(
     payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
     out: &mut [u8],
 ) -> Option<usize> {
+    encode_frame_as(VERSION, message_type, sequence, payload, out)
+}
+
+/// [`encode_frame`] in protocol `version` (a reply is written in its request's version).
+pub fn encode_frame_as(
+    version: u8,
+    message_type: u8,
+    sequence: u16,
+    payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
+    out: &mut [u8],
+) -> Option<usize> {
     const { assert!(MAX_FRAME < 254) };
     let body_len = {
         let mut w = Writer::new(out.get_mut(1..)?);
-        w.u8(VERSION)?;
+        w.u8(version)?;
         w.u8(message_type)?;
         w.u16(sequence)?;
         payload(&mut w)?;

@@ -36,7 +36,8 @@ pub const ROLE_PURSUER: u8 = 0b01;
 pub const ROLE_EVADER: u8 = 0b10;
 
 /// Configure: both vehicles' limits (m/s, 1/m), control period and watchdog time (s), roles,
-/// Algorithm-2 variant (0 paper, 1 clamped) and policy (0 paper, 1 flight).
+/// Algorithm-2 variant (0 paper, 1 clamped) and policy (0 paper, 1 flight); from protocol
+/// version 2 the field's settings (`crate::estimate::FieldSettings`), which version 1 leaves 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Configure {
     /// v_pm, w_pm, v_em, w_em.
@@ -51,33 +52,93 @@ pub struct Configure {
     pub variant: u8,
     /// 0 paper, 1 flight ([`crate::Policy`]).
     pub policy: u8,
+    /// The field's settings (protocol version 2; 0 in version 1).
+    pub field: FieldConfig,
+}
+
+/// The field's settings in a [`Configure`] (protocol version 2): what the unit's estimator
+/// (`crate::estimate`) is told of the target's fixes and of the own vehicle.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct FieldConfig {
+    /// The target fixes' transport lag before the sender stamped them, seconds, in
+    /// [0, watchdog).
+    pub target_lag: f32,
+    /// One sigma of the target fixes' x and y, metres, in [0, 1e4].
+    pub target_sigma: f32,
+    /// One sigma of the target fixes' heading, radians, in [0, pi].
+    pub target_heading_sigma: f32,
+    /// How long after a Command the own vehicle turns as told, seconds, in [0, watchdog).
+    pub own_lead: f32,
+}
+
+impl FieldConfig {
+    /// Exact, instant fixes: every setting 0.
+    pub const EXACT: FieldConfig = FieldConfig {
+        target_lag: 0.0,
+        target_sigma: 0.0,
+        target_heading_sigma: 0.0,
+        own_lead: 0.0,
+    };
 }
 
 impl Configure {
     /// Payload length, bytes.
-    pub const LEN: usize = 27;
+    pub const LEN: usize = 43;
+    /// Payload length in protocol version 1, bytes.
+    pub const LEN_V1: usize = 27;
 
-    /// Parses a payload.
+    /// Parses a payload of the current version.
     ///
     /// # Errors
     /// `Truncated` if short, `Oversized` if long.
     pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
         let mut r = Reader::new(payload);
-        let limits = [r.f32()?, r.f32()?, r.f32()?, r.f32()?];
-        let m = Configure {
-            limits,
-            dt: r.f32()?,
-            watchdog: r.f32()?,
-            roles: r.u8()?,
-            variant: r.u8()?,
-            policy: r.u8()?,
+        let mut m = Self::parse_common(&mut r)?;
+        m.field = FieldConfig {
+            target_lag: r.f32()?,
+            target_sigma: r.f32()?,
+            target_heading_sigma: r.f32()?,
+            own_lead: r.f32()?,
         };
         r.finish()?;
         Ok(m)
     }
 
-    /// Writes the payload.
+    /// Parses a payload of protocol version 1 (the field's settings 0).
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse_v1(payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let m = Self::parse_common(&mut r)?;
+        r.finish()?;
+        Ok(m)
+    }
+
+    fn parse_common(r: &mut Reader<'_>) -> Result<Self, WireError> {
+        Ok(Configure {
+            limits: [r.f32()?, r.f32()?, r.f32()?, r.f32()?],
+            dt: r.f32()?,
+            watchdog: r.f32()?,
+            roles: r.u8()?,
+            variant: r.u8()?,
+            policy: r.u8()?,
+            field: FieldConfig::EXACT,
+        })
+    }
+
+    /// Writes the payload of the current version.
     pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        self.emit_v1(w)?;
+        let field = &self.field;
+        w.f32(field.target_lag)?;
+        w.f32(field.target_sigma)?;
+        w.f32(field.target_heading_sigma)?;
+        w.f32(field.own_lead)
+    }
+
+    /// Writes the payload of protocol version 1 (without the field's settings).
+    pub fn emit_v1(&self, w: &mut Writer<'_>) -> Option<()> {
         for v in self.limits {
             w.f32(v)?;
         }
@@ -89,38 +150,79 @@ impl Configure {
     }
 }
 
-/// State: the sender's timestamp (ms) and both vehicles' (x, y, theta) in metres and radians.
+/// State: the sender's timestamp (ms) and both vehicles' (x, y, theta) in metres and radians;
+/// from protocol version 2 the time of the evader's fix on the sender's clock, which version 1
+/// takes to be the timestamp.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StateMsg {
-    /// Sender's timestamp, milliseconds.
+    /// Sender's timestamp, milliseconds: when the pursuer was where it says.
     pub time_ms: u32,
     /// Pursuer x, y, theta.
     pub pursuer: [f32; 3],
     /// Evader x, y, theta.
     pub evader: [f32; 3],
+    /// When the evader was where it says, milliseconds on the sender's clock (less the
+    /// Configure's target lag). The previous State's value again: no new fix.
+    pub evader_time_ms: u32,
 }
 
 impl StateMsg {
     /// Payload length, bytes.
-    pub const LEN: usize = 28;
+    pub const LEN: usize = 32;
+    /// Payload length in protocol version 1, bytes.
+    pub const LEN_V1: usize = 28;
 
-    /// Parses a payload.
+    /// A State of exact, instant fixes: the evader's fix at the timestamp.
+    pub const fn exact(time_ms: u32, pursuer: [f32; 3], evader: [f32; 3]) -> Self {
+        StateMsg {
+            time_ms,
+            pursuer,
+            evader,
+            evader_time_ms: time_ms,
+        }
+    }
+
+    /// Parses a payload of the current version.
     ///
     /// # Errors
     /// `Truncated` if short, `Oversized` if long.
     pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
         let mut r = Reader::new(payload);
-        let m = StateMsg {
-            time_ms: r.u32()?,
-            pursuer: [r.f32()?, r.f32()?, r.f32()?],
-            evader: [r.f32()?, r.f32()?, r.f32()?],
-        };
+        let mut m = Self::parse_common(&mut r)?;
+        m.evader_time_ms = r.u32()?;
         r.finish()?;
         Ok(m)
     }
 
-    /// Writes the payload.
+    /// Parses a payload of protocol version 1 (the evader's fix at the timestamp).
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse_v1(payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let m = Self::parse_common(&mut r)?;
+        r.finish()?;
+        Ok(m)
+    }
+
+    fn parse_common(r: &mut Reader<'_>) -> Result<Self, WireError> {
+        let time_ms = r.u32()?;
+        Ok(StateMsg {
+            time_ms,
+            pursuer: [r.f32()?, r.f32()?, r.f32()?],
+            evader: [r.f32()?, r.f32()?, r.f32()?],
+            evader_time_ms: time_ms,
+        })
+    }
+
+    /// Writes the payload of the current version.
     pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        self.emit_v1(w)?;
+        w.u32(self.evader_time_ms)
+    }
+
+    /// Writes the payload of protocol version 1 (without the evader's fix time).
+    pub fn emit_v1(&self, w: &mut Writer<'_>) -> Option<()> {
         w.u32(self.time_ms)?;
         for v in self.pursuer.iter().chain(self.evader.iter()) {
             w.f32(*v)?;
@@ -274,8 +376,9 @@ impl LineCounts {
 }
 
 /// Counters: valid messages handled, watchdog expiries, refused inputs per [`WireError`] code,
-/// then the line's faults and the board's status (each appended in the same protocol version: a
-/// reader of the first [`Counters::LEN_V1`] or [`Counters::LEN_V2`] bytes keeps working).
+/// then the line's faults, the board's status and the estimator's counts (each appended: a
+/// reader of the first [`Counters::LEN_V1`], [`Counters::LEN_V2`] or [`Counters::LEN_V3`]
+/// bytes keeps working).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     /// Valid messages handled.
@@ -288,6 +391,11 @@ pub struct Counters {
     pub line: LineCounts,
     /// The board's status flags ([`BOARD_FALLBACK_CLOCK`]; 0 on the host).
     pub board: u32,
+    /// States answered with no new evader fix since the State before: the target coasted
+    /// (protocol version 2).
+    pub coasted: u32,
+    /// Fixes the estimator refused: out of order, repeated or outliers (protocol version 2).
+    pub fixes_refused: u32,
 }
 
 /// Board status flag: the board runs on its fallback clock (its crystal or PLL did not start).
@@ -298,8 +406,10 @@ impl Counters {
     pub const LEN_V1: usize = 8 + 4 * crate::protocol::frame::ERROR_KINDS;
     /// Payload length with the line's faults and without the board's status, bytes.
     pub const LEN_V2: usize = Self::LEN_V1 + LineCounts::LEN;
+    /// Payload length with the board's status and without the estimator's counts, bytes.
+    pub const LEN_V3: usize = Self::LEN_V2 + 4;
     /// Payload length, bytes.
-    pub const LEN: usize = Self::LEN_V2 + 4;
+    pub const LEN: usize = Self::LEN_V3 + 8;
 
     /// Counts one refused input.
     pub fn count(&mut self, error: WireError) {
@@ -315,8 +425,8 @@ impl Counters {
         self.errors.get(index).copied().unwrap_or(0)
     }
 
-    /// Parses a payload: [`Counters::LEN`] bytes, or the earlier [`Counters::LEN_V1`] (line
-    /// faults and board status then 0) or [`Counters::LEN_V2`] (board status then 0).
+    /// Parses a payload: [`Counters::LEN`] bytes, or the earlier [`Counters::LEN_V1`],
+    /// [`Counters::LEN_V2`] or [`Counters::LEN_V3`] (what a shorter payload lacks then 0).
     ///
     /// # Errors
     /// `Truncated` if short, `Oversized` if long.
@@ -336,6 +446,10 @@ impl Counters {
         if payload.len() > Self::LEN_V2 {
             m.board = r.u32()?;
         }
+        if payload.len() > Self::LEN_V3 {
+            m.coasted = r.u32()?;
+            m.fixes_refused = r.u32()?;
+        }
         r.finish()?;
         Ok(m)
     }
@@ -348,6 +462,8 @@ impl Counters {
             w.u32(c)?;
         }
         self.line.emit(w)?;
-        w.u32(self.board)
+        w.u32(self.board)?;
+        w.u32(self.coasted)?;
+        w.u32(self.fixes_refused)
     }
 }

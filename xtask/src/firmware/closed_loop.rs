@@ -8,7 +8,9 @@ use host_tests::adversary::{Adversary, EvaderKind, Opponent};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::sim::{closed_loop, SimParams, SimResult, StepCommand};
 use twocars::protocol::endpoint::Unit;
-use twocars::protocol::message::{Configure, Counters, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use twocars::protocol::message::{
+    Configure, Counters, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER,
+};
 use twocars::value_tables::ValueTables;
 use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant};
 
@@ -136,6 +138,7 @@ pub fn run_against(
             Policy::Flight => 1,
             Policy::Table => 2,
         },
+        field: FieldConfig::EXACT,
     };
     *sequence = sequence.wrapping_add(1);
     unit.send(&link::configure(*sequence, &configure))?;
@@ -178,11 +181,11 @@ pub fn run_against(
     };
     let result = closed_loop(&params, false, |t, p, e| {
         *sequence = sequence.wrapping_add(1);
-        let state = StateMsg {
-            time_ms: (t * 1000.0).round() as u32,
-            pursuer: p.map(|v| v as f32),
-            evader: e.map(|v| v as f32),
-        };
+        let state = StateMsg::exact(
+            (t * 1000.0).round() as u32,
+            p.map(|v| v as f32),
+            e.map(|v| v as f32),
+        );
         unit.send(&link::state(*sequence, &state))?;
         run.states_sent += 1;
         let reply = unit.reply()?;

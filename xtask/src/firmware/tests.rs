@@ -88,6 +88,8 @@ fn since_probe(
             tx_full: less(l.tx_full, bl.tx_full),
         },
         board: 0,
+        coasted: less(counters.coasted, b.coasted),
+        fixes_refused: less(counters.fixes_refused, b.fixes_refused),
     })
 }
 
