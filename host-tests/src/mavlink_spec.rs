@@ -170,6 +170,9 @@ pub fn follow_target_payload(
 pub const PARAM_VALUE: (u32, u8) = (22, 220);
 /// (message id, CRC_EXTRA).
 pub const SET_ATTITUDE_TARGET: (u32, u8) = (82, 49);
+/// (message id, CRC_EXTRA): the CRC over "SET_POSITION_TARGET_LOCAL_NED " and its fields'
+/// types and names in wire order, as the specification defines it.
+pub const SET_POSITION_TARGET_LOCAL_NED: (u32, u8) = (84, 143);
 /// (message id, CRC_EXTRA).
 pub const NAMED_VALUE_FLOAT: (u32, u8) = (251, 170);
 /// (message id, CRC_EXTRA).
@@ -261,10 +264,11 @@ pub fn read_v2(stream: &[u8], extras: &[(u32, u8)]) -> Result<Vec<Sent>, String>
 }
 
 /// Every message id the endpoint sends, with its CRC_EXTRA.
-pub const SENT_BY_ENDPOINT: [(u32, u8); 5] = [
+pub const SENT_BY_ENDPOINT: [(u32, u8); 6] = [
     HEARTBEAT,
     PARAM_VALUE,
     SET_ATTITUDE_TARGET,
+    SET_POSITION_TARGET_LOCAL_NED,
     NAMED_VALUE_FLOAT,
     STATUSTEXT,
 ];

@@ -7,7 +7,8 @@ use host_tests::mavlink_spec::{
     follow_target_payload, param_request_list_payload, param_request_read_payload,
     param_set_payload, position_payload_at, read_v2, v2_from, Sent, FOLLOW_TARGET,
     GLOBAL_POSITION_INT, HEARTBEAT, NAMED_VALUE_FLOAT, PARAM_REQUEST_LIST, PARAM_REQUEST_READ,
-    PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT, SET_ATTITUDE_TARGET, STATUSTEXT,
+    PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT, SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED,
+    STATUSTEXT,
 };
 use std::f64::consts::{FRAC_PI_2, PI};
 use twocars::mavlink::{Endpoint, SPECS};
@@ -269,7 +270,7 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
     for (name, value, kept) in [
         ("TC_V_EM", 3.0, 1.0),    // v_em above v_pm
         ("TC_W_PM", 0.5, 2.0),    // w_pm below w_em
-        ("TC_VEHICLE", 2.0, 0.0), // no such vehicle kind
+        ("TC_VEHICLE", 3.0, 0.0), // no such vehicle kind
         ("TC_SYSID", 1.5, 1.0),   // not a whole number
         ("TC_TIMEOUT", f32::NAN, 0.5),
         ("TC_V_PM", 1.0e9, 2.0), // beyond the envelope
@@ -437,6 +438,49 @@ fn a_fixed_wing_gets_the_bank_angle_of_a_coordinated_turn_and_its_heading() {
         want.abs() > 0.1 && (roll - want).abs() < 1e-4,
         "{roll} vs {want}"
     );
+}
+
+/// TC_VEHICLE 2 (a PX4 rover, which takes no yaw rate): a velocity setpoint in the local NED
+/// frame, at v_pm, its course the heading advanced by the law's turn over the guidance's period
+/// (TC_PERIOD 0.2 s), at most a quarter turn.
+#[test]
+fn a_velocity_vehicle_gets_v_pm_along_the_heading_advanced_by_the_turn() {
+    let mut link = Link::new();
+    link.scale_tenfold();
+    link.set("TC_VEHICLE", 2.0);
+    link.set("TC_PERIOD", 0.2);
+    let (pursuer, evader) = CASE1;
+    link.position(TARGET, 0, evader, 10.0);
+    let sent = link.position(OWN, 0, pursuer, 20.0);
+    assert!(of(&sent, SET_ATTITUDE_TARGET).is_empty());
+    let setpoints = of(&sent, SET_POSITION_TARGET_LOCAL_NED);
+    assert_eq!(setpoints.len(), 1);
+    let s = setpoints[0];
+    // type_mask, target system and component, MAV_FRAME_LOCAL_NED.
+    assert_eq!((s.u16(48), s.u8(50), s.u8(51), s.u8(52)), (3527, 1, 1, 1));
+    let (vx, vy) = (f64::from(s.f32(16)), f64::from(s.f32(20)));
+    assert!((vx.hypot(vy) - 20.0).abs() < 1e-3, "{vx} {vy}");
+    // The ground vehicle's rate on the same states, over the 0.2 s period.
+    let mut ground = Link::new();
+    ground.scale_tenfold();
+    ground.set("TC_PERIOD", 0.2);
+    ground.position(TARGET, 0, evader, 10.0);
+    let rate =
+        f64::from(attitude(of(&ground.position(OWN, 0, pursuer, 20.0), SET_ATTITUDE_TARGET)[0]).3);
+    let course = vy.atan2(vx);
+    assert!(
+        rate.abs() > 0.1 && (course - (FRAC_PI_2 + 0.2 * rate)).abs() < 1e-3,
+        "course {course} vs heading {FRAC_PI_2} + 0.2 x {rate}"
+    );
+    // A period long enough to turn past a quarter: the course a quarter turn off the heading.
+    link.set("TC_PERIOD", 1.0);
+    link.position(TARGET, 50, evader, 10.0);
+    let sent = link.position(OWN, 50, pursuer, 20.0);
+    let s = of(&sent, SET_POSITION_TARGET_LOCAL_NED)[0];
+    let course = f64::from(s.f32(20)).atan2(f64::from(s.f32(16)));
+    let want = FRAC_PI_2 + FRAC_PI_2 * rate.signum();
+    let apart = (course - want + PI).rem_euclid(2.0 * PI) - PI;
+    assert!(apart.abs() < 1e-3, "{course} vs {want}");
 }
 
 /// No setpoint from a stale target: one WARNING when that begins (at the check that finds it),

@@ -25,9 +25,11 @@
 //! [`crate::geodetic`] about the first own fix, moved to the own fix whenever that is
 //! [`REANCHOR_M`] away.
 
+use core::f32::consts::FRAC_PI_2;
+
 use ::mavlink::dialects::common::{
-    AttitudeTargetTypemask, MavSeverity, FOLLOW_TARGET_DATA, GLOBAL_POSITION_INT_DATA,
-    SET_ATTITUDE_TARGET_DATA,
+    AttitudeTargetTypemask, MavFrame, MavSeverity, PositionTargetTypemask, FOLLOW_TARGET_DATA,
+    GLOBAL_POSITION_INT_DATA, SET_ATTITUDE_TARGET_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
 
 use super::frame::{Frame, FrameReader};
@@ -80,6 +82,9 @@ const FOLLOW_ATTITUDE: u8 = 1 << 3;
 /// thrust used (fixed wing).
 const YAW_RATE_ONLY: u8 = 1 | 2 | 128;
 const ATTITUDE_ONLY: u8 = 1 | 2 | 4;
+/// SET_POSITION_TARGET_LOCAL_NED's type_mask with the velocity used and position,
+/// acceleration, yaw and yaw rate ignored (a PX4 rover in OFFBOARD).
+const VELOCITY_ONLY: u16 = 1 | 2 | 4 | 64 | 128 | 256 | 1024 | 2048;
 
 /// Why no setpoint went out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -306,6 +311,16 @@ impl Endpoint {
     /// The parameters now.
     pub fn params(&self) -> &Params {
         &self.session.params
+    }
+
+    /// Sets the parameter named `name` as a PARAM_SET would, without a reply: a host that
+    /// configures its endpoint before the link starts (the companion's `--param`).
+    ///
+    /// # Errors
+    /// The [`Refusal`] a PARAM_SET would get; the old value stays.
+    pub fn set_param(&mut self, name: &[u8], value: f32) -> Result<(), Refusal> {
+        let i = Params::find(name).ok_or(Refusal::UnknownName)?;
+        self.session.apply_param(i, value)
     }
 
     /// What the endpoint counted.
@@ -548,19 +563,23 @@ impl Session {
             self.refuse(Refusal::UnknownName, send);
             return;
         };
-        match self.params.set(i, value) {
-            Ok(()) => {
-                let rebuilds = [index::POLICY, index::CAPTURE, index::PERIOD, index::TIMEOUT];
-                if i <= index::W_EM || i >= index::TGT_LAG || rebuilds.contains(&i) {
-                    self.rebuild_guidance();
-                }
-                self.outbox.param_value(self.sysid(), &self.params, i, send);
-            }
+        match self.apply_param(i, value) {
+            Ok(()) => self.outbox.param_value(self.sysid(), &self.params, i, send),
             Err(refusal) => {
                 self.outbox.param_value(self.sysid(), &self.params, i, send);
                 self.refuse(refusal, send);
             }
         }
+    }
+
+    /// Sets parameter `i` and rebuilds what depends on it; the refusal where it stays.
+    fn apply_param(&mut self, i: usize, value: f32) -> Result<(), Refusal> {
+        self.params.set(i, value)?;
+        let rebuilds = [index::POLICY, index::CAPTURE, index::PERIOD, index::TIMEOUT];
+        if i <= index::W_EM || i >= index::TGT_LAG || rebuilds.contains(&i) {
+            self.rebuild_guidance();
+        }
+        Ok(())
     }
 
     fn refuse(&mut self, refusal: Refusal, send: &mut dyn FnMut(&[u8])) {
@@ -777,6 +796,52 @@ impl Session {
         let speed = self.params.get(index::V_PM).unwrap_or(0.0);
         // f32 runs in SI units: the turn rate is v_pm w, rad/s, clockwise from above.
         let rate = speed * decision.command.pursuer;
+        self.send_setpoint(speed, rate, heading, now_ms, send);
+        let upper = decision
+            .solution
+            .and_then(|s| s.upper)
+            .unwrap_or(f32::INFINITY);
+        let upper = if decision.status == Status::Captured {
+            0.0
+        } else {
+            upper
+        };
+        self.outbox.named_value(sysid, now_ms, "TC_T", upper, send);
+        self.counters.setpoints = self.counters.setpoints.wrapping_add(1);
+    }
+
+    /// The setpoint for the vehicle TC_VEHICLE names: turn `rate` (rad/s, clockwise) at `speed`
+    /// (m/s), the pursuer at `heading` (rad, clockwise from north).
+    fn send_setpoint(
+        &mut self,
+        speed: f32,
+        rate: f32,
+        heading: f32,
+        now_ms: u32,
+        send: &mut dyn FnMut(&[u8]),
+    ) {
+        let sysid = self.sysid();
+        if self.params.byte(index::VEHICLE) == 2 {
+            // The velocity's course is the heading advanced by the turn over the guidance's
+            // period (the span the sampled command is planned for), at most a quarter turn so
+            // that the side of the turn is unambiguous.
+            let period = self.guidance_period(self.period_ms);
+            let advance = (rate * period).clamp(-FRAC_PI_2, FRAC_PI_2);
+            let course = heading + advance;
+            let (sin, cos) = crate::num::f32_math::sin_cos(course);
+            let message = SET_POSITION_TARGET_LOCAL_NED_DATA {
+                time_boot_ms: now_ms,
+                vx: speed * cos,
+                vy: speed * sin,
+                target_system: sysid,
+                target_component: AUTOPILOT_COMPONENT,
+                coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
+                type_mask: PositionTargetTypemask::from_bits_retain(VELOCITY_ONLY),
+                ..SET_POSITION_TARGET_LOCAL_NED_DATA::DEFAULT
+            };
+            self.outbox.send(sysid, &message, send);
+            return;
+        }
         let mut message = SET_ATTITUDE_TARGET_DATA {
             time_boot_ms: now_ms,
             q: [1.0, 0.0, 0.0, 0.0],
@@ -795,17 +860,6 @@ impl Session {
             message.body_yaw_rate = rate;
         }
         self.outbox.send(sysid, &message, send);
-        let upper = decision
-            .solution
-            .and_then(|s| s.upper)
-            .unwrap_or(f32::INFINITY);
-        let upper = if decision.status == Status::Captured {
-            0.0
-        } else {
-            upper
-        };
-        self.outbox.named_value(sysid, now_ms, "TC_T", upper, send);
-        self.counters.setpoints = self.counters.setpoints.wrapping_add(1);
     }
 
     /// No setpoint, for `halt`: announced when the halt begins (not again while it lasts).

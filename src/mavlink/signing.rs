@@ -45,6 +45,23 @@ pub enum SignatureRefusal {
     Stale,
 }
 
+/// A key as a key file holds it: 32 bytes as they are, or 64 hexadecimal digits (surrounding
+/// whitespace ignored); `None` otherwise.
+pub fn parse_key(file: &[u8]) -> Option<[u8; KEY_LEN]> {
+    if let Ok(raw) = <[u8; KEY_LEN]>::try_from(file) {
+        return Some(raw);
+    }
+    let text = core::str::from_utf8(file).ok()?.trim();
+    if text.len() != 2 * KEY_LEN {
+        return None;
+    }
+    let mut key = [0u8; KEY_LEN];
+    for (i, k) in key.iter_mut().enumerate() {
+        *k = u8::from_str_radix(text.get(2 * i..2 * i + 2)?, 16).ok()?;
+    }
+    Some(key)
+}
+
 /// The 48-bit signature of `signed` (header, payload and checksum of a frame whose
 /// incompatibility flags say "signed") with `link_id` and `timestamp` under `key`.
 pub fn signature(key: &[u8; KEY_LEN], signed: &[u8], link_id: u8, timestamp: u64) -> [u8; 6] {

@@ -116,11 +116,6 @@ struct Configured<S> {
     /// State (+553 instructions per frame measured).
     rate_scale: f32,
     time_scale: f32,
-    /// Both tracks, from a version-2 Configure; version 1 steers on the State's states as they
-    /// are (the fixed-point images then make no soft-float call per State).
-    estimator: Option<Estimator>,
-    /// The last State's evader fix time, ms: the same again is no new fix.
-    last_target_ms: Option<u32>,
 }
 
 /// The unit's state: configuration, deframer, counters, watchdog, and its last reply. Generic
@@ -146,6 +141,12 @@ struct Session<S> {
     watchdog: Watchdog,
     /// Protocol version of the last readable frame: the unit answers in it.
     version: u8,
+    /// Both tracks, from a version-2 Configure; under version 1 the unit steers on the State's
+    /// states as they are (the fixed-point images then make no soft-float call per State).
+    /// Beside the configuration, not in it: a configuration is built on the stack.
+    estimator: Option<Estimator>,
+    /// The last State's evader fix time, ms: the same again is no new fix.
+    last_target_ms: Option<u32>,
 }
 
 /// The stale-input watchdog. Latched: once input went stale, States get the safe command until
@@ -192,6 +193,8 @@ impl<S: Scalar> Unit<S> {
                 },
                 watchdog: Watchdog::Idle,
                 version: VERSION,
+                estimator: None,
+                last_target_ms: None,
             },
             reply: Reply::EMPTY,
         }
@@ -343,6 +346,11 @@ impl<S: Scalar> Session<S> {
         let configured = self
             .configured
             .insert(configure(&message, version, self.tables)?);
+        self.last_target_ms = None;
+        self.estimator = None;
+        if version != VERSION_1 {
+            install_estimator(&mut self.estimator, &message);
+        }
         let policy = configured.policy;
         self.watchdog = Watchdog::Idle;
         Ok(reply.write(version, kind::CONFIGURE_ACK, sequence, |w| w.u8(policy)))
@@ -397,28 +405,25 @@ impl<S: Scalar> Session<S> {
                 stale_command(roles).emit(w)
             }));
         }
-        let decision = match configured.estimator.as_mut() {
-            None => configured.guidance.decide(&pursuer, &evader),
-            Some(estimator) => {
-                let estimated = estimate(
-                    estimator,
-                    &message,
-                    &mut configured.last_target_ms,
-                    &mut self.counters,
-                );
-                let Ok(estimated) = estimated else {
-                    // The target's track is older than the watchdog time: stale as a gap in
-                    // the States is.
-                    self.latch();
-                    return Ok(reply.write(version, kind::COMMAND, sequence, |w| {
-                        stale_command(roles).emit(w)
-                    }));
-                };
-                configured
-                    .guidance
-                    .decide_estimated(&estimated)
-                    .map_err(|_| WireError::OutOfRangeField)?
-            }
+        let decision = if let Some(estimator) = self.estimator.as_mut() {
+            let tracks = (estimator, &mut self.last_target_ms);
+            let Some(decision) = decide_on_estimates(
+                &mut configured.guidance,
+                tracks,
+                &message,
+                &mut self.counters,
+            )?
+            else {
+                // The target's track is older than the watchdog time: stale as a gap in the
+                // States is.
+                self.latch();
+                return Ok(reply.write(version, kind::COMMAND, sequence, |w| {
+                    stale_command(roles).emit(w)
+                }));
+            };
+            decision
+        } else {
+            configured.guidance.decide(&pursuer, &evader)
         };
         let command = command_message(&decision, configured);
         self.watchdog = Watchdog::Armed {
@@ -450,10 +455,10 @@ impl<S: Scalar> Session<S> {
                 self.watchdog = Watchdog::Idle;
                 if let Some(c) = self.configured.as_mut() {
                     c.guidance.reset();
-                    c.last_target_ms = None;
-                    if let Some(estimator) = c.estimator.as_mut() {
-                        estimator.clear();
-                    }
+                }
+                self.last_target_ms = None;
+                if let Some(estimator) = self.estimator.as_mut() {
+                    estimator.clear();
                 }
                 reply.write(version, kind::RESET_ACK, sequence, |_| Some(()))
             }
@@ -503,11 +508,9 @@ fn configure<S: Scalar>(
     }
     // In range by the check above: at most 3.6e6 ms.
     let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
-    let estimator = if version == VERSION_1 {
-        None
-    } else {
-        Some(estimator(message)?)
-    };
+    if version != VERSION_1 {
+        check_field(message)?;
+    }
     let units = limits.units;
     Ok(Configured {
         guidance,
@@ -516,10 +519,24 @@ fn configure<S: Scalar>(
         watchdog_ms,
         rate_scale: units.metres_per_second / units.metres,
         time_scale: units.metres / units.metres_per_second,
-        estimator,
-        last_target_ms: None,
         version,
     })
+}
+
+/// Whether a version-2 Configure's field settings make an estimator.
+///
+/// # Errors
+/// As [`estimator`].
+#[inline(never)]
+fn check_field(message: &Configure) -> Result<(), WireError> {
+    estimator(message).map(|_| ())
+}
+
+/// The estimator of a version-2 Configure (checked by [`check_field`]), written into `slot`.
+/// Out of line, as the check is: the loop's stack frame holds no estimator of its own.
+#[inline(never)]
+fn install_estimator(slot: &mut Option<Estimator>, message: &Configure) {
+    *slot = estimator(message).ok();
 }
 
 /// Largest target position sigma accepted, metres.
@@ -551,6 +568,25 @@ fn estimator(message: &Configure) -> Result<Estimator, WireError> {
 /// Microseconds on the estimator's clock of a sender's `ms` (wrapping: differences hold).
 fn sender_us(ms: u32) -> u32 {
     ms.wrapping_mul(1000)
+}
+
+/// `guidance`'s decision on both states as the estimator of `tracks` carries them (`None`: the
+/// target's track is stale). Out of line: the exact-state path keeps its stack frame as small
+/// as it was without an estimator.
+#[inline(never)]
+fn decide_on_estimates<S: Scalar>(
+    guidance: &mut Guidance<S>,
+    (estimator, last_target_ms): (&mut Estimator, &mut Option<u32>),
+    message: &StateMsg,
+    counters: &mut Counters,
+) -> Result<Option<Decision<S>>, WireError> {
+    let Ok(estimated) = estimate(estimator, message, last_target_ms, counters) else {
+        return Ok(None);
+    };
+    guidance
+        .decide_estimated(&estimated)
+        .map(Some)
+        .map_err(|_| WireError::OutOfRangeField)
 }
 
 /// Both states for a State's Command: the pursuer's fix taken at the State's time, the evader's

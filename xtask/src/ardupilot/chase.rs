@@ -79,6 +79,14 @@ impl Injector for Target {
             hdg: hdg_cdeg(self.state[2]),
         })
     }
+
+    fn on(&self) -> bool {
+        self.on
+    }
+
+    fn captured_ms(&self) -> Option<u32> {
+        self.captured_ms
+    }
 }
 
 /// What one chase showed.
@@ -107,6 +115,8 @@ pub struct Outcome {
     pub tracking_rms_settled: f64,
     /// Setpoints sent during the chase.
     pub setpoints: usize,
+    /// The chase's setpoints whose yaw rate has the sign opposite to the last nonzero one's.
+    pub flips: usize,
     /// From the unit's last setpoint: ArduPilot's "target not received" and the standstill, s.
     pub to_stop_message: Option<f64>,
     /// From the unit's last setpoint to the standstill, s.
@@ -116,7 +126,7 @@ pub struct Outcome {
 }
 
 /// Where the evader starts: `start`'s offsets in the frame of the rover at `rover`.
-fn place(rover: [f64; 3], start: &Start) -> [f64; 3] {
+pub fn place(rover: [f64; 3], start: &Start) -> [f64; 3] {
     let [rx, ry, rt] = rover;
     let (s, c) = rt.sin_cos();
     [
@@ -177,15 +187,7 @@ pub fn fly(
 ) -> Result<Outcome, String> {
     let rover = h.rover.ok_or("no fix from the rover")?;
     let evader0 = place(rover.state, &start);
-    let params = SimParams {
-        limits,
-        pursuer: rover.state,
-        evader: evader0,
-        dt: f64::from(super::vehicle::STREAM_INTERVAL_US) * 1e-6,
-        t_max: 120.0,
-        eps,
-    };
-    let ideal = ideal_run(&params, start.evader, seed);
+    let params = chase_params(limits, rover.state, evader0, eps);
     let adversary = Adversary::new(Opponent::Evader(start.evader), limits, params.dt, eps, seed)
         .ok_or("the adversary's limits are invalid")?;
     let target = Target {
@@ -200,11 +202,62 @@ pub fn fly(
         on: true,
         plane: *h.plane(),
     };
+    let began = Began::new(start, rover, &params, seed);
+    pursue(h, target, &began, seed, field)
+}
+
+/// A chase's parameters from the rover's and the evader's states: the host's step is the
+/// rover's fix interval.
+pub fn chase_params(limits: [f64; 4], pursuer: [f64; 3], evader: [f64; 3], eps: f64) -> SimParams {
+    SimParams {
+        limits,
+        pursuer,
+        evader,
+        dt: f64::from(super::vehicle::STREAM_INTERVAL_US) * 1e-6,
+        t_max: T_MAX,
+        eps,
+    }
+}
+
+/// A chase's time limit, s.
+pub const T_MAX: f64 = 120.0;
+
+/// How a chase began: the start, both states, the ideal pursuer's run from them.
+pub struct Began {
+    pub start: Start,
+    pub rover: RoverFix,
+    pub evader0: [f64; 3],
+    pub ideal: host_tests::sim::SimResult,
+    pub v_pm: f64,
+}
+
+impl Began {
+    /// A chase from `params`' states, the rover's fix `rover`, against `start.evader`.
+    pub fn new(start: Start, rover: RoverFix, params: &SimParams, seed: u64) -> Began {
+        Began {
+            start,
+            rover,
+            evader0: params.evader,
+            ideal: ideal_run(params, start.evader, seed),
+            v_pm: params.limits[0],
+        }
+    }
+}
+
+/// Forwards until `target` is caught or out of time (its fixes through [`Delayed`] with
+/// `field`), then times the failsafe; the outcome.
+pub fn pursue<T: Injector>(
+    h: &mut Harness,
+    target: T,
+    began: &Began,
+    seed: u64,
+    field: bool,
+) -> Result<Outcome, String> {
     let marks = Marks::now(h);
-    let wall = std::time::Instant::now() + Duration::from_secs_f64(params.t_max * 2.0 + 10.0);
+    let wall = std::time::Instant::now() + Duration::from_secs_f64(T_MAX * 2.0 + 10.0);
     // Through the field, the target's fixes come late, sparse and noisy.
     let mut delayed = Delayed::new(target, seed);
-    while delayed.inner().on {
+    while delayed.on() {
         if std::time::Instant::now() > wall {
             return Err("the chase outran its wall-clock limit".to_string());
         }
@@ -218,16 +271,15 @@ pub fn fly(
     let end_ms = h.now_ms();
     // The failsafe: the target is silent from here; the rover must come to a standstill.
     let stopped_ms = wait_stopped(h, &mut delayed, 15.0).ok();
-    let target = delayed.inner();
     let ended = Ended {
-        start,
-        rover,
-        evader0,
-        ideal,
-        captured_ms: target.captured_ms,
+        start: began.start,
+        rover: began.rover,
+        evader0: began.evader0,
+        ideal: began.ideal.clone(),
+        captured_ms: delayed.captured_ms(),
         end_ms,
         stopped_ms,
-        v_pm: limits[0],
+        v_pm: began.v_pm,
     };
     Ok(outcome(h, &marks, &ended))
 }
@@ -288,10 +340,25 @@ fn outcome(h: &Harness, marks: &Marks, e: &Ended) -> Outcome {
         tracking_rms,
         tracking_rms_settled,
         setpoints: h.setpoints.len() - marks.setpoints,
+        flips: flips(&h.setpoints[marks.setpoints..], end_ms),
         to_stop_message: last_setpoint.zip(stop_message).map(|(a, b)| seconds(a, b)),
         to_standstill: last_setpoint.zip(stopped_ms).map(|(a, b)| seconds(a, b)),
         unit_stale_after: unit_stale.map(|t| seconds(end_ms, t)),
     }
+}
+
+/// The setpoints up to `end_ms` whose yaw rate's sign is opposite to the last nonzero one's.
+fn flips(setpoints: &[super::harness::Setpoint], end_ms: u32) -> usize {
+    let mut last = 0.0f32;
+    let mut count = 0;
+    for s in setpoints
+        .iter()
+        .filter(|s| s.time_ms <= end_ms && s.yaw_rate != 0.0)
+    {
+        count += usize::from(last != 0.0 && s.yaw_rate.signum() != last.signum());
+        last = s.yaw_rate;
+    }
+    count
 }
 
 /// The distance the rover fell short of `v_pm` t over `fixes` (trapezoids), m.

@@ -41,11 +41,6 @@ impl<T> Delayed<T> {
         }
     }
 
-    /// The target underneath.
-    pub fn inner(&self) -> &T {
-        &self.inner
-    }
-
     /// The target underneath, to take its fixes as they are.
     pub fn inner_mut(&mut self) -> &mut T {
         &mut self.inner
@@ -67,14 +62,15 @@ impl<T> Delayed<T> {
 impl<T: Injector> Injector for Delayed<T> {
     fn before(&mut self, rover: &RoverFix) -> Option<GLOBAL_POSITION_INT_DATA> {
         // The target moves (and may be caught) at every rover fix, seen or not.
-        let Some(truth) = self.inner.before(rover) else {
+        let truth = self.inner.before(rover);
+        if !self.inner.on() {
             self.pending.clear();
             return None;
-        };
+        }
         let due = self
             .last_sample_ms
             .is_none_or(|last| f64::from(rover.time_ms.wrapping_sub(last)) >= INTERVAL_S * 1e3);
-        if due {
+        if let (true, Some(truth)) = (due, truth) {
             self.last_sample_ms = Some(rover.time_ms);
             let noisy = self.noisy(truth);
             let arrives = rover.time_ms.wrapping_add((LAG_S * 1e3) as u32);
@@ -89,5 +85,13 @@ impl<T: Injector> Injector for Delayed<T> {
         } else {
             None
         }
+    }
+
+    fn on(&self) -> bool {
+        self.inner.on()
+    }
+
+    fn captured_ms(&self) -> Option<u32> {
+        self.inner.captured_ms()
     }
 }

@@ -32,8 +32,14 @@ pub struct RoverFix {
 
 /// Puts the target's fix on the unit's link before each of the rover's.
 pub trait Injector {
-    /// The target's GLOBAL_POSITION_INT for the rover's fix `rover`, if the target is on.
+    /// The target's GLOBAL_POSITION_INT for the rover's fix `rover`, if it has a new one.
     fn before(&mut self, rover: &RoverFix) -> Option<GLOBAL_POSITION_INT_DATA>;
+    /// Whether the target is still on: not caught, not out of time.
+    fn on(&self) -> bool;
+    /// The rover's time at capture, ms.
+    fn captured_ms(&self) -> Option<u32> {
+        None
+    }
 }
 
 /// No target.
@@ -42,6 +48,9 @@ pub struct NoTarget;
 impl Injector for NoTarget {
     fn before(&mut self, _: &RoverFix) -> Option<GLOBAL_POSITION_INT_DATA> {
         None
+    }
+    fn on(&self) -> bool {
+        false
     }
 }
 
@@ -62,6 +71,8 @@ pub struct Harness {
     /// The target's system id.
     pub target_system: u8,
     pub rover: Option<RoverFix>,
+    /// The rover's last GLOBAL_POSITION_INT as it came.
+    pub position: Option<GLOBAL_POSITION_INT_DATA>,
     /// The rover's yaw rate (ATTITUDE.yawspeed, rad/s) at the rover's time.
     pub yaw_rates: Vec<(u32, f32)>,
     pub fixes: Vec<RoverFix>,
@@ -95,6 +106,7 @@ impl Harness {
             plane: Plane::new(home),
             target_system,
             rover: None,
+            position: None,
             yaw_rates: Vec::new(),
             fixes: Vec::new(),
             armed: false,
@@ -181,6 +193,7 @@ impl Harness {
                 if let Some(MavMessage::GLOBAL_POSITION_INT(p)) = &message {
                     let fix = self.rover_fix(p);
                     self.rover = Some(fix);
+                    self.position = Some(p.clone());
                     self.fixes.push(fix);
                     if let Some(target) = injector.before(&fix) {
                         let sender = (self.target_system, 1);

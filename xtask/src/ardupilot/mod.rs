@@ -7,8 +7,10 @@ mod chase;
 mod field;
 mod harness;
 mod router;
+mod rover_evader;
 mod sitl;
 mod telemetry;
+mod unit;
 mod vehicle;
 
 use std::path::PathBuf;
@@ -17,8 +19,6 @@ use std::time::Duration;
 use host_tests::adversary::EvaderKind;
 use host_tests::autopilot::HOME;
 
-use crate::firmware::build::{self, Board};
-use crate::firmware::emulator;
 use chase::{Outcome, Start};
 use harness::{Harness, NoTarget, UNIT_COMPONENT};
 use router::{Router, Source};
@@ -44,6 +44,12 @@ pub struct Options {
     /// The target's fixes late, sparse and noisy ([`field`]), the unit told so, and wind and
     /// GPS noise on the rover.
     pub field: bool,
+    /// The chases against the simulated evader.
+    pub simulated: bool,
+    /// The chases against a second rover (SITL instance 1) driven by the suite's evaders.
+    pub rover_evader: bool,
+    /// The unit the `twocars-companion` binary on the host, not the QEMU image.
+    pub companion: bool,
 }
 
 /// The law's limits for the measured rover: v_pm its top speed, w_pm the curvature of
@@ -65,20 +71,28 @@ fn threshold(limits: [f64; 4]) -> f64 {
 /// threshold ahead and to the right), each against the straight, the circling and the
 /// law-playing evader; `short`: the first only.
 fn starts(limits: [f64; 4], short: bool) -> Vec<Start> {
+    starts_against(limits, short, &EVADERS[..3])
+}
+
+/// The evaders the chases fly against; the evader rover flies the zigzag too.
+const EVADERS: [EvaderKind; 4] = [
+    EvaderKind::Straight,
+    EvaderKind::Circle {
+        left: true,
+        half: false,
+    },
+    EvaderKind::Law,
+    EvaderKind::Zigzag,
+];
+
+/// [`starts`] against `evaders`.
+fn starts_against(limits: [f64; 4], short: bool, evaders: &[EvaderKind]) -> Vec<Start> {
     // The paper's case 1 (the evader 6 m behind and 3 m to the right, same heading, with
     // r_p = 0.5 m), scaled by the law's r_p / 0.5 m.
     let scale = 2.0 / limits[1];
     let beyond = 1.1 * threshold(limits);
-    let evaders = [
-        EvaderKind::Straight,
-        EvaderKind::Circle {
-            left: true,
-            half: false,
-        },
-        EvaderKind::Law,
-    ];
     let mut out = Vec::new();
-    for evader in evaders {
+    for &evader in evaders {
         out.push(Start {
             name: "below",
             ahead: -6.0 * scale,
@@ -87,7 +101,7 @@ fn starts(limits: [f64; 4], short: bool) -> Vec<Start> {
             evader,
         });
     }
-    for evader in evaders {
+    for &evader in evaders {
         out.push(Start {
             name: "beyond",
             ahead: beyond * 0.8,
@@ -169,11 +183,9 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
          (docs/ardupilot.md says how to build it)",
     )?;
     let key = signing_key()?;
-    let (elf, _) = build::build_checked(Board::QemuMavlink)?;
-    let launched = emulator::launch(&elf, Board::QemuMavlink, false)?;
-    let unit = emulator::connect(launched.port, "the unit")?;
+    let (launched, unit) = unit::start(options.companion, key)?;
     let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
-    let (_sitl, mut serial0) = sitl::Sitl::start(&binary, 0, home)?;
+    let (_sitl, mut serial0) = sitl::Sitl::start(&binary, 0, home, 0.0)?;
     let router = match key {
         None => Router::new(serial0, unit)?,
         Some(key) => {
@@ -218,17 +230,16 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         configure_field(&mut h)?;
     }
     let mut outcomes = Vec::new();
-    for (i, start) in starts(limits, options.short).into_iter().enumerate() {
-        let outcome = chase::fly(
-            &mut h,
-            start,
-            limits,
-            CAPTURE_RADIUS,
-            7 + i as u64,
-            options.field,
-        )?;
-        println!("{}", report(&outcome, limits));
-        outcomes.push(outcome);
+    if options.simulated {
+        for (i, start) in starts(limits, options.short).into_iter().enumerate() {
+            let seed = 7 + i as u64;
+            let outcome = chase::fly(&mut h, start, limits, CAPTURE_RADIUS, seed, options.field)?;
+            println!("{}", report(&outcome, limits));
+            outcomes.push(outcome);
+        }
+    }
+    if options.rover_evader {
+        outcomes.extend(fly_against_rover(&mut h, &binary, limits, options)?);
     }
     let telemetry = telemetry::summary(&h);
     let signing = probe.map(|(unsigned_answered, signed_answered)| Signing {
@@ -253,6 +264,40 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         cost,
         signing,
     })
+}
+
+/// The chases against the evader rover (SITL instance 1), one instance per chase.
+fn fly_against_rover(
+    h: &mut Harness,
+    binary: &std::path::Path,
+    limits: [f64; 4],
+    options: &Options,
+) -> Result<Vec<Outcome>, String> {
+    println!(
+        "the evader: a second ArduPilot Rover SITL (instance 1, WP_SPEED {} m/s), started for each chase at its start",
+        limits[2]
+    );
+    let mut outcomes = Vec::new();
+    let starts = starts_against(limits, options.short, &EVADERS);
+    for (i, start) in starts.into_iter().enumerate() {
+        let seed = 7 + i as u64;
+        let (outcome, peak) = rover_evader::fly(
+            h,
+            binary,
+            start,
+            limits,
+            CAPTURE_RADIUS,
+            seed,
+            options.field,
+        )?;
+        println!(
+            "{}\n  the evader's rover: peak speed {peak:.2} m/s (v_em {} m/s)",
+            report(&outcome, limits),
+            limits[2]
+        );
+        outcomes.push(outcome);
+    }
+    Ok(outcomes)
 }
 
 /// The key the unit's image is built with (`TWOCARS_MAVLINK_KEY`), if any.
@@ -363,7 +408,7 @@ fn report(o: &Outcome, limits: [f64; 4]) -> String {
     format!(
         "{} vs {:?}: start {:.1} m; the law's value at t = 0 {:.2} s (the unit's first TC_T {}); {captured}\n  \
          causes: speed {:.2} m/s at 1 s, {:.1} m short of v_pm t by capture (~{:.2} s of delay at v_pm); \
-         turn-rate tracking rms {:.2} rad/s ({:.2} away from the switches); {} setpoints\n  \
+         turn-rate tracking rms {:.2} rad/s ({:.2} away from the switches); {} setpoints, {} sign flips\n  \
          failsafe: the unit's \"target stale\" {} after capture; from its last setpoint, ArduPilot's stop {} and standstill {}",
         o.start.name,
         o.start.evader,
@@ -376,6 +421,7 @@ fn report(o: &Outcome, limits: [f64; 4]) -> String {
         o.tracking_rms,
         o.tracking_rms_settled,
         o.setpoints,
+        o.flips,
         seconds(o.unit_stale_after),
         seconds(o.to_stop_message),
         seconds(o.to_standstill),
@@ -406,8 +452,9 @@ pub fn run(options: &Options) -> i32 {
     }
 }
 
-/// `cargo xtask test`'s chase: one start below the threshold against the straight evader, with
-/// ArduPilot Rover SITL where it is found (said plainly where not).
+/// `cargo xtask test`'s chases: one start below the threshold against the straight evader,
+/// simulated and then a second rover, with ArduPilot Rover SITL where it is found (said plainly
+/// where not); the same start signed both ways.
 pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
     println!(
         "== xtask test: ArduPilot Rover SITL flying the pursuer, the MAVLink image its companion"
@@ -423,11 +470,21 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
         ardurover: None,
         short: true,
         field: false,
+        simulated: true,
+        rover_evader: true,
+        companion: false,
     };
     let flown = fly(&options);
     record(
         "ardupilot::rover_sitl_captures_and_stops_when_the_target_goes_stale",
         flown.as_ref().map_err(Clone::clone).and_then(check_chase),
+    );
+    record(
+        "ardupilot::a_second_rover_as_the_evader_is_captured",
+        flown
+            .as_ref()
+            .map_err(Clone::clone)
+            .and_then(check_rover_evader),
     );
     record(
         "ardupilot::the_unit_parses_ardupilots_telemetry_with_nothing_dropped",
@@ -438,7 +495,10 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
     );
     let signed = crate::firmware::tests::test_signing_key().and_then(|key| {
         crate::firmware::run::set_signing_key(&key);
-        let flown = fly(&options);
+        let flown = fly(&Options {
+            rover_evader: false,
+            ..options.clone()
+        });
         crate::firmware::run::clear_signing_key();
         flown
     });
@@ -470,6 +530,25 @@ fn check_chase(flown: &Flown) -> Result<String, String> {
          target stale {stale:.2} s after capture; ArduPilot stopped {stop:.2} s and stood still {still:.2} s after the last setpoint",
         flown.measured.speed, flown.measured.turn_rate, flown.measured.response, flown.limits, o.ideal
     ))
+}
+
+/// The chase against the evader rover (the second outcome): captured no later than the ideal
+/// Dubins pursuer + 3 s (both rovers start from rest), the setpoints' sign flipping at most 5
+/// times.
+fn check_rover_evader(flown: &Flown) -> Result<String, String> {
+    let o = flown
+        .outcomes
+        .get(1)
+        .ok_or("no chase against the evader rover")?;
+    let captured = o.captured.ok_or("never captured")?;
+    let line = format!(
+        "{} vs {:?}, the evader a second SITL rover: captured at {captured:.2} s (ideal {:.2} s), {} sign flips",
+        o.start.name, o.start.evader, o.ideal, o.flips
+    );
+    if captured > o.ideal + 3.0 || o.flips > 5 {
+        return Err(line);
+    }
+    Ok(line)
 }
 
 /// Every frame of ArduPilot's stream taken or skipped whole, none dropped, by the unit and by

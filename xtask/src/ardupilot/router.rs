@@ -103,7 +103,8 @@ pub enum Source {
 /// ground station; or another system id for the target).
 pub struct Router {
     autopilot: TcpStream,
-    unit: TcpStream,
+    /// The unit's UART; `None` on a link to an autopilot alone (the evader's rover).
+    unit: Option<TcpStream>,
     from_autopilot: Splitter,
     from_unit: Splitter,
     outbox: Outbox,
@@ -128,13 +129,20 @@ pub const CLOCK_LEAD: u64 = 12_000_000;
 impl Router {
     /// Joins the autopilot's and the unit's TCP links.
     pub fn new(autopilot: TcpStream, unit: TcpStream) -> Result<Router, String> {
-        for s in [&autopilot, &unit] {
-            s.set_nonblocking(true).map_err(|e| e.to_string())?;
-            s.set_nodelay(true).map_err(|e| e.to_string())?;
-        }
+        let mut router = Router::alone(autopilot)?;
+        unit.set_nonblocking(true).map_err(|e| e.to_string())?;
+        unit.set_nodelay(true).map_err(|e| e.to_string())?;
+        router.unit = Some(unit);
+        Ok(router)
+    }
+
+    /// A link to the autopilot alone: the ground station's, with no unit behind it.
+    pub fn alone(autopilot: TcpStream) -> Result<Router, String> {
+        autopilot.set_nonblocking(true).map_err(|e| e.to_string())?;
+        autopilot.set_nodelay(true).map_err(|e| e.to_string())?;
         Ok(Router {
             autopilot,
-            unit,
+            unit: None,
             from_autopilot: Splitter::default(),
             from_unit: Splitter::default(),
             outbox: Outbox::default(),
@@ -185,8 +193,10 @@ impl Router {
                 let mut drained = Splitter::default();
                 read_into(serial0, &mut drained, "autopilot's SERIAL0")?;
             }
-            let got = read_into(&mut self.autopilot, &mut self.from_autopilot, "autopilot")?
-                | read_into(&mut self.unit, &mut self.from_unit, "unit")?;
+            let mut got = read_into(&mut self.autopilot, &mut self.from_autopilot, "autopilot")?;
+            if let Some(unit) = self.unit.as_mut() {
+                got |= read_into(unit, &mut self.from_unit, "unit")?;
+            }
             if !got {
                 if Instant::now() >= deadline {
                     return Ok(None);
@@ -207,8 +217,11 @@ impl Router {
     /// Writes bytes to the unit's UART (logged).
     pub fn send_to_unit(&mut self, bytes: &[u8]) -> Result<(), String> {
         let now = self.started.elapsed().as_millis() as u32;
+        let Some(unit) = self.unit.as_mut() else {
+            return Ok(());
+        };
         self.to_unit_log.push((now, bytes.to_vec()));
-        write_all(&mut self.unit, bytes, "unit")
+        write_all(unit, bytes, "unit")
     }
 
     /// Encodes `message` from `sender` (MAVLink 2; signed where signing is on).

@@ -40,11 +40,13 @@ fn defaults(binary: &Path) -> Option<PathBuf> {
 
 impl Sitl {
     /// Starts `binary` as instance `instance` with wiped parameters at `home` (lat, lon in
-    /// degrees), and connects to its SERIAL0 (SITL waits for that client before it runs).
+    /// degrees) heading `heading` (degrees clockwise from north), and connects to its SERIAL0
+    /// (SITL waits for that client before it runs).
     pub fn start(
         binary: &Path,
         instance: u16,
         home: (f64, f64),
+        heading: f64,
     ) -> Result<(Sitl, TcpStream), String> {
         let dir = crate::workspace::target_dir().join(format!("ardupilot/instance{instance}"));
         // A fresh directory: SITL keeps a 16 MB dataflash log of every run in it.
@@ -55,7 +57,7 @@ impl Sitl {
             .current_dir(&dir)
             .args(["--model", "rover", "--speedup", "1", "-w"])
             .arg(format!("-I{instance}"))
-            .arg(format!("--home={},{},584,0", home.0, home.1))
+            .arg(format!("--home={},{},584,{heading}", home.0, home.1))
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::null());

@@ -93,6 +93,14 @@ pub struct RunArgs {
     /// second, 1 m and 5 degrees, wind and GPS noise on the rover (docs/field.md).
     #[arg(long)]
     field: bool,
+    /// With `--link ardupilot`: the evader a second ArduPilot Rover SITL driven by the suite's
+    /// evaders, its own GLOBAL_POSITION_INT the unit's target (docs/ardupilot.md).
+    #[arg(long)]
+    rover_evader: bool,
+    /// With `--link ardupilot`: the unit the `twocars-companion` binary on the host (over TCP
+    /// to the router) in place of the QEMU image (docs/companion.md).
+    #[arg(long)]
+    companion: bool,
 }
 
 /// The links `run` can fly the firmware over.
@@ -310,6 +318,9 @@ pub fn run(args: &RunArgs) -> i32 {
             ardurover: args.ardurover.clone(),
             short: false,
             field: args.field,
+            simulated: !args.rover_evader,
+            rover_evader: args.rover_evader,
+            companion: args.companion,
         };
         return crate::ardupilot::run(&options);
     }

@@ -1,0 +1,91 @@
+//! The unit beside the autopilot: the `twocars-qemu-mavlink` image in QEMU, or the
+//! `twocars-companion` binary on the host (`--companion`), which connects to the router over
+//! TCP as a companion computer's program would to a MAVLink router.
+
+use std::net::{TcpListener, TcpStream};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::firmware::build::{self, Board};
+use crate::firmware::emulator::{self, Launched};
+
+/// The unit's process, stopped on drop: the emulator, or the companion.
+pub struct Unit {
+    _emulator: Option<Launched>,
+    companion: Option<Child>,
+}
+
+impl Drop for Unit {
+    fn drop(&mut self) {
+        if let Some(child) = self.companion.as_mut() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+/// Starts the unit and its link: the QEMU image (built with the signing key, if any), or the
+/// companion binary given `key` in a file.
+pub fn start(companion: bool, key: Option<[u8; 32]>) -> Result<(Unit, TcpStream), String> {
+    if !companion {
+        let (elf, _) = build::build_checked(Board::QemuMavlink)?;
+        let launched = emulator::launch(&elf, Board::QemuMavlink, false)?;
+        let link = emulator::connect(launched.port, "the unit")?;
+        let unit = Unit {
+            _emulator: Some(launched),
+            companion: None,
+        };
+        return Ok((unit, link));
+    }
+    let binary = build_companion()?;
+    let listener = TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
+    let port = listener.local_addr().map_err(|e| e.to_string())?.port();
+    let mut command = Command::new(&binary);
+    command
+        .arg("--tcp")
+        .arg(format!("127.0.0.1:{port}"))
+        .stdout(Stdio::null());
+    if let Some(key) = key {
+        let file = crate::workspace::target_dir().join("ardupilot/companion.key");
+        let hex: String = key.iter().map(|b| format!("{b:02x}")).collect();
+        std::fs::create_dir_all(file.parent().unwrap_or(&file)).map_err(|e| e.to_string())?;
+        std::fs::write(&file, hex).map_err(|e| format!("{}: {e}", file.display()))?;
+        command.arg("--signing-key").arg(file);
+    }
+    let child = command
+        .spawn()
+        .map_err(|e| format!("{}: {e}", binary.display()))?;
+    let unit = Unit {
+        _emulator: None,
+        companion: Some(child),
+    };
+    let link = accept(&listener, Duration::from_secs(20))?;
+    Ok((unit, link))
+}
+
+/// `cargo build --release -p twocars-companion`; the binary's path.
+fn build_companion() -> Result<std::path::PathBuf, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let status = Command::new(cargo)
+        .current_dir(crate::workspace::root())
+        .args(["build", "--release", "-p", "twocars-companion"])
+        .status()
+        .map_err(|e| e.to_string())?;
+    if !status.success() {
+        return Err("cargo build -p twocars-companion failed".to_string());
+    }
+    Ok(crate::workspace::target_dir().join("release/twocars-companion"))
+}
+
+/// The first connection to `listener` within `wait`.
+fn accept(listener: &TcpListener, wait: Duration) -> Result<TcpStream, String> {
+    listener.set_nonblocking(true).map_err(|e| e.to_string())?;
+    let deadline = Instant::now() + wait;
+    loop {
+        match listener.accept() {
+            Ok((stream, _)) => return Ok(stream),
+            Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+            Err(e) => return Err(format!("the companion never connected: {e}")),
+        }
+    }
+}
