@@ -25,12 +25,16 @@ fn nothing_came(e: &std::io::Error) -> bool {
     )
 }
 
-/// A UDP port: bound to a local address, answering the address the last datagram came from
-/// (PX4's offboard link sends to 14540; ArduPilot's `udpclient` outputs to a port), or sending
-/// to a given peer until one has spoken.
+/// Peers a UDP link answers at most: the autopilot, a ground station, a router or two.
+pub const UDP_PEERS: usize = 8;
+
+/// A UDP port bound to a local address (PX4's offboard link sends to 14540; ArduPilot's
+/// `udpclient` outputs to a port). What the endpoint says goes to every address that has sent
+/// to it, as a MAVLink router's UDP server does (the autopilot and a ground station both hear
+/// the unit), the first [`UDP_PEERS`] of them; before any has, to the given peer, if any.
 pub struct Udp {
     socket: UdpSocket,
-    peer: Option<SocketAddr>,
+    peers: Vec<SocketAddr>,
 }
 
 impl Udp {
@@ -38,7 +42,10 @@ impl Udp {
     pub fn bind(local: SocketAddr, peer: Option<SocketAddr>) -> std::io::Result<Udp> {
         let socket = UdpSocket::bind(local)?;
         socket.set_read_timeout(Some(READ_WAIT))?;
-        Ok(Udp { socket, peer })
+        Ok(Udp {
+            socket,
+            peers: peer.into_iter().collect(),
+        })
     }
 }
 
@@ -46,21 +53,28 @@ impl Link for Udp {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         match self.socket.recv_from(buf) {
             Ok((n, from)) => {
-                self.peer = Some(from);
+                if !self.peers.contains(&from) && self.peers.len() < UDP_PEERS {
+                    self.peers.push(from);
+                }
                 Ok(n)
             }
-            Err(e) if nothing_came(&e) => Ok(0),
+            // The port-unreachable report of a peer gone away, not a datagram.
+            Err(e) if nothing_came(&e) || e.kind() == ErrorKind::ConnectionRefused => Ok(0),
             Err(e) => Err(e),
         }
     }
 
     fn write(&mut self, bytes: &[u8]) -> std::io::Result<()> {
-        match self.peer {
-            Some(peer) => self.socket.send_to(bytes, peer).map(|_| ()),
-            // No one to answer yet: what the endpoint says before its autopilot speaks is its
-            // heartbeat, which the next one repeats.
-            None => Ok(()),
+        // With no peer yet this sends nothing: what the endpoint says before anyone speaks is
+        // its heartbeat, which the next one repeats.
+        for peer in &self.peers {
+            match self.socket.send_to(bytes, peer) {
+                // A peer gone away (ICMP port unreachable) is not the link failing.
+                Err(e) if e.kind() == ErrorKind::ConnectionRefused => {}
+                other => other.map(|_| ())?,
+            }
         }
+        Ok(())
     }
 }
 

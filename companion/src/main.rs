@@ -25,10 +25,11 @@ use link::Link;
 #[derive(Parser, Debug)]
 #[command(version)]
 struct Args {
-    /// Bind this UDP address and answer whoever speaks to it (PX4's offboard link: 14540).
+    /// Bind this UDP address and answer every address that speaks to it (PX4's offboard
+    /// link: 14540).
     #[arg(long, value_name = "ADDR:PORT", conflicts_with_all = ["serial", "tcp"])]
     udp: Option<SocketAddr>,
-    /// With --udp: send here until the autopilot has spoken.
+    /// With --udp: send here too, from the start (before anyone has spoken).
     #[arg(long, value_name = "ADDR:PORT", requires = "udp")]
     udp_peer: Option<SocketAddr>,
     /// A serial device to the autopilot's TELEM port (8N1, no flow control).

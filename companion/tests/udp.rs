@@ -229,3 +229,22 @@ fn a_bad_parameter_or_no_link_is_refused_with_a_reason() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("give one link"));
 }
+
+/// Two peers on the port (an autopilot and a ground station) both hear the unit.
+#[test]
+fn every_peer_that_spoke_hears_the_unit() {
+    let companion = start(&[]);
+    let mut autopilot = Autopilot::new(companion.port);
+    let mut station = Autopilot::new(companion.port);
+    autopilot.send((1, 1), &HEARTBEAT_DATA::default());
+    station.send((255, 190), &HEARTBEAT_DATA::default());
+    for peer in [&autopilot, &station] {
+        let heard = peer.receive(Duration::from_millis(1500));
+        assert!(
+            heard
+                .iter()
+                .any(|(s, m)| *s == (1, 191) && matches!(m, MavMessage::HEARTBEAT(_))),
+            "{heard:?}"
+        );
+    }
+}
