@@ -281,7 +281,7 @@ fn fly_against_rover(
     let starts = starts_against(limits, options.short, &EVADERS);
     for (i, start) in starts.into_iter().enumerate() {
         let seed = 7 + i as u64;
-        let (outcome, peak) = rover_evader::fly(
+        let (outcome, [peak, mean]) = rover_evader::fly(
             h,
             binary,
             start,
@@ -291,7 +291,7 @@ fn fly_against_rover(
             options.field,
         )?;
         println!(
-            "{}\n  the evader's rover: peak speed {peak:.2} m/s (v_em {} m/s)",
+            "{}\n  the evader's rover: speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s)",
             report(&outcome, limits),
             limits[2]
         );

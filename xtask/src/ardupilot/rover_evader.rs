@@ -23,6 +23,9 @@ use super::vehicle::{make_ready, YAW_RATE_AND_THRUST};
 
 /// The evader's SITL instance (TCP 5770): the pursuer is instance 0.
 const INSTANCE: u16 = 1;
+/// Thrust per m/s of the evader's speed error, in units of its speed at thrust 1: its speed
+/// held near the strategy's (at most v_em).
+const SPEED_GAIN: f64 = 1.0;
 
 /// The evader's rover: its SITL process and the ground station's link to it.
 pub struct EvaderRover {
@@ -78,15 +81,22 @@ struct RoverTarget<'a> {
 
 impl RoverTarget<'_> {
     /// The evader's yaw rate (rad/s, clockwise) and thrust for its strategy's curvature `w`
-    /// (1/m, clockwise in the plane) at `speed` (m/s).
-    fn steer(&mut self, w: f64, speed: f64) -> Result<(), String> {
+    /// (1/m, clockwise in the plane) at `speed` (m/s), the rover going at `measured` (m/s).
+    /// The thrust corrects the speed by [`SPEED_GAIN`]: WP_SPEED alone sets the rover's cruise,
+    /// and it overshoots it by a quarter after each start and turn.
+    fn steer(&mut self, w: f64, speed: f64, measured: f64) -> Result<(), String> {
+        let asked = if speed > 0.0 {
+            speed + SPEED_GAIN * (speed - measured)
+        } else {
+            0.0
+        };
         let setpoint = SET_ATTITUDE_TARGET_DATA {
             time_boot_ms: 0,
             q: [1.0, 0.0, 0.0, 0.0],
             body_roll_rate: 0.0,
             body_pitch_rate: 0.0,
             body_yaw_rate: (speed * w) as f32,
-            thrust: (speed / self.wp_speed).clamp(0.0, 1.0) as f32,
+            thrust: (asked / self.wp_speed).clamp(0.0, 1.0) as f32,
             target_system: AUTOPILOT.0,
             target_component: AUTOPILOT.1,
             type_mask: AttitudeTargetTypemask::from_bits_truncate(YAW_RATE_AND_THRUST),
@@ -106,7 +116,7 @@ impl RoverTarget<'_> {
                 self.captured_ms = Some(rover.time_ms);
             }
             self.on = false;
-            self.steer(0.0, 0.0)?;
+            self.steer(0.0, 0.0, fix.speed)?;
             return Ok(None);
         }
         if self.last_fix_ms == Some(fix.time_ms) {
@@ -114,7 +124,7 @@ impl RoverTarget<'_> {
         }
         self.last_fix_ms = Some(fix.time_ms);
         let (w, speed) = self.adversary.command(t, rover.state, fix.state);
-        self.steer(w, speed)?;
+        self.steer(w, speed, fix.speed)?;
         Ok(self.evader.position.clone())
     }
 }
@@ -141,8 +151,8 @@ impl Injector for RoverTarget<'_> {
 }
 
 /// Flies `start` with the evader a rover of its own: launched at the start, at rest, driven by
-/// `start.evader` within `limits`; the evader's peak speed over the chase (m/s) beside the
-/// outcome.
+/// `start.evader` within `limits`; the evader's peak and mean speed over the chase (m/s)
+/// beside the outcome.
 pub fn fly(
     h: &mut Harness,
     binary: &Path,
@@ -151,7 +161,7 @@ pub fn fly(
     eps: f64,
     seed: u64,
     field: bool,
-) -> Result<(Outcome, f64), String> {
+) -> Result<(Outcome, [f64; 2]), String> {
     let placed = place(h.rover.ok_or("no fix from the rover")?.state, &start);
     let wp_speed = limits[2];
     let mut evader = launch(binary, h, placed, wp_speed as f32)?;
@@ -179,9 +189,11 @@ pub fn fly(
     };
     let began = Began::new(start, rover, &params, seed);
     let outcome = pursue(h, target, &began, seed, field)?;
-    let peak = evader.harness.fixes[fixes_before..]
+    let speeds: Vec<f64> = evader.harness.fixes[fixes_before..]
         .iter()
         .map(|f| f.speed)
-        .fold(0.0, f64::max);
-    Ok((outcome, peak))
+        .collect();
+    let peak = speeds.iter().copied().fold(0.0, f64::max);
+    let mean = speeds.iter().sum::<f64>() / speeds.len().max(1) as f64;
+    Ok((outcome, [peak, mean]))
 }
