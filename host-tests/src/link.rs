@@ -2,8 +2,7 @@
 //! the same wire code the firmware uses.
 
 use twocars::protocol::frame::{
-    encode_frame, encode_frame_as, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
-    VERSION_1,
+    encode_frame_as, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME, VERSION, VERSION_1,
 };
 use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
 
@@ -30,8 +29,18 @@ fn frame(
     sequence: u16,
     emit: impl FnOnce(&mut twocars::protocol::frame::Writer<'_>) -> Option<()>,
 ) -> Vec<u8> {
+    frame_as(VERSION, message_type, sequence, emit)
+}
+
+fn frame_as(
+    version: u8,
+    message_type: u8,
+    sequence: u16,
+    emit: impl FnOnce(&mut twocars::protocol::frame::Writer<'_>) -> Option<()>,
+) -> Vec<u8> {
     let mut out = [0u8; MAX_ENCODED];
-    let n = encode_frame(message_type, sequence, emit, &mut out).expect("message fits a frame");
+    let n = encode_frame_as(version, message_type, sequence, emit, &mut out)
+        .expect("message fits a frame");
     out[..n].to_vec()
 }
 
@@ -47,24 +56,12 @@ pub fn state(sequence: u16, m: &StateMsg) -> Vec<u8> {
 
 /// A State frame of protocol version 1 (the evader's fix at the timestamp).
 pub fn state_v1(sequence: u16, m: &StateMsg) -> Vec<u8> {
-    let mut out = [0u8; MAX_ENCODED];
-    let n = encode_frame_as(VERSION_1, kind::STATE, sequence, |w| m.emit_v1(w), &mut out)
-        .expect("message fits a frame");
-    out[..n].to_vec()
+    frame_as(VERSION_1, kind::STATE, sequence, |w| m.emit_v1(w))
 }
 
 /// A Configure frame of protocol version 1 (no field settings).
 pub fn configure_v1(sequence: u16, m: &Configure) -> Vec<u8> {
-    let mut out = [0u8; MAX_ENCODED];
-    let n = encode_frame_as(
-        VERSION_1,
-        kind::CONFIGURE,
-        sequence,
-        |w| m.emit_v1(w),
-        &mut out,
-    )
-    .expect("message fits a frame");
-    out[..n].to_vec()
+    frame_as(VERSION_1, kind::CONFIGURE, sequence, |w| m.emit_v1(w))
 }
 
 /// A ReadCounters frame.
