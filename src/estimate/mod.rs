@@ -18,14 +18,20 @@
 //! With no noise, no lag, no lead and a fix of each vehicle at every decision's time the states
 //! are the fixes themselves and the decision is [`crate::Guidance::decide`]'s.
 //!
-//! Units: metres, seconds, radians anticlockwise from +x; clock times in microseconds
-//! (wrapping `u32`).
+//! Fixes and settings come in metres, seconds and radians anticlockwise from +x; clock times
+//! in microseconds (wrapping `u32`). An `Estimator<S>` computes over the law's number type `S`
+//! and in its units ([`Units`]), and gives states in them: on f32 and f64 metres as they came;
+//! on fixed point units of r_p from an origin it keeps within 50 r_p of the own vehicle (a
+//! fixed-point unit steers on fixes with no float arithmetic but a few conversions).
 
 pub mod track;
 
 pub use track::{Fix, FixNoise, Refused, Track};
 
 use crate::error::Error;
+use crate::law::geometry::{f32_envelope, Units};
+use crate::num::fixed::wire::Reciprocal;
+use crate::num::Scalar;
 
 /// What an [`Estimator`] is told of the field: the fixes' noise and lag, the own vehicle's
 /// response, and when an estimate is too old to steer by.
@@ -91,23 +97,30 @@ pub struct EstimatorCounters {
     pub stale: u32,
 }
 
-/// Both vehicles' states at a decision's time, and how far they may be off.
+/// Both vehicles' states at a decision's time, and how far they may be off, in the law's units
+/// and the estimator's frame ([module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Estimated {
-    /// The own vehicle (the pursuer): x, y metres, heading radians.
-    pub own: [f32; 3],
+pub struct Estimated<S = f32> {
+    /// The own vehicle (the pursuer): x, y, heading radians.
+    pub own: [S; 3],
     /// The target (the evader).
-    pub target: [f32; 3],
-    /// The sum of both estimates' uncertainties, metres ([`Track::at`]).
-    pub uncertainty: f32,
+    pub target: [S; 3],
+    /// The sum of both estimates' uncertainties ([`Track::at`]).
+    pub uncertainty: S,
 }
 
 /// The own vehicle's and the target's tracks, and the settings they are carried by.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Estimator {
+pub struct Estimator<S = f32> {
     settings: FieldSettings,
-    own: Track,
-    target: Track,
+    own: Track<S>,
+    target: Track<S>,
+    /// The law's units, and 1 / its length unit for fixed point's integer conversions.
+    units: Units,
+    per_metre: Reciprocal,
+    /// The frame's origin in metres (normalised backends): the first fix, moved to the own
+    /// fix where the own vehicle runs [`RECENTRE`] of the law's coordinate range from it.
+    origin: Option<[f32; 2]>,
     lag_us: u32,
     lead_us: u32,
     stale_us: u32,
@@ -116,20 +129,36 @@ pub struct Estimator {
     counters: EstimatorCounters,
 }
 
+/// The share of the law's coordinate range (`S::MAX_COORDINATE`, 200 r_p on fixed point) the
+/// own vehicle runs from the frame's origin before the origin moves to it.
+pub const RECENTRE: f32 = 0.25;
+
 /// Seconds (finite, 0 to 1000) as microseconds.
 fn micros(seconds: f32) -> u32 {
     (seconds * 1.0e6) as u32
 }
 
-impl Estimator {
-    /// An estimator for the pursuer's `v_pm` (m/s), `w_pm` (1/m) and the evader's `v_em`,
+impl Estimator<f32> {
+    /// An estimator in f32, metres and seconds ([`Estimator::with_backend`]).
+    ///
+    /// # Errors
+    /// As [`Estimator::with_backend`].
+    pub fn new(limits: [f32; 4], settings: FieldSettings) -> Result<Self, Error> {
+        Estimator::with_backend(limits, settings)
+    }
+}
+
+impl<S: Scalar> Estimator<S> {
+    /// An estimator over the law's number type `S`, in its units, for the pursuer's `v_pm` (m/s), `w_pm` (1/m) and the evader's `v_em`,
     /// `w_em`, told `settings`.
     ///
     /// # Errors
     /// [`Error::InvalidLimits`] unless the limits are finite and positive;
     /// [`Error::InvalidPeriod`] unless 0 < timeout <= 1000 s and the lag and the lead are in
-    /// [0, timeout); [`Error::NonFiniteInput`] for a noise NaN, infinite or negative.
-    pub fn new(limits: [f32; 4], settings: FieldSettings) -> Result<Self, Error> {
+    /// [0, timeout); [`Error::NonFiniteInput`] for a noise NaN, infinite or negative;
+    /// [`Error::OutOfRange`] for limits or noise outside a normalised backend's envelope
+    /// ([`Track::with_units`]).
+    pub fn with_backend(limits: [f32; 4], settings: FieldSettings) -> Result<Self, Error> {
         let [v_pm, w_pm, v_em, w_em] = limits;
         let t = settings.timeout;
         if !(t.is_finite() && t > 0.0 && t <= 1.0e3) {
@@ -147,12 +176,23 @@ impl Estimator {
         if !(noise_ok(settings.own_noise) && noise_ok(settings.target_noise)) {
             return Err(Error::NonFiniteInput);
         }
-        let own = Track::new(v_pm, w_pm, settings.own_noise).ok_or(Error::InvalidLimits)?;
-        let target = Track::new(v_em, w_em, settings.target_noise).ok_or(Error::InvalidLimits)?;
+        let positive = |v: f32| v.is_finite() && v > 0.0;
+        if !limits.iter().all(|&v| positive(v)) || !positive(v_pm * w_pm) {
+            return Err(Error::InvalidLimits);
+        }
+        let units = Units::of::<S>(v_pm, w_pm);
+        let track = |v, w, noise| Track::with_units(v, w, noise, units).ok_or(Error::OutOfRange);
         Ok(Estimator {
             settings,
-            own,
-            target,
+            own: track(v_pm, w_pm, settings.own_noise)?,
+            target: track(v_em, w_em, settings.target_noise)?,
+            units,
+            per_metre: if S::NORMALISED {
+                Reciprocal::of(units.metres)
+            } else {
+                Reciprocal::ONE
+            },
+            origin: None,
             lag_us: micros(settings.target_lag),
             lead_us: micros(settings.own_lead),
             stale_us: micros(t),
@@ -166,29 +206,80 @@ impl Estimator {
         &self.settings
     }
 
-    /// Takes the own vehicle's fix.
+    /// The law's units the estimator computes in.
+    pub fn units(&self) -> Units {
+        self.units
+    }
+
+    /// The frame's origin, metres: (0, 0) on SI backends; on a normalised backend where the
+    /// states of [`Estimator::states`] are counted from (`None` before the first fix).
+    pub fn origin(&self) -> Option<[f32; 2]> {
+        if S::NORMALISED {
+            self.origin
+        } else {
+            Some([0.0, 0.0])
+        }
+    }
+
+    /// `fix` (metres) in the estimator's frame and units.
+    fn in_frame(&mut self, fix: &Fix) -> Result<Fix<S>, Refused> {
+        let [x, y, theta] = fix.state;
+        f32_envelope(fix.state).map_err(|_| Refused::NonFinite)?;
+        let time_us = fix.time_us;
+        if !S::NORMALISED {
+            let state = fix.state.map(S::from_f32);
+            return Ok(Fix { state, time_us });
+        }
+        let [ox, oy] = *self.origin.get_or_insert([x, y]);
+        // A radius of one unit: two points apart by more round to two offsets.
+        let (dx, dy) =
+            S::relative_position((ox, x), (oy, y), self.units.metres, &self.per_metre, 1.0)
+                .map_err(|_| Refused::OutOfRange)?;
+        if !track::in_range(dx, dy) {
+            return Err(Refused::OutOfRange);
+        }
+        Ok(Fix {
+            state: [dx, dy, S::reduced_heading(theta)],
+            time_us,
+        })
+    }
+
+    /// Takes the own vehicle's fix (metres).
     ///
     /// # Errors
     /// As [`Track::update`]; counted in [`EstimatorCounters::refused`].
     pub fn own_fix(&mut self, fix: &Fix) -> Result<(), Refused> {
-        let taken = self.own.update(fix, self.stale_us);
+        let taken = self.in_frame(fix).and_then(|mut local| {
+            let [x, y, _] = local.state;
+            let far = S::from_f32(RECENTRE * S::MAX_COORDINATE);
+            if S::NORMALISED && (x.abs() > far || y.abs() > far) {
+                self.own.shift_origin(x, y);
+                self.target.shift_origin(x, y);
+                self.origin = Some([fix.state[0], fix.state[1]]);
+                local.state[0] = S::zero();
+                local.state[1] = S::zero();
+            }
+            self.own.update(&local, self.stale_us)
+        });
         self.count(taken)
     }
 
-    /// Takes a target fix that carries the time the target was there.
+    /// Takes a target fix (metres) that carries the time the target was there.
     ///
     /// # Errors
     /// As [`Track::update`]; counted in [`EstimatorCounters::refused`].
     pub fn target_fix(&mut self, fix: &Fix) -> Result<(), Refused> {
-        let taken = self.target.update(fix, self.stale_us);
+        let taken = self
+            .in_frame(fix)
+            .and_then(|local| self.target.update(&local, self.stale_us));
         if taken.is_ok() {
             self.counters.target_fixes = self.counters.target_fixes.saturating_add(1);
         }
         self.count(taken)
     }
 
-    /// Takes a target fix `state` that carries no time of its own, received at `received_us`:
-    /// placed at that time less [`FieldSettings::target_lag`].
+    /// Takes a target fix `state` (metres) that carries no time of its own, received at
+    /// `received_us`: placed at that time less [`FieldSettings::target_lag`].
     ///
     /// # Errors
     /// As [`Estimator::target_fix`].
@@ -209,11 +300,12 @@ impl Estimator {
     }
 
     /// Both states for a decision made at `now_us`, carried to the moment it acts
-    /// (`now_us` plus [`FieldSettings::own_lead`]).
+    /// (`now_us` plus [`FieldSettings::own_lead`]), in the law's units and the estimator's
+    /// frame.
     ///
     /// # Errors
     /// [`Stale`] names the estimate that is missing or older than the timeout (counted).
-    pub fn states(&mut self, now_us: u32) -> Result<Estimated, Stale> {
+    pub fn states(&mut self, now_us: u32) -> Result<Estimated<S>, Stale> {
         let acts = now_us.wrapping_add(self.lead_us);
         let carried = match (
             self.own.at(acts, self.stale_us),
@@ -244,12 +336,12 @@ impl Estimator {
     }
 
     /// The target's track.
-    pub fn target(&self) -> &Track {
+    pub fn target(&self) -> &Track<S> {
         &self.target
     }
 
     /// The own vehicle's track.
-    pub fn own(&self) -> &Track {
+    pub fn own(&self) -> &Track<S> {
         &self.own
     }
 
@@ -263,6 +355,7 @@ impl Estimator {
     pub fn clear(&mut self) {
         self.own.clear();
         self.target.clear();
+        self.origin = None;
         self.decided_on = None;
     }
 }

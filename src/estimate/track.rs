@@ -12,7 +12,9 @@
 //! The gains follow from the tracking index lambda = a T^2 / sigma (Kalata's steady state of
 //! the piecewise-constant-acceleration model): a the largest acceleration the car has
 //! (v_max^2 w_max across the track; of turn rate, a full turn reversed in
-//! [`REVERSAL_SECONDS`]), sigma the fix's noise. alpha = 1 where the noise is 0: the estimate
+//! [`REVERSAL_SECONDS`]), sigma the fix's noise. Kalata's alpha, written as 4 r / (1 + r)^2
+//! with r = sqrt(1 + 8 / lambda) so that no term grows with lambda (fixed point holds it),
+//! with 8 / lambda at most [`MAX_NOISE_INDEX`]. alpha = 1 where the noise is 0: the estimate
 //! is then the fix itself, and speed and turn rate its differences (beta = alpha^2 / (2 - alpha),
 //! Benedict and Bordner's pairing, which takes a new turn in one interval without overshoot).
 //! Why not a full Kalman filter: five states' covariance costs a few hundred products a fix on
@@ -21,16 +23,22 @@
 //!
 //! Times are microseconds on the unit's clock as a wrapping `u32` (71.6 minutes a lap): two
 //! times are compared by their difference, which is right while they are within half a lap.
-//! Units: metres, seconds, radians anticlockwise from +x; speed in m/s, turn rate in rad/s.
+//!
+//! A track is written over the law's number types ([`Scalar`]) and computes in the law's units
+//! ([`Units`]): metres and seconds on f32 and f64; on fixed point units of the pursuer's turning
+//! radius r_p and of r_p / v_pm seconds, positions from an origin the [`super::Estimator`]
+//! keeps near the own vehicle. Radians anticlockwise from +x throughout.
 
-use crate::num::f32_math::{sin_cos, sqrt, wrap_signed};
+use crate::law::geometry::Units;
+use crate::num::Scalar;
 
 /// One position fix: where a vehicle was, and when.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Fix {
-    /// x, y (metres) and heading (radians anticlockwise from +x), in the frame the law is given.
-    pub state: [f32; 3],
+pub struct Fix<S = f32> {
+    /// x, y and heading (radians anticlockwise from +x): metres in the frame the law is given
+    /// for an [`super::Estimator`]; the law's units in the track's frame for a [`Track`].
+    pub state: [S; 3],
     /// When the vehicle was there: microseconds on the unit's clock (wrapping).
     pub time_us: u32,
 }
@@ -53,6 +61,9 @@ pub enum Refused {
     /// A NaN or infinite coordinate, or a position or heading outside the f32 envelope
     /// (|x|, |y| <= 1e6 m, |theta| <= 1e4 rad).
     NonFinite,
+    /// Inside the f32 envelope but farther from the track's origin than the number type
+    /// holds ([`Track::update`]).
+    OutOfRange,
     /// Older than the fix the track holds, or the same time: out of order or repeated.
     OutOfOrder,
     /// Farther from the track's prediction than the car can go in the time plus six sigma of
@@ -70,96 +81,216 @@ pub const OUTLIERS_TO_RESTART: u8 = 3;
 /// as turn rate, which the near field's homing feeds forward.
 pub const REVERSAL_SECONDS: f32 = 0.5;
 
+/// The largest noise index 8 / lambda = 8 sigma / (a T^2) the gains are formed from: beyond
+/// it (noise far above what the car moves in an interval) alpha stays at 4 r / (1 + r)^2 =
+/// 0.031 for r = sqrt(1 + MAX_NOISE_INDEX), so that fixed point holds every term.
+pub const MAX_NOISE_INDEX: f32 = 16_383.0;
+
+/// The age (law time units) beyond which [`Track::at`]'s manoeuvre term grows no more: far
+/// beyond what any margin of the law reads, and inside fixed point's range.
+const MANOEUVRE_AGE: f32 = 64.0;
+
 /// Microseconds per second.
 const US: f32 = 1.0e6;
 
-/// What a track holds at its last fix's time.
+/// What a track holds at its last fix's time, in the law's units.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Estimate {
-    /// x, y (metres), heading (radians).
-    x: f32,
-    y: f32,
-    theta: f32,
-    /// Speed along the heading, m/s, in [0, v_max].
-    speed: f32,
-    /// Turn rate, rad/s, within +-v_max w_max.
-    turn_rate: f32,
-    /// One sigma of the position just after the last fix, metres.
-    spread: f32,
+struct Estimate<S> {
+    /// Position and heading (radians).
+    x: S,
+    y: S,
+    theta: S,
+    /// Speed along the heading, in [0, v_max].
+    speed: S,
+    /// Turn rate, radians per time unit, within +-v_max w_max.
+    turn_rate: S,
+    /// One sigma of the position just after the last fix.
+    spread: S,
     /// One sigma of the heading just after the last fix, radians.
-    heading_spread: f32,
+    heading_spread: S,
     /// The last fix's time, microseconds.
     time_us: u32,
 }
 
 /// A vehicle's filtered state between fixes ([module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Track {
-    /// v_max, m/s.
-    speed_max: f32,
-    /// v_max w_max, rad/s.
-    turn_rate_max: f32,
-    noise: FixNoise,
-    estimate: Option<Estimate>,
+pub struct Track<S = f32> {
+    /// v_max, law units.
+    speed_max: S,
+    /// v_max w_max, radians per law time unit.
+    turn_rate_max: S,
+    /// One sigma of x and y, law units.
+    position_noise: S,
+    /// One sigma of the heading, radians.
+    heading_noise: S,
+    /// Law time units per second (1 on SI backends).
+    per_second: f32,
+    /// Law time units per microsecond (normalised backends; SI divides by 1e6).
+    units_per_us: f32,
+    estimate: Option<Estimate<S>>,
     outliers: u8,
 }
 
-/// The steady-state gains (alpha, beta) for tracking index `lambda` (Kalata): alpha from the
-/// index, beta = alpha^2 / (2 - alpha). An infinite or NaN index (no noise) gives (1, 1).
-fn gains(lambda: f32) -> (f32, f32) {
-    if !(lambda.is_finite() && lambda >= 0.0) {
-        return (1.0, 1.0);
+/// The steady-state gains (alpha, beta) of a channel whose car accelerates by at most `a`,
+/// for fixes `t` apart with noise `sigma` ([module docs](self)); (1, 1) without noise.
+fn gains<S: Scalar>(a: S, t: S, sigma: S) -> (S, S) {
+    let one = S::one();
+    if sigma <= S::zero() {
+        return (one, one);
     }
-    let l2 = lambda * lambda;
-    let root = sqrt(l2 + 8.0 * lambda);
-    let alpha = (-(l2 + 8.0 * lambda - (lambda + 4.0) * root) / 8.0).clamp(0.0, 1.0);
-    (alpha, alpha * alpha / (2.0 - alpha))
+    let most = S::from_f32(MAX_NOISE_INDEX);
+    // Beyond 256 time units the noise index is far past its bound for any noise a track takes.
+    let t = t.min(S::from_f32(256.0));
+    let eight_sigma = S::from_f32(8.0) * sigma;
+    // q = 8 sigma / (a t) / t, each quotient checked against its bound before it is formed.
+    let at = a * t;
+    let q = if at <= eight_sigma / S::from_f32(65_536.0) {
+        most
+    } else {
+        let q = eight_sigma / at;
+        if q / most >= t {
+            most
+        } else {
+            q / t
+        }
+    };
+    let r = (one + q).sqrt();
+    let r1 = one + r;
+    let alpha = (S::from_f32(4.0) * r / r1 / r1).min(one);
+    (alpha, alpha * alpha / (S::from_f32(2.0) - alpha))
 }
 
-/// The point `run` metres along an arc turning by `turned` radians from heading `theta`: the
-/// chord run sin(h) / h at theta + h, h = turned / 2.
-fn along_arc(theta: f32, run: f32, turned: f32) -> (f32, f32) {
-    let half = 0.5 * turned;
-    let chord = if half.abs() > 1.0e-3 {
-        run * sin_cos(half).0 / half
+/// `delta / t` clamped to +-`bound` (`t`, `bound` > 0), without forming a quotient beyond it.
+fn rate_within<S: Scalar>(delta: S, t: S, bound: S) -> S {
+    if delta.abs() >= bound * t {
+        if delta < S::zero() {
+            -bound
+        } else {
+            bound
+        }
     } else {
-        run * (1.0 - half * half / 6.0)
+        delta / t
+    }
+}
+
+/// Whether the residual (`rx`, `ry`) is longer than `reach` (>= 0), without squaring a length
+/// fixed point cannot hold.
+fn beyond<S: Scalar>(rx: S, ry: S, reach: S) -> bool {
+    let (ax, ay) = (rx.abs(), ry.abs());
+    if ax > reach || ay > reach {
+        return true;
+    }
+    if !S::NORMALISED {
+        return rx * rx + ry * ry > reach * reach;
+    }
+    if reach <= S::zero() {
+        return ax > S::zero() || ay > S::zero();
+    }
+    let (ux, uy) = (rx / reach, ry / reach);
+    ux * ux + uy * uy > S::one()
+}
+
+/// The point `run` along an arc turning by `turned` radians from heading `theta`: the
+/// chord run sin(h) / h at theta + h, h = turned / 2. Below |h| = 1e-3 (0.5 on a normalised
+/// backend, whose sine is within 2e-4 absolute: 4e-4 of sin(h) / h there) by its series
+/// 1 - h^2 / 6 + h^4 / 120, within 3e-6.
+fn along_arc<S: Scalar>(theta: S, run: S, turned: S) -> (S, S) {
+    let half = S::from_f32(0.5) * turned;
+    let series_below = S::from_f32(if S::NORMALISED { 0.5 } else { 1.0e-3 });
+    let chord = if half.abs() > series_below {
+        run * half.sin_cos().0 / half
+    } else {
+        let h2 = half * half;
+        run * (S::one() - h2 / S::from_f32(6.0) + h2 * h2 / S::from_f32(120.0))
     };
-    let (s, c) = sin_cos(theta + half);
+    let (s, c) = (theta + half).sin_cos();
     (chord * c, chord * s)
 }
 
-impl Estimate {
-    /// Carried `seconds` ahead on its arc.
-    fn after(&self, seconds: f32) -> [f32; 3] {
-        let turned = self.turn_rate * seconds;
-        let (dx, dy) = along_arc(self.theta, self.speed * seconds, turned);
-        [self.x + dx, self.y + dy, wrap_signed(self.theta + turned)]
+impl<S: Scalar> Estimate<S> {
+    /// Carried `t` (law time units) ahead on its arc.
+    fn after(&self, t: S) -> [S; 3] {
+        let turned = self.turn_rate * t;
+        let (dx, dy) = along_arc(self.theta, self.speed * t, turned);
+        [
+            self.x + dx,
+            self.y + dy,
+            (self.theta + turned).wrap_signed(),
+        ]
     }
 }
 
-/// Seconds from `from` to `to` (microseconds, wrapping).
-fn seconds_between(from: u32, to: u32) -> f32 {
-    to.wrapping_sub(from) as i32 as f32 / US
+/// The largest |x|, |y| a track holds, law units: the f32 envelope on SI backends; on a
+/// normalised backend 32 times the law's own (6,400 r_p on fixed point), which the origin
+/// kept near the own vehicle leaves room for.
+fn coordinate_range<S: Scalar>() -> S {
+    S::from_f32(if S::NORMALISED {
+        32.0 * S::MAX_COORDINATE
+    } else {
+        S::MAX_COORDINATE
+    })
 }
 
-impl Track {
-    /// A track of a car of speed `v_max` (m/s) and curvature `w_max` (1/m) whose fixes carry
-    /// `noise`; `None` unless both limits are finite and positive and the noise finite and
-    /// not negative.
+impl Track<f32> {
+    /// A track in metres and seconds ([`Track::with_units`] in [`Units::SI`]).
     pub fn new(v_max: f32, w_max: f32, noise: FixNoise) -> Option<Self> {
-        let turn_rate_max = v_max * w_max;
-        let limits_ok = v_max.is_finite() && v_max > 0.0 && turn_rate_max.is_finite();
-        let noise_ok = [noise.position, noise.heading]
+        Track::with_units(v_max, w_max, noise, Units::SI)
+    }
+}
+
+/// Whether a position is within [`coordinate_range`].
+pub(crate) fn in_range<S: Scalar>(x: S, y: S) -> bool {
+    let range = coordinate_range::<S>();
+    x.abs() <= range && y.abs() <= range
+}
+
+impl<S: Scalar> Track<S> {
+    /// A track of a car of speed `v_max` (m/s) and curvature `w_max` (1/m) whose fixes carry
+    /// `noise`, computing in `units`; `None` unless both limits are finite and positive and the
+    /// noise finite and not negative, and (normalised backends) the car's speed and turn rate
+    /// and the noise inside the backend's envelope (fixed point: v_max <= v_pm, v_max w_max
+    /// between 1/256 and 1 of the pursuer's turn rate, which is 1/64 to 32 rad/s, sigma within
+    /// 200 r_p and 4 rad).
+    pub fn with_units(v_max: f32, w_max: f32, noise: FixNoise, units: Units) -> Option<Self> {
+        let per_second = units.metres_per_second / units.metres;
+        let speed = v_max / units.metres_per_second;
+        let turn_rate = speed * (w_max * units.metres);
+        let position = noise.position / units.metres;
+        let limits_ok =
+            speed.is_finite() && speed > 0.0 && turn_rate.is_finite() && turn_rate > 0.0;
+        let noise_ok = [position, noise.heading]
             .iter()
             .all(|v| v.is_finite() && *v >= 0.0);
-        (limits_ok && turn_rate_max > 0.0 && noise_ok).then_some(Track {
-            speed_max: v_max,
-            turn_rate_max,
-            noise,
+        let envelope = !S::NORMALISED
+            || (speed <= 1.0
+                && (1.0 / 256.0..=1.0).contains(&turn_rate)
+                && (1.0 / 64.0..=32.0).contains(&per_second)
+                && position <= S::MAX_COORDINATE
+                && noise.heading <= 4.0);
+        (limits_ok && noise_ok && envelope).then(|| Track {
+            speed_max: S::from_f32(speed),
+            turn_rate_max: if S::NORMALISED {
+                S::from_f32(turn_rate)
+            } else {
+                S::from_f32(v_max) * S::from_f32(w_max)
+            },
+            position_noise: S::from_f32(position),
+            heading_noise: S::from_f32(noise.heading),
+            per_second,
+            units_per_us: per_second / US,
             estimate: None,
             outliers: 0,
         })
+    }
+
+    /// Law time units from `from` to `to` (microseconds, wrapping).
+    fn between(&self, from: u32, to: u32) -> S {
+        let us = to.wrapping_sub(from) as i32 as f32;
+        if S::NORMALISED {
+            S::from_f32(us * self.units_per_us)
+        } else {
+            S::from_f32(us / US)
+        }
     }
 
     /// Forgets every fix.
@@ -168,22 +299,41 @@ impl Track {
         self.outliers = 0;
     }
 
+    /// Moves the track's origin by (`dx`, `dy`) law units (each within the track's range):
+    /// the estimate's position less them; a track left beyond its range is forgotten.
+    pub fn shift_origin(&mut self, dx: S, dy: S) {
+        if let Some(e) = self.estimate.as_mut() {
+            e.x = e.x - dx;
+            e.y = e.y - dy;
+            if !in_range(e.x, e.y) {
+                self.clear();
+            }
+        }
+    }
+
     /// The last fix's time, microseconds, if the track has one.
     pub fn last_fix_us(&self) -> Option<u32> {
         self.estimate.map(|e| e.time_us)
     }
 
-    /// Takes a fix: the first one, or one after `stale_us` microseconds without, restarts the
-    /// track at it (at full speed, not turning).
+    /// Takes a fix in the law's units: the first one, or one after `stale_us` microseconds
+    /// without, restarts the track at it (at full speed, not turning).
     ///
     /// # Errors
     /// [`Refused`] says why the fix was not taken; the track is then unchanged but for its
     /// count of outliers in a row.
-    pub fn update(&mut self, fix: &Fix, stale_us: u32) -> Result<(), Refused> {
+    pub fn update(&mut self, fix: &Fix<S>, stale_us: u32) -> Result<(), Refused> {
         let [x, y, theta] = fix.state;
-        let envelope = x.abs() <= 1.0e6 && y.abs() <= 1.0e6 && theta.abs() <= 1.0e4;
-        if !(x.is_finite() && y.is_finite() && theta.is_finite() && envelope) {
+        if !(x.is_number() && y.is_number() && theta.is_number()) {
             return Err(Refused::NonFinite);
+        }
+        let heading_range = S::from_f32(if S::NORMALISED { 4.0 } else { S::MAX_HEADING });
+        if !in_range(x, y) || theta.abs() > heading_range {
+            return Err(if S::NORMALISED {
+                Refused::OutOfRange
+            } else {
+                Refused::NonFinite
+            });
         }
         let Some(last) = self.estimate else {
             self.restart(fix);
@@ -197,88 +347,114 @@ impl Track {
             self.restart(fix);
             return Ok(());
         }
-        let interval = elapsed as f32 / US;
+        let interval = self.between(last.time_us, fix.time_us);
         let [px, py, ptheta] = last.after(interval);
         let (rx, ry) = (x - px, y - py);
-        let reach = 2.0 * self.speed_max * interval + 6.0 * (self.noise.position + last.spread);
-        if rx * rx + ry * ry > reach * reach {
+        let two = S::from_f32(2.0);
+        let reach = two * self.speed_max * interval
+            + S::from_f32(6.0) * (self.position_noise + last.spread);
+        if beyond(rx, ry, reach) {
             self.outliers = self.outliers.saturating_add(1);
             // Fixes said to be exact are the truth: the model was wrong (a target faster than
             // v_max, another source), and the track restarts at once.
-            if self.outliers > OUTLIERS_TO_RESTART || self.noise.position <= 0.0 {
+            if self.outliers > OUTLIERS_TO_RESTART || self.position_noise <= S::zero() {
                 self.restart(fix);
                 return Ok(());
             }
             return Err(Refused::Outlier);
         }
         self.outliers = 0;
-        let r_theta = wrap_signed(theta - ptheta);
-        let squared = interval * interval;
-        let lateral = self.speed_max * self.turn_rate_max;
-        let (alpha, beta) = gains(lateral * squared / self.noise.position);
-        let turn_acceleration = 2.0 * self.turn_rate_max / REVERSAL_SECONDS;
-        let (alpha_h, beta_h) = gains(turn_acceleration * squared / self.noise.heading);
-        // Written so that alpha = 1 (no noise) gives the fix itself, bit for bit.
-        let heading = if alpha_h >= 1.0 {
-            wrap_signed(theta)
-        } else {
-            wrap_signed(ptheta + alpha_h * r_theta)
-        };
-        let (s, c) = sin_cos(ptheta);
-        let along = rx * c + ry * s;
-        self.estimate = Some(Estimate {
-            x: x * alpha + px * (1.0 - alpha),
-            y: y * alpha + py * (1.0 - alpha),
-            theta: heading,
-            // `max` and `min`, not `clamp`: `f32::clamp` asserts bounds it cannot see are
-            // ordered, a panic path.
-            speed: (last.speed + beta * along / interval)
-                .max(0.0)
-                .min(self.speed_max),
-            turn_rate: (last.turn_rate + beta_h * r_theta / interval)
-                .max(-self.turn_rate_max)
-                .min(self.turn_rate_max),
-            spread: self.noise.position * sqrt(alpha),
-            heading_spread: self.noise.heading * sqrt(alpha_h),
-            time_us: fix.time_us,
-        });
+        self.estimate = Some(self.corrected(&last, fix, [px, py, ptheta], interval));
         Ok(())
     }
 
-    fn restart(&mut self, fix: &Fix) {
+    /// `last` corrected by `fix` against its prediction `[px, py, ptheta]` `interval` on.
+    fn corrected(
+        &self,
+        last: &Estimate<S>,
+        fix: &Fix<S>,
+        predicted: [S; 3],
+        interval: S,
+    ) -> Estimate<S> {
+        let [x, y, theta] = fix.state;
+        let [px, py, ptheta] = predicted;
+        let (rx, ry) = (x - px, y - py);
+        let r_theta = (theta - ptheta).wrap_signed();
+        let one = S::one();
+        let lateral = self.speed_max * self.turn_rate_max;
+        let (alpha, beta) = gains(lateral, interval, self.position_noise);
+        let reversal = S::from_f32(REVERSAL_SECONDS * self.per_second);
+        let turn_acceleration = S::from_f32(2.0) * self.turn_rate_max / reversal;
+        let (alpha_h, beta_h) = gains(turn_acceleration, interval, self.heading_noise);
+        // Written so that alpha = 1 (no noise) gives the fix itself, bit for bit.
+        let heading = if alpha_h >= one {
+            theta.wrap_signed()
+        } else {
+            (ptheta + alpha_h * r_theta).wrap_signed()
+        };
+        let (s, c) = ptheta.sin_cos();
+        let along = rx * c + ry * s;
+        let speed =
+            last.speed + rate_within(beta * along, interval, self.speed_max + self.speed_max);
+        let turn_rate = last.turn_rate
+            + rate_within(
+                beta_h * r_theta,
+                interval,
+                self.turn_rate_max + self.turn_rate_max,
+            );
+        Estimate {
+            x: x * alpha + px * (one - alpha),
+            y: y * alpha + py * (one - alpha),
+            theta: heading,
+            speed: speed.max(S::zero()).min(self.speed_max),
+            turn_rate: turn_rate.max(-self.turn_rate_max).min(self.turn_rate_max),
+            spread: self.position_noise * alpha.sqrt(),
+            heading_spread: self.heading_noise * alpha_h.sqrt(),
+            time_us: fix.time_us,
+        }
+    }
+
+    fn restart(&mut self, fix: &Fix<S>) {
         let [x, y, theta] = fix.state;
         self.outliers = 0;
         self.estimate = Some(Estimate {
             x,
             y,
-            theta: wrap_signed(theta),
+            theta: theta.wrap_signed(),
             speed: self.speed_max,
-            turn_rate: 0.0,
-            spread: self.noise.position,
-            heading_spread: self.noise.heading,
+            turn_rate: S::zero(),
+            spread: self.position_noise,
+            heading_spread: self.heading_noise,
             time_us: fix.time_us,
         });
     }
 
-    /// The state (x, y metres, heading radians) carried to `time_us` on the track's arc, and
-    /// its uncertainty (metres): the filtered position noise, the filtered heading noise's
-    /// move of the car's turning circles (times 1 / w_max), and half of what a turn reversed
-    /// at the last fix moves the car since, v_max (v_max w_max) age^2 / 2. `None` without a fix, or
-    /// where the last is more than `stale_us` old or later than `time_us` by more than that.
-    pub fn at(&self, time_us: u32, stale_us: u32) -> Option<([f32; 3], f32)> {
+    /// The state (position and heading in the law's units) carried to `time_us` on the track's
+    /// arc, and its uncertainty (law units): the filtered position noise, the filtered heading
+    /// noise's move of the car's turning circles (times 1 / w_max), and half of what a turn
+    /// reversed at the last fix moves the car since, v_max (v_max w_max) age^2 / 2 (the age
+    /// at most 64 time units). `None` without a fix, where the last is more than `stale_us`
+    /// old or later than `time_us` by more than that, or where it carries the car beyond the
+    /// track's range (a normalised backend's: 6,400 r_p from the origin on fixed point).
+    pub fn at(&self, time_us: u32, stale_us: u32) -> Option<([S; 3], S)> {
         let last = self.estimate?;
         let age_us = time_us.wrapping_sub(last.time_us) as i32;
         if age_us.unsigned_abs() > stale_us {
             return None;
         }
-        let age = seconds_between(last.time_us, time_us);
-        let manoeuvre = 0.5 * self.speed_max * self.turn_rate_max * age * age;
+        let age = self.between(last.time_us, time_us);
+        let held = age.abs().min(S::from_f32(MANOEUVRE_AGE));
+        let manoeuvre = S::from_f32(0.5) * self.speed_max * self.turn_rate_max * held * held;
         let circles = last.heading_spread * self.speed_max / self.turn_rate_max;
-        Some((last.after(age), last.spread + circles + manoeuvre))
+        let carried = last.after(age);
+        if !in_range(carried[0], carried[1]) {
+            return None;
+        }
+        Some((carried, last.spread + circles + manoeuvre))
     }
 
-    /// The track's speed (m/s) and turn rate (rad/s) at its last fix.
-    pub fn rates(&self) -> Option<(f32, f32)> {
+    /// The track's speed (law units) and turn rate (radians per law time unit) at its last fix.
+    pub fn rates(&self) -> Option<(S, S)> {
         self.estimate.map(|e| (e.speed, e.turn_rate))
     }
 }

@@ -18,7 +18,6 @@ use crate::law::geometry::{VehicleLimits, VehicleState};
 use crate::law::{
     fallback_command, steer_along, Command, Decision, Evaluation, GameReport, Law, Period, Sampling,
 };
-use crate::num::f32_math;
 #[cfg(feature = "value-tables")]
 use crate::num::f32_math::{sin_cos, wrap_signed};
 use crate::num::Scalar;
@@ -240,9 +239,9 @@ impl<S: Scalar> Guidance<S> {
         Decision::from_game(status, &report, command, self.law.limits.units)
     }
 
-    /// [`Guidance::decide`] on states estimated from fixes ([`crate::estimate`]), with
-    /// hysteresis against their uncertainty u (metres) so that noise does not flip the turn
-    /// (docs/contract.md):
+    /// [`Guidance::decide`] on states estimated from fixes ([`crate::estimate`], in the law's
+    /// units: an `Estimator<S>` of this backend), with hysteresis against their uncertainty u
+    /// so that noise does not flip the turn (docs/contract.md):
     ///
     /// - the choice of circles is kept unless another is better by more than
     ///   [`HYSTERESIS_SIGMAS`] u / (v_pm - v_em) seconds (at most the pursuer's full turn's
@@ -255,17 +254,22 @@ impl<S: Scalar> Guidance<S> {
     /// With u = 0 the decision is [`Guidance::decide`]'s.
     ///
     /// # Errors
-    /// As [`crate::Limits::states`] for the estimated states.
-    pub fn decide_estimated(&mut self, estimated: &Estimated) -> Result<Decision<S>, Error> {
+    /// As [`crate::Limits::states_in_units`] for the estimated states.
+    pub fn decide_estimated(&mut self, estimated: &Estimated<S>) -> Result<Decision<S>, Error> {
         let limits = self.law.limits;
-        let (pursuer, evader) = limits.states(estimated.own, estimated.target)?;
+        let (pursuer, evader) = limits.states_in_units(estimated.own, estimated.target)?;
         let full_turn = S::tau() / limits.pursuer.max_turn_rate();
-        let uncertainty = HYSTERESIS_SIGMAS * estimated.uncertainty;
-        let in_law = uncertainty / limits.units.metres;
-        self.margin = if in_law.is_finite() {
-            (S::from_f32(in_law.max(0.0)) * limits.seconds_per_metre_closed()).min(full_turn)
-        } else {
+        let uncertainty = S::from_f32(HYSTERESIS_SIGMAS) * estimated.uncertainty;
+        let per_metre = limits.seconds_per_metre_closed();
+        // The margin at most a full turn, its product formed only below it (fixed point's range).
+        self.margin = if !uncertainty.is_number() {
             full_turn
+        } else if uncertainty <= S::zero() {
+            S::zero()
+        } else if uncertainty >= full_turn / per_metre {
+            full_turn
+        } else {
+            uncertainty * per_metre
         };
         let mut decision = self.decide(&pursuer, &evader);
         self.margin = S::zero();
@@ -280,26 +284,31 @@ impl<S: Scalar> Guidance<S> {
     }
 
     /// Whether the pursuer's curvature `w` (law units) turns it to the other side than its last
-    /// turn where the estimates' `uncertainty` (metres, its multiple) could explain it: the
+    /// turn where the estimates' `uncertainty` (law units, its multiple) could explain it: the
     /// evader within the cone of half-angle uncertainty / d (at most [`NOISE_CONE`]) about
     /// the pursuer's nose, or `w` within the curvature that turns that angle in a period.
-    fn noise_reversal(&self, estimated: &Estimated, uncertainty: f32, w: S) -> bool {
+    fn noise_reversal(&self, estimated: &Estimated<S>, uncertainty: S, w: S) -> bool {
         let reverses = match self.side {
             Some(left) => (left && w < S::zero()) || (!left && w > S::zero()),
             None => false,
         };
-        if !reverses || uncertainty.is_nan() || uncertainty <= 0.0 {
+        // Not `<= 0` alone: a NaN is no uncertainty either.
+        if !reverses || uncertainty.partial_cmp(&S::zero()) != Some(core::cmp::Ordering::Greater) {
             return false;
         }
         let [px, py, heading] = estimated.own;
         let [ex, ey, _] = estimated.target;
+        // Inside the law's envelope (checked by `decide_estimated`): the squares are held.
         let (dx, dy) = (ex - px, ey - py);
-        let cone = (uncertainty / f32_math::sqrt(dx * dx + dy * dy)).min(NOISE_CONE);
-        if !cone.is_finite() {
-            return true;
-        }
-        let bearing = f32_math::wrap_signed(f32_math::atan2(dy, dx) - heading);
-        let gate = (self.period.pursuer * S::from_f32(cone)).min(self.law.limits.pursuer.w_max());
+        let distance = (dx * dx + dy * dy).sqrt();
+        let widest = S::from_f32(NOISE_CONE);
+        let cone = if uncertainty >= widest * distance {
+            widest
+        } else {
+            uncertainty / distance
+        };
+        let bearing = (S::atan2(dy, dx) - heading).wrap_signed();
+        let gate = (self.period.pursuer * cone).min(self.law.limits.pursuer.w_max());
         bearing.abs() <= cone || w.abs() < gate
     }
 

@@ -175,6 +175,37 @@ impl Units {
     pub fn time_from_seconds(&self, seconds: f32) -> f32 {
         seconds * self.metres_per_second / self.metres
     }
+
+    /// The units backend `S` computes in for a pursuer of speed `v_pm` (m/s) and curvature
+    /// `w_pm` (1/m), both finite and positive.
+    pub fn of<S: Scalar>(v_pm: f32, w_pm: f32) -> Units {
+        if S::NORMALISED {
+            Units {
+                metres: length_unit(w_pm),
+                metres_per_second: v_pm,
+            }
+        } else {
+            Units::SI
+        }
+    }
+}
+
+/// Whether a state in metres and radians is inside the f32 envelope (finite, |x|, |y| <=
+/// 1e6 m, |theta| <= 1e4 rad), read on the bits: no float operation on a core without an FPU.
+///
+/// # Errors
+/// `NonFiniteInput` for NaN or infinity, `OutOfRange` outside the envelope.
+pub(crate) fn f32_envelope(state: [f32; 3]) -> Result<(), Error> {
+    let bits = state.map(f32::to_bits);
+    if !bits.iter().all(|&b| ieee::is_finite_bits(b)) {
+        return Err(Error::NonFiniteInput);
+    }
+    let [x, y, theta] = bits.map(ieee::magnitude_bits);
+    let coordinate = <f32 as Scalar>::MAX_COORDINATE.to_bits();
+    if x > coordinate || y > coordinate || theta > <f32 as Scalar>::MAX_HEADING.to_bits() {
+        return Err(Error::OutOfRange);
+    }
+    Ok(())
 }
 
 /// Limits of both players, validated once against the paper's Assumption 1
@@ -256,14 +287,7 @@ impl<S: Scalar> Limits<S> {
     /// backend's envelope (`S::MAX_RADIUS_RATIO`, `S::MIN_SPEED_RATIO`, `S::MAX_SPEED_RATIO`).
     pub fn new(v_pm: f32, w_pm: f32, v_em: f32, w_em: f32) -> Result<Self, Error> {
         validate::<S>(v_pm, w_pm, v_em, w_em)?;
-        let units = if S::NORMALISED {
-            Units {
-                metres: length_unit(w_pm),
-                metres_per_second: v_pm,
-            }
-        } else {
-            Units::SI
-        };
+        let units = Units::of::<S>(v_pm, w_pm);
         let pursuer = if S::NORMALISED {
             // The units themselves: exactly one, so that the law skips its products by them
             // ([`Limits::pursuer_radius_times`], [`Limits::pursuer_turn_time`],
@@ -330,22 +354,9 @@ impl<S: Scalar> Limits<S> {
                 VehicleState::in_law_frame(x_e, y_e, theta_e)?,
             ));
         }
-        // The metres envelope first, on the bits (no float operation on a core without an
-        // FPU), so that the differences below stay finite.
-        let envelope = |s: [f32; 3]| {
-            let bits = s.map(f32::to_bits);
-            if !bits.iter().all(|&b| ieee::is_finite_bits(b)) {
-                return Err(Error::NonFiniteInput);
-            }
-            let [x, y, theta] = bits.map(ieee::magnitude_bits);
-            let coordinate = <f32 as Scalar>::MAX_COORDINATE.to_bits();
-            if x > coordinate || y > coordinate || theta > <f32 as Scalar>::MAX_HEADING.to_bits() {
-                return Err(Error::OutOfRange);
-            }
-            Ok(())
-        };
-        envelope(pursuer)?;
-        envelope(evader)?;
+        // The metres envelope first, so that the differences below stay finite.
+        f32_envelope(pursuer)?;
+        f32_envelope(evader)?;
         let (dx, dy) = S::relative_position(
             (x_p, x_e),
             (y_p, y_e),
@@ -362,6 +373,46 @@ impl<S: Scalar> Limits<S> {
             at(S::zero(), S::zero(), S::reduced_heading(theta_p)),
             at(dx, dy, S::reduced_heading(theta_e)),
         ))
+    }
+
+    /// Both vehicles' states in the law's frame from states in the law's units that share an
+    /// origin of their own ([`crate::estimate`]'s frame): SI backends take them as they are; a
+    /// normalised backend takes the evader's offset from the pursuer, its headings reduced.
+    ///
+    /// # Errors
+    /// `NonFiniteInput` for NaN or an invalid value; `OutOfRange` outside the backend's
+    /// envelope (`S::MAX_COORDINATE` in the law's frame, `S::MAX_HEADING`).
+    pub fn states_in_units(
+        &self,
+        pursuer: [S; 3],
+        evader: [S; 3],
+    ) -> Result<(VehicleState<S>, VehicleState<S>), Error> {
+        let [x_p, y_p, theta_p] = pursuer;
+        let [x_e, y_e, theta_e] = evader;
+        if ![x_p, y_p, theta_p, x_e, y_e, theta_e]
+            .iter()
+            .all(|v| v.is_number())
+        {
+            return Err(Error::NonFiniteInput);
+        }
+        let at = |x, y, theta| VehicleState { x, y, theta };
+        let c = S::from_f32(S::MAX_COORDINATE);
+        if S::NORMALISED {
+            // Both headings are reduced in that frame; the offset is what the backend holds.
+            let (x, y) = (x_e - x_p, y_e - y_p);
+            if x.abs() > c || y.abs() > c {
+                return Err(Error::OutOfRange);
+            }
+            return Ok((at(S::zero(), S::zero(), theta_p), at(x, y, theta_e)));
+        }
+        let heading = S::from_f32(S::MAX_HEADING);
+        let inside = [x_p, y_p, x_e, y_e].iter().all(|v| v.abs() <= c)
+            && theta_p.abs() <= heading
+            && theta_e.abs() <= heading;
+        if !inside {
+            return Err(Error::OutOfRange);
+        }
+        Ok((at(x_p, y_p, theta_p), at(x_e, y_e, theta_e)))
     }
 
     /// r_p x, metres for x in radians (or r_p times any factor): x itself on a normalised backend,

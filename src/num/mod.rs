@@ -114,6 +114,10 @@ pub trait Scalar:
     fn is_valid(self) -> bool {
         true
     }
+    /// Whether the value is a number: valid, and not a NaN.
+    fn is_number(self) -> bool {
+        self.is_valid() && self.partial_cmp(&self).is_some()
+    }
     /// Square root of a non-negative value; 0 for negative input.
     fn sqrt(self) -> Self;
     /// `(sin(angle), cos(angle))` of an angle in radians.

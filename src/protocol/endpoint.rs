@@ -141,10 +141,11 @@ struct Session<S> {
     watchdog: Watchdog,
     /// Protocol version of the last readable frame: the unit answers in it.
     version: u8,
-    /// Both tracks, from a version-2 Configure; under version 1 the unit steers on the State's
-    /// states as they are (the fixed-point images then make no soft-float call per State).
-    /// Beside the configuration, not in it: a configuration is built on the stack.
-    estimator: Option<Estimator>,
+    /// Both tracks, from a version-2 Configure, over the law's own number type (the
+    /// fixed-point images track in fixed point); under version 1 the unit steers on the
+    /// State's states as they are. Beside the configuration, not in it: a configuration is
+    /// built on the stack.
+    estimator: Option<Estimator<S>>,
     /// The last State's evader fix time, ms: the same again is no new fix.
     last_target_ms: Option<u32>,
 }
@@ -509,7 +510,7 @@ fn configure<S: Scalar>(
     // In range by the check above: at most 3.6e6 ms.
     let watchdog_ms = libm::ceilf(watchdog * 1000.0) as u32;
     if version != VERSION_1 {
-        check_field(message)?;
+        check_field::<S>(message)?;
     }
     let units = limits.units;
     Ok(Configured {
@@ -528,14 +529,14 @@ fn configure<S: Scalar>(
 /// # Errors
 /// As [`estimator`].
 #[inline(never)]
-fn check_field(message: &Configure) -> Result<(), WireError> {
-    estimator(message).map(|_| ())
+fn check_field<S: Scalar>(message: &Configure) -> Result<(), WireError> {
+    estimator::<S>(message).map(|_| ())
 }
 
 /// The estimator of a version-2 Configure (checked by [`check_field`]), written into `slot`.
 /// Out of line, as the check is: the loop's stack frame holds no estimator of its own.
 #[inline(never)]
-fn install_estimator(slot: &mut Option<Estimator>, message: &Configure) {
+fn install_estimator<S: Scalar>(slot: &mut Option<Estimator<S>>, message: &Configure) {
     *slot = estimator(message).ok();
 }
 
@@ -546,7 +547,7 @@ pub const MAX_TARGET_SIGMA: f32 = 1.0e4;
 ///
 /// # Errors
 /// `InvalidConfig` for a lag or lead outside [0, watchdog) or a sigma outside its range.
-fn estimator(message: &Configure) -> Result<Estimator, WireError> {
+fn estimator<S: Scalar>(message: &Configure) -> Result<Estimator<S>, WireError> {
     let field = &message.field;
     let sigma_ok = (0.0..=MAX_TARGET_SIGMA).contains(&field.target_sigma)
         && (0.0..=core::f32::consts::PI).contains(&field.target_heading_sigma);
@@ -562,7 +563,7 @@ fn estimator(message: &Configure) -> Result<Estimator, WireError> {
         own_lead: field.own_lead,
         ..FieldSettings::exact(message.watchdog)
     };
-    Estimator::new(message.limits, settings).map_err(|_| WireError::InvalidConfig)
+    Estimator::with_backend(message.limits, settings).map_err(|_| WireError::InvalidConfig)
 }
 
 /// Microseconds on the estimator's clock of a sender's `ms` (wrapping: differences hold).
@@ -576,7 +577,7 @@ fn sender_us(ms: u32) -> u32 {
 #[inline(never)]
 fn decide_on_estimates<S: Scalar>(
     guidance: &mut Guidance<S>,
-    (estimator, last_target_ms): (&mut Estimator, &mut Option<u32>),
+    (estimator, last_target_ms): (&mut Estimator<S>, &mut Option<u32>),
     message: &StateMsg,
     counters: &mut Counters,
 ) -> Result<Option<Decision<S>>, WireError> {
@@ -592,12 +593,12 @@ fn decide_on_estimates<S: Scalar>(
 /// Both states for a State's Command: the pursuer's fix taken at the State's time, the evader's
 /// at its own (when new), both carried to the State's time; the estimator's counts added to
 /// `counters`.
-fn estimate(
-    estimator: &mut Estimator,
+fn estimate<S: Scalar>(
+    estimator: &mut Estimator<S>,
     message: &StateMsg,
     last_target_ms: &mut Option<u32>,
     counters: &mut Counters,
-) -> Result<Estimated, Stale> {
+) -> Result<Estimated<S>, Stale> {
     let before = estimator.counters();
     let now_us = sender_us(message.time_ms);
     // Refusals are counted; the tracks coast on what they hold.

@@ -4,5 +4,5 @@
 
 #[cortex_m_rt::entry]
 fn main() -> ! {
-    twocars_bench::target::estimate::run()
+    twocars_bench::target::estimate::run::<f32>()
 }

@@ -1,8 +1,9 @@
-//! The estimator's row of `cargo xtask bench`: `twocars::estimate` taking a target fix and
-//! giving a decision's states, on the Cortex-M4F (f32 with an FPU) and the Cortex-M0 (the same
-//! f32 in software), checked against the same sequence on the host.
+//! The estimator's rows of `cargo xtask bench`: `twocars::estimate` taking a target fix and
+//! giving a decision's states, on the Cortex-M4F (f32 with an FPU) and the Cortex-M0 (fixed
+//! point, and the same f32 in software), checked against the same sequence on the host.
 
 use twocars::estimate::{Estimator, FieldSettings, Fix, FixNoise};
+use twocars::{Fixed, Scalar};
 use twocars_bench::{estimate_fix, ESTIMATE_FIXES, ESTIMATE_INTERVAL_US, ESTIMATE_NOISE, LIMITS};
 
 use crate::bench::image::{build_and_print, Cpu, M0, M4F};
@@ -20,14 +21,14 @@ pub struct EstimateMeasured {
     pub flash: u64,
 }
 
-/// The host's states for each fix: target x, y and the uncertainty.
-fn host() -> Vec<[f32; 3]> {
+/// The host's states for each fix over `S`: target x, y and the uncertainty in its units.
+fn host<S: Scalar>() -> Vec<[f32; 3]> {
     let [position, heading] = ESTIMATE_NOISE;
     let settings = FieldSettings {
         target_noise: FixNoise { position, heading },
         ..FieldSettings::exact(1.0)
     };
-    let Ok(mut estimator) = Estimator::new(LIMITS, settings) else {
+    let Ok(mut estimator) = Estimator::<S>::with_backend(LIMITS, settings) else {
         return Vec::new();
     };
     (0..ESTIMATE_FIXES)
@@ -42,16 +43,17 @@ fn host() -> Vec<[f32; 3]> {
                 time_us,
             });
             let s = estimator.states(time_us + 100_000).ok()?;
-            Some([s.target[0], s.target[1], s.uncertainty])
+            Some([s.target[0], s.target[1], s.uncertainty].map(S::to_f32))
         })
         .collect()
 }
 
-/// Runs the estimator bench on `cpu`; an error where a result is more than 1e-5 (relative)
-/// from the host's (the M4F's square root is the FPU's, the host's a software one).
-pub fn measure(cpu: Cpu) -> Result<EstimateMeasured, String> {
-    let want = host();
-    let (out, flash) = build_and_print(cpu, "estimate")?;
+/// Runs the estimator bench `image` over `S` on `cpu`; an error where a result is more than
+/// 1e-5 (relative) from the host's (the M4F's square root is the FPU's, the host's a software
+/// one; fixed point is the same integers on both).
+pub fn measure<S: Scalar>(cpu: Cpu, image: &str) -> Result<EstimateMeasured, String> {
+    let want = host::<S>();
+    let (out, flash) = build_and_print(cpu, image)?;
     let (mut fix, mut states, mut stack) = (Vec::new(), Vec::new(), 0);
     for line in out.lines() {
         let fields: Vec<&str> = line.split_whitespace().collect();
@@ -96,18 +98,27 @@ pub fn measure(cpu: Cpu) -> Result<EstimateMeasured, String> {
     })
 }
 
-/// The bench page's paragraph, both CPUs.
+/// The bench page's paragraph: f32 on both CPUs, fixed point on the M0.
 pub fn section() -> Result<String, String> {
     let mut text = format!(
-        "Estimator (`twocars::estimate`, f32 on both CPUs: the M0 in software; `estimate` \
-         image: {ESTIMATE_FIXES} target fixes 200 ms apart with noise, each followed by a \
-         decision's states 100 ms on, every result within 1e-5 of the host's; the call \
-         overhead subtracted):\n\n| CPU | per target fix | per decision (both states) | stack | image flash |\n|---|---|---|---|---|\n"
+        "Estimator (`twocars::estimate`; `estimate` and `estimate_fixed` images: \
+         {ESTIMATE_FIXES} target fixes 200 ms apart with noise, each followed by a decision's \
+         states 100 ms on, every result within 1e-5 of the host's over the same number type; \
+         the call overhead subtracted):\n\n| CPU | number type | per target fix | per decision (both states) | stack | image flash |\n|---|---|---|---|---|---|\n"
     );
-    for cpu in [M4F, M0] {
-        let m = measure(cpu)?;
+    let rows: [(Cpu, &str, &str); 3] = [
+        (M4F, "f32", "estimate"),
+        (M0, "fixed point (Q17.14)", "estimate_fixed"),
+        (M0, "f32 soft-float", "estimate"),
+    ];
+    for (cpu, number, image) in rows {
+        let m = if image == "estimate_fixed" {
+            measure::<Fixed>(cpu, image)?
+        } else {
+            measure::<f32>(cpu, image)?
+        };
         text.push_str(&format!(
-            "| {} | {:.0} instructions (max {:.0}) | {:.0} (max {:.0}) | {} B | {} B |\n",
+            "| {} | {number} | {:.0} instructions (max {:.0}) | {:.0} (max {:.0}) | {} B | {} B |\n",
             cpu.name(),
             m.fix.0,
             m.fix.1,

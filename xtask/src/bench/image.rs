@@ -144,7 +144,7 @@ pub(crate) fn build_and_print_with(
 }
 
 /// The bench images (`bench/src/bin/`) and the features of `twocars-bench` each needs.
-const IMAGES: [(&str, &str); 15] = [
+const IMAGES: [(&str, &str); 16] = [
     ("law", "qemu"),
     ("empty", "qemu"),
     ("law_fixed", "qemu"),
@@ -160,6 +160,7 @@ const IMAGES: [(&str, &str); 15] = [
     ("replay", "qemu,mavlink"),
     ("table", "qemu,tables"),
     ("estimate", "qemu"),
+    ("estimate_fixed", "qemu"),
 ];
 
 /// Builds the bench image `bin` for `cpu`, with only the features it needs (so that the core
