@@ -2,6 +2,7 @@
 //! <command> --help` gives each one's options and units.
 
 mod ardupilot;
+mod autopilot;
 mod bench;
 mod firmware;
 mod fuzz;
@@ -9,6 +10,7 @@ mod hj;
 mod host;
 mod package;
 mod progress;
+mod px4;
 mod setup;
 mod test;
 mod workspace;

@@ -3,36 +3,26 @@
 //! the ground station, the router between them and the target: an evader of the adversary suite
 //! simulated as a Dubins car and reported as system 2's GLOBAL_POSITION_INT (docs/ardupilot.md).
 
-mod chase;
-mod field;
-mod harness;
-mod router;
 mod rover_evader;
 mod sitl;
 mod telemetry;
-mod unit;
 mod vehicle;
 
 use std::path::PathBuf;
 use std::time::Duration;
 
-use host_tests::adversary::EvaderKind;
 use host_tests::autopilot::HOME;
 
-use chase::{Outcome, Start};
-use harness::{Harness, NoTarget, UNIT_COMPONENT};
-use router::{Router, Source};
+use crate::autopilot::chase::{self, Outcome};
+use crate::autopilot::harness::{Harness, NoTarget};
+use crate::autopilot::router::{Router, Source};
+use crate::autopilot::{
+    configure_unit, field, law_limits, report, set_unit_params, starts, starts_against, threshold,
+    unit, Measured, CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
+};
 
 /// The pursuer's speed asked of the rover (WP_SPEED: the speed at thrust 1), m/s.
 const WP_SPEED: f32 = 3.0;
-/// The share of the rover's largest turn rate the law may command: the rest is the rate
-/// controller's room to track.
-const TURN_MARGIN: f64 = 0.8;
-/// Capture radius, m: a rover's length.
-const CAPTURE_RADIUS: f64 = 1.0;
-/// The target's system id (TC_TGT_SYSID's default).
-const TARGET_SYSTEM: u8 = 2;
-
 /// `cargo xtask run --link ardupilot`'s options.
 #[derive(Debug, Clone, Default)]
 pub struct Options {
@@ -50,86 +40,6 @@ pub struct Options {
     pub rover_evader: bool,
     /// The unit the `twocars-companion` binary on the host, not the QEMU image.
     pub companion: bool,
-}
-
-/// The law's limits for the measured rover: v_pm its top speed, w_pm the curvature of
-/// [`TURN_MARGIN`] of its largest turn rate at that speed, the evader at half of each (the
-/// paper's ratios).
-fn law_limits(m: &vehicle::Measured) -> [f64; 4] {
-    let v_pm = (m.speed * 100.0).round() / 100.0;
-    let w_pm = (TURN_MARGIN * m.turn_rate / m.speed * 100.0).floor() / 100.0;
-    [v_pm, w_pm, v_pm / 2.0, w_pm / 2.0]
-}
-
-/// The theorem's threshold 2 r_e + 2 pi r_e v_pm / v_em, m.
-fn threshold(limits: [f64; 4]) -> f64 {
-    let r_e = 1.0 / limits[3];
-    2.0 * r_e + std::f64::consts::TAU * r_e * limits[0] / limits[2]
-}
-
-/// The starts: below the threshold (the paper's case 1 at the rover's scale) and beyond it (1.1
-/// threshold ahead and to the right), each against the straight, the circling and the
-/// law-playing evader; `short`: the first only.
-fn starts(limits: [f64; 4], short: bool) -> Vec<Start> {
-    starts_against(limits, short, &EVADERS[..3])
-}
-
-/// The evaders the chases fly against; the evader rover flies the zigzag too.
-const EVADERS: [EvaderKind; 4] = [
-    EvaderKind::Straight,
-    EvaderKind::Circle {
-        left: true,
-        half: false,
-    },
-    EvaderKind::Law,
-    EvaderKind::Zigzag,
-];
-
-/// [`starts`] against `evaders`.
-fn starts_against(limits: [f64; 4], short: bool, evaders: &[EvaderKind]) -> Vec<Start> {
-    // The paper's case 1 (the evader 6 m behind and 3 m to the right, same heading, with
-    // r_p = 0.5 m), scaled by the law's r_p / 0.5 m.
-    let scale = 2.0 / limits[1];
-    let beyond = 1.1 * threshold(limits);
-    let mut out = Vec::new();
-    for &evader in evaders {
-        out.push(Start {
-            name: "below",
-            ahead: -6.0 * scale,
-            right: 3.0 * scale,
-            heading: 0.0,
-            evader,
-        });
-    }
-    for &evader in evaders {
-        out.push(Start {
-            name: "beyond",
-            ahead: beyond * 0.8,
-            right: beyond * 0.6,
-            heading: std::f64::consts::FRAC_PI_2,
-            evader,
-        });
-    }
-    if short {
-        out.truncate(1);
-    }
-    out
-}
-
-/// Sets the unit's TC_* parameters (speeds first, so each step keeps the limits valid); Err
-/// where one is not echoed.
-fn configure_unit(h: &mut Harness, limits: [f64; 4], period: f64) -> Result<(), String> {
-    set_unit_params(
-        h,
-        &[
-            ("TC_V_PM", limits[0]),
-            ("TC_V_EM", limits[2]),
-            ("TC_W_EM", limits[3]),
-            ("TC_W_PM", limits[1]),
-            ("TC_CAPTURE", CAPTURE_RADIUS),
-            ("TC_PERIOD", period),
-        ],
-    )
 }
 
 /// The field: the unit told the target's lag and noise; wind and GPS noise on the rover
@@ -152,26 +62,6 @@ fn configure_field(h: &mut Harness) -> Result<(), String> {
         field::SIGMA_M,
         field::SIGMA_HEADING
     );
-    Ok(())
-}
-
-/// Sets the unit's `values` in order; Err where one is not echoed.
-fn set_unit_params(h: &mut Harness, values: &[(&str, f64)]) -> Result<(), String> {
-    let unit = (1, UNIT_COMPONENT);
-    for &(name, value) in values {
-        let value = value as f32;
-        let from = h.params.len();
-        let message = vehicle::param_set(unit, name, value);
-        h.router.send_to_unit_as(router::GCS, &message)?;
-        let echoed = |h: &Harness| {
-            h.params[from..]
-                .iter()
-                .any(|(s, n, v)| *s == Source::Unit && n == name && *v == value)
-        };
-        if !h.pump_until(&mut NoTarget, Duration::from_secs(3), &mut |h| echoed(h))? {
-            return Err(format!("the unit did not take {name} = {value}"));
-        }
-    }
     Ok(())
 }
 
@@ -371,7 +261,7 @@ impl std::fmt::Display for Signing {
 /// What `fly` flew.
 pub struct Flown {
     pub outcomes: Vec<Outcome>,
-    pub measured: vehicle::Measured,
+    pub measured: Measured,
     pub limits: [f64; 4],
     pub telemetry: telemetry::Summary,
     /// The unit's cost on the Cortex-M4F over the run's stream (the bench's `replay` image),
@@ -394,42 +284,6 @@ fn cost_line(c: &crate::bench::mavlink::ReplayMeasured) -> String {
         100.0 * per_second / 168e6,
         c.stack
     )
-}
-
-/// One chase in one paragraph.
-fn report(o: &Outcome, limits: [f64; 4]) -> String {
-    let captured = o.captured.map_or("NEVER CAPTURED".to_string(), |t| {
-        format!(
-            "captured at {t:.2} s, {:+.2} s against the ideal Dubins pursuer's {:.2} s",
-            t - o.ideal,
-            o.ideal
-        )
-    });
-    format!(
-        "{} vs {:?}: start {:.1} m; the law's value at t = 0 {:.2} s (the unit's first TC_T {}); {captured}\n  \
-         causes: speed {:.2} m/s at 1 s, {:.1} m short of v_pm t by capture (~{:.2} s of delay at v_pm); \
-         turn-rate tracking rms {:.2} rad/s ({:.2} away from the switches); {} setpoints, {} sign flips\n  \
-         failsafe: the unit's \"target stale\" {} after capture; from its last setpoint, ArduPilot's stop {} and standstill {}",
-        o.start.name,
-        o.start.evader,
-        o.distance,
-        o.predicted,
-        o.unit_predicted.map_or("none".to_string(), |v| format!("{v:.2} s")),
-        o.speed_at_1s,
-        o.speed_deficit,
-        o.speed_deficit / limits[0],
-        o.tracking_rms,
-        o.tracking_rms_settled,
-        o.setpoints,
-        o.flips,
-        seconds(o.unit_stale_after),
-        seconds(o.to_stop_message),
-        seconds(o.to_standstill),
-    )
-}
-
-fn seconds(s: Option<f64>) -> String {
-    s.map_or("never".to_string(), |s| format!("{s:.2} s"))
 }
 
 /// `cargo xtask run --link ardupilot`; the exit code.

@@ -15,11 +15,11 @@ use mavlink::dialects::common::{
     AttitudeTargetTypemask, GLOBAL_POSITION_INT_DATA, SET_ATTITUDE_TARGET_DATA,
 };
 
-use super::chase::{chase_params, place, pursue, Began, Outcome, Start};
-use super::harness::{Harness, Injector, NoTarget, RoverFix, AUTOPILOT};
-use super::router::Router;
 use super::sitl::Sitl;
 use super::vehicle::{make_ready, YAW_RATE_AND_THRUST};
+use crate::autopilot::chase::{chase_params, place, pursue, Began, Outcome, Start};
+use crate::autopilot::harness::{Harness, Injector, NoTarget, RoverFix, AUTOPILOT};
+use crate::autopilot::router::Router;
 
 /// The evader's SITL instance (TCP 5770): the pursuer is instance 0.
 const INSTANCE: u16 = 1;

@@ -90,7 +90,7 @@ pub fn setup_signing(serial0: &mut TcpStream, key: [u8; 32]) -> Result<(), Strin
         .set_read_timeout(Some(std::time::Duration::from_millis(200)))
         .map_err(|e| e.to_string())?;
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
-    let mut splitter = super::router::Splitter::default();
+    let mut splitter = crate::autopilot::router::Splitter::default();
     let mut buf = [0u8; 4096];
     loop {
         if std::time::Instant::now() > deadline {
@@ -114,9 +114,11 @@ pub fn setup_signing(serial0: &mut TcpStream, key: [u8; 32]) -> Result<(), Strin
         secret_key: key,
     };
     let mut bytes = Vec::new();
-    twocars::mavlink::outgoing::Outbox::default().send_as(super::router::GCS, &message, &mut |f| {
-        bytes.extend_from_slice(f)
-    });
+    twocars::mavlink::outgoing::Outbox::default().send_as(
+        crate::autopilot::router::GCS,
+        &message,
+        &mut |f| bytes.extend_from_slice(f),
+    );
     serial0
         .write_all(&bytes)
         .map_err(|e| format!("SETUP_SIGNING: {e}"))

@@ -6,7 +6,7 @@ use std::fmt;
 
 use twocars::mavlink::{Endpoint, EndpointCounters, FrameCounters};
 
-use super::harness::Harness;
+use crate::autopilot::harness::Harness;
 
 /// What the link carried over a run.
 pub struct Summary {

@@ -4,48 +4,20 @@
 
 use std::time::{Duration, Instant};
 
-use mavlink::dialects::common::{
-    MavCmd, MavParamType, COMMAND_LONG_DATA, PARAM_SET_DATA, SET_ATTITUDE_TARGET_DATA,
-};
+use mavlink::dialects::common::{MavCmd, SET_ATTITUDE_TARGET_DATA};
 
-use super::harness::{Harness, Injector, NoTarget, AUTOPILOT, GUIDED};
-use super::router::Source;
+use crate::autopilot::harness::{Harness, NoTarget, AUTOPILOT};
+use crate::autopilot::router::Source;
+use crate::autopilot::{command, param_set, wait_stopped, Measured, STREAM_INTERVAL_US};
+
+/// Rover's GUIDED mode number.
+pub const GUIDED: u32 = 15;
 
 /// SET_ATTITUDE_TARGET's type_mask for a yaw rate and thrust (the unit's, for ground vehicles).
 pub const YAW_RATE_AND_THRUST: u8 = 1 | 2 | 128;
-/// The position and attitude streams' interval, us (20 Hz: the unit's control period).
-pub const STREAM_INTERVAL_US: f32 = 50_000.0;
 /// GLOBAL_POSITION_INT's and ATTITUDE's message ids.
 const GLOBAL_POSITION_INT: f32 = 33.0;
 const ATTITUDE: f32 = 30.0;
-
-fn command(command: MavCmd, params: [f32; 7]) -> COMMAND_LONG_DATA {
-    let [param1, param2, param3, param4, param5, param6, param7] = params;
-    COMMAND_LONG_DATA {
-        param1,
-        param2,
-        param3,
-        param4,
-        param5,
-        param6,
-        param7,
-        command,
-        target_system: AUTOPILOT.0,
-        target_component: AUTOPILOT.1,
-        confirmation: 0,
-    }
-}
-
-/// PARAM_SET of `name` to `value` for (`system`, `component`).
-pub fn param_set(target: (u8, u8), name: &str, value: f32) -> PARAM_SET_DATA {
-    PARAM_SET_DATA {
-        param_value: value,
-        target_system: target.0,
-        target_component: target.1,
-        param_id: name.into(),
-        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
-    }
-}
 
 /// Sets `name` on the autopilot and waits (5 s) for its PARAM_VALUE to say `value`.
 pub fn set_autopilot_param(h: &mut Harness, name: &str, value: f32) -> Result<(), String> {
@@ -117,21 +89,6 @@ pub fn make_ready(h: &mut Harness, wp_speed: f32) -> Result<Ready, String> {
     })
 }
 
-/// The rover's limits as driven: top speed at thrust 1, and the largest steady turn rate
-/// either way at that speed.
-#[derive(Clone, Copy, Debug)]
-pub struct Measured {
-    /// m/s.
-    pub speed: f64,
-    /// rad/s: the smaller of the two sides'.
-    pub turn_rate: f64,
-    /// speed / turn_rate, m.
-    pub radius: f64,
-    /// The yaw rate's response to a step of its setpoint: the time to 63 % of the rate it
-    /// settles at, s.
-    pub response: f64,
-}
-
 /// The ground station's setpoint (yaw rate, thrust 1) at 20 Hz for `seconds` of the rover's
 /// time; the rover's mean speed and yaw rate over the second half, and the time its yaw rate
 /// took to reach 63 % of that mean.
@@ -197,21 +154,4 @@ pub fn measure(h: &mut Harness) -> Result<Measured, String> {
         radius: speed / turn_rate,
         response,
     })
-}
-
-/// Forwards until the rover's ground speed is under 0.1 m/s (`seconds` of wall clock at
-/// most); its time then.
-pub fn wait_stopped(
-    h: &mut Harness,
-    injector: &mut dyn Injector,
-    seconds: f64,
-) -> Result<u32, String> {
-    let stopped = |h: &Harness| h.rover.is_some_and(|r| r.speed < 0.1);
-    if h.pump_until(injector, Duration::from_secs_f64(seconds), &mut |h| {
-        stopped(h)
-    })? {
-        Ok(h.now_ms())
-    } else {
-        Err(format!("the rover did not stop within {seconds} s"))
-    }
 }

@@ -97,10 +97,14 @@ pub struct RunArgs {
     /// evaders, its own GLOBAL_POSITION_INT the unit's target (docs/ardupilot.md).
     #[arg(long)]
     rover_evader: bool,
-    /// With `--link ardupilot`: the unit the `twocars-companion` binary on the host (over TCP
-    /// to the router) in place of the QEMU image (docs/companion.md).
+    /// With `--link ardupilot` or `px4`: the unit the `twocars-companion` binary on the host
+    /// (over TCP to the router) in place of the QEMU image (docs/companion.md).
     #[arg(long)]
     companion: bool,
+    /// With `--link px4`: the `px4` SITL binary, its `etc/` beside `bin/` (default:
+    /// ../shared/px4/bin/px4).
+    #[arg(long)]
+    px4: Option<std::path::PathBuf>,
 }
 
 /// The links `run` can fly the firmware over.
@@ -112,6 +116,8 @@ pub enum RunLink {
     Mavlink,
     /// MAVLink 2 with ArduPilot Rover SITL flying the pursuer (docs/ardupilot.md).
     Ardupilot,
+    /// MAVLink 2 with PX4 SITL (SIH Ackermann rover) flying the pursuer (docs/px4.md).
+    Px4,
 }
 
 /// The boards `run` can emulate.
@@ -310,6 +316,13 @@ fn print_table_value(o: &RunOptions, case: &Case, set: &ValueTables<'_>) {
 
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
+    if args.link == RunLink::Px4 {
+        return crate::px4::run(&crate::px4::Options {
+            px4: args.px4.clone(),
+            short: false,
+            companion: args.companion,
+        });
+    }
     if args.link == RunLink::Ardupilot {
         if let Some(key) = &args.signing_key {
             set_signing_key(key);

@@ -573,6 +573,7 @@ pub fn run() -> (u64, u64) {
         signed_closed_loop(),
     );
     crate::ardupilot::record_tests(&mut record);
+    crate::px4::record_tests(&mut record);
     (passed, failed)
 }
 

@@ -2,7 +2,8 @@
 //! law's evader limits) placed relative to the rover, its fix on the unit's link before each of
 //! the rover's; the unit flies the rover; capture when the rover's fix is within the capture
 //! radius; then the target goes silent and the failsafe chain is timed: the unit's last
-//! setpoint, ArduPilot's "target not received" and the rover at a standstill.
+//! setpoint, the autopilot's word that it stopped (ArduPilot's "target not received") and the
+//! rover at a standstill.
 
 use std::time::Duration;
 
@@ -16,7 +17,7 @@ use twocars::{Policy, Variant};
 use super::field::Delayed;
 use super::harness::{Harness, Injector, RoverFix};
 use super::router::Source;
-use super::vehicle::wait_stopped;
+use super::wait_stopped;
 
 /// A start: the evader's position and heading in the rover's frame at the start (metres ahead,
 /// metres to the right, heading relative to the rover's, rad), and its strategy.
@@ -117,12 +118,15 @@ pub struct Outcome {
     pub setpoints: usize,
     /// The chase's setpoints whose yaw rate has the sign opposite to the last nonzero one's.
     pub flips: usize,
-    /// From the unit's last setpoint: ArduPilot's "target not received" and the standstill, s.
+    /// From the unit's last setpoint to the autopilot's word that it stopped
+    /// ([`Harness::stop_text`]), s.
     pub to_stop_message: Option<f64>,
     /// From the unit's last setpoint to the standstill, s.
     pub to_standstill: Option<f64>,
     /// The unit's "target stale" STATUSTEXT after capture, s after capture.
     pub unit_stale_after: Option<f64>,
+    /// The rover's time at the chase's end (capture or time-out), ms.
+    pub end_ms: u32,
 }
 
 /// Where the evader starts: `start`'s offsets in the frame of the rover at `rover`.
@@ -213,7 +217,7 @@ pub fn chase_params(limits: [f64; 4], pursuer: [f64; 3], evader: [f64; 3], eps: 
         limits,
         pursuer,
         evader,
-        dt: f64::from(super::vehicle::STREAM_INTERVAL_US) * 1e-6,
+        dt: f64::from(super::STREAM_INTERVAL_US) * 1e-6,
         t_max: T_MAX,
         eps,
     }
@@ -309,7 +313,7 @@ fn outcome(h: &Harness, marks: &Marks, e: &Ended) -> Outcome {
     } = *e;
     let last_setpoint = h.setpoints[marks.setpoints..].last().map(|s| s.time_ms);
     let seconds = |from: u32, to: u32| f64::from(to.wrapping_sub(from)) / 1000.0;
-    let stop_message = h.text_since(marks.texts, Source::Autopilot, "target not received");
+    let stop_message = h.text_since(marks.texts, Source::Autopilot, h.stop_text);
     let unit_stale = h.text_since(marks.texts, Source::Unit, "target stale");
     let chase_fixes: Vec<RoverFix> = h.fixes[marks.fixes..]
         .iter()
@@ -344,6 +348,7 @@ fn outcome(h: &Harness, marks: &Marks, e: &Ended) -> Outcome {
         to_stop_message: last_setpoint.zip(stop_message).map(|(a, b)| seconds(a, b)),
         to_standstill: last_setpoint.zip(stopped_ms).map(|(a, b)| seconds(a, b)),
         unit_stale_after: unit_stale.map(|t| seconds(end_ms, t)),
+        end_ms,
     }
 }
 

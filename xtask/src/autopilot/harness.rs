@@ -1,6 +1,7 @@
 //! The harness's view of the link: every frame forwarded, and what the chase needs read from it
-//! (the rover's fixes and yaw rate, its mode and arming, the unit's setpoints and TC_T, both
-//! sides' STATUSTEXTs), with the target's fix injected before each of the rover's.
+//! (the pursuer's fixes and yaw rate, its mode and arming, the unit's setpoints and TC_T, both
+//! sides' STATUSTEXTs), with the target's fix injected before each of the pursuer's. The
+//! pursuer is called the rover here whichever vehicle it is.
 
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -14,8 +15,8 @@ use super::router::{RawFrame, Router, Source};
 pub const AUTOPILOT: (u8, u8) = (1, 1);
 /// The unit's component (MAV_COMP_ID_ONBOARD_COMPUTER).
 pub const UNIT_COMPONENT: u8 = 191;
-/// Rover's GUIDED mode number.
-pub const GUIDED: u32 = 15;
+/// A velocity setpoint's course within this of the rover's heading (rad) is read as straight.
+const STRAIGHT: f64 = 0.01;
 /// HEARTBEAT base_mode's armed flag.
 const ARMED: u8 = 128;
 
@@ -59,8 +60,10 @@ impl Injector for NoTarget {
 pub struct Setpoint {
     /// The rover's time at its arrival (its last fix), ms.
     pub time_ms: u32,
-    /// Body yaw rate, rad/s (positive clockwise).
+    /// Body yaw rate, rad/s (positive clockwise); for a velocity setpoint the turn it asks
+    /// for: its course less the rover's heading (rad, clockwise), over TC_PERIOD.
     pub yaw_rate: f32,
+    /// Thrust; for a velocity setpoint its speed, m/s.
     pub thrust: f32,
 }
 
@@ -78,6 +81,8 @@ pub struct Harness {
     pub fixes: Vec<RoverFix>,
     pub armed: bool,
     pub mode: Option<u32>,
+    /// The mode (HEARTBEAT's custom_mode) at each heartbeat, at the rover's time.
+    pub modes: Vec<(u32, u32)>,
     /// STATUSTEXTs with the rover's time and their source.
     pub texts: Vec<(u32, Source, String)>,
     pub setpoints: Vec<Setpoint>,
@@ -97,6 +102,10 @@ pub struct Harness {
     /// Frames from the autopilot by message id, and their bytes.
     pub autopilot_frames: BTreeMap<u32, (u64, u64)>,
     last_gcs_heartbeat: Option<Instant>,
+    /// What the autopilot says when it stops for want of setpoints (a STATUSTEXT's part).
+    pub stop_text: &'static str,
+    /// The unit's TC_PERIOD, s: a velocity setpoint's turn is over it.
+    pub period: f32,
 }
 
 impl Harness {
@@ -111,6 +120,7 @@ impl Harness {
             fixes: Vec::new(),
             armed: false,
             mode: None,
+            modes: Vec::new(),
             texts: Vec::new(),
             setpoints: Vec::new(),
             tc_t: Vec::new(),
@@ -121,6 +131,8 @@ impl Harness {
             acks: Vec::new(),
             autopilot_frames: BTreeMap::new(),
             last_gcs_heartbeat: None,
+            stop_text: "target not received",
+            period: 1.0,
         }
     }
 
@@ -232,6 +244,7 @@ impl Harness {
             MavMessage::HEARTBEAT(h) if from_autopilot => {
                 self.armed = h.base_mode.bits() & ARMED != 0;
                 self.mode = Some(h.custom_mode);
+                self.modes.push((now, h.custom_mode));
             }
             MavMessage::ATTITUDE(a) if from_autopilot => self.yaw_rates.push((now, a.yawspeed)),
             MavMessage::COMMAND_ACK(a) if from_autopilot => {
@@ -254,6 +267,19 @@ impl Harness {
                 yaw_rate: s.body_yaw_rate,
                 thrust: s.thrust,
             }),
+            MavMessage::SET_POSITION_TARGET_LOCAL_NED(s) if from_unit => {
+                let heading = self.rover.map_or(0.0, |r| r.state[2]);
+                let course = f64::from(s.vy).atan2(f64::from(s.vx));
+                let turn = host_tests::kinematics::wrap_pi(course - heading);
+                // The unit runs straight on its own estimate of the heading the fix gave: a
+                // course within STRAIGHT of it is no turn.
+                let turn = if turn.abs() < STRAIGHT { 0.0 } else { turn };
+                self.setpoints.push(Setpoint {
+                    time_ms: now,
+                    yaw_rate: turn as f32 / self.period,
+                    thrust: s.vx.hypot(s.vy),
+                });
+            }
             MavMessage::NAMED_VALUE_FLOAT(n) if from_unit => {
                 let name = String::from_utf8_lossy(&n.name[..])
                     .trim_end_matches('\0')

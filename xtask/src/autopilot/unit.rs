@@ -46,7 +46,7 @@ pub fn start(companion: bool, key: Option<[u8; 32]>) -> Result<(Unit, TcpStream)
         .arg(format!("127.0.0.1:{port}"))
         .stdout(Stdio::null());
     if let Some(key) = key {
-        let file = crate::workspace::target_dir().join("ardupilot/companion.key");
+        let file = crate::workspace::target_dir().join("autopilot/companion.key");
         let hex: String = key.iter().map(|b| format!("{b:02x}")).collect();
         std::fs::create_dir_all(file.parent().unwrap_or(&file)).map_err(|e| e.to_string())?;
         std::fs::write(&file, hex).map_err(|e| format!("{}: {e}", file.display()))?;

@@ -1,13 +1,14 @@
-//! The MAVLink router between ArduPilot SITL (TCP), the unit's UART (the emulator's TCP port)
-//! and the host (the ground station and the target): whole frames only, so that a frame the
-//! host injects never lands inside one of the autopilot's.
+//! The MAVLink router between the autopilot's SITL (ArduPilot over TCP, PX4 over UDP), the
+//! unit's UART (the emulator's TCP port, or the companion's) and the host (the ground station
+//! and the target): whole frames only, so that a frame the host injects never lands inside one
+//! of the autopilot's.
 //!
-//! Frames are split by their headers' lengths (TCP carries no noise), which needs no message's
-//! CRC_EXTRA: ArduPilot's own dialect passes through untouched. The messages the harness reads
+//! Frames are split by their headers' lengths (TCP and localhost UDP carry no noise), which
+//! needs no message's CRC_EXTRA: each autopilot's own dialect passes through untouched. The messages the harness reads
 //! are decoded with the `mavlink` crate's common dialect.
 
-use std::io::{ErrorKind, Read, Write};
-use std::net::TcpStream;
+use std::io::{self, ErrorKind, Read, Write};
+use std::net::{TcpStream, UdpSocket};
 use std::time::{Duration, Instant};
 
 use mavlink::dialects::common::MavMessage;
@@ -99,10 +100,71 @@ pub enum Source {
     Unit,
 }
 
+/// A link to the autopilot: a TCP stream, or a UDP socket connected to the autopilot's port
+/// (each datagram whole frames).
+pub enum Link {
+    Tcp(TcpStream),
+    Udp(UdpSocket),
+}
+
+impl From<TcpStream> for Link {
+    fn from(stream: TcpStream) -> Link {
+        Link::Tcp(stream)
+    }
+}
+
+impl From<UdpSocket> for Link {
+    fn from(socket: UdpSocket) -> Link {
+        Link::Udp(socket)
+    }
+}
+
+impl Link {
+    fn set_nonblocking(&self) -> io::Result<()> {
+        match self {
+            Link::Tcp(s) => s.set_nonblocking(true).and_then(|()| s.set_nodelay(true)),
+            Link::Udp(s) => s.set_nonblocking(true),
+        }
+    }
+}
+
+impl Read for Link {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        match self {
+            Link::Tcp(s) => s.read(buf),
+            // An empty datagram is nothing, not a closed link; a refused send (no one on the
+            // port yet) reads as nothing too.
+            Link::Udp(s) => match s.recv(buf) {
+                Ok(0) => Err(ErrorKind::WouldBlock.into()),
+                Err(e) if e.kind() == ErrorKind::ConnectionRefused => {
+                    Err(ErrorKind::WouldBlock.into())
+                }
+                other => other,
+            },
+        }
+    }
+}
+
+impl Write for Link {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match self {
+            Link::Tcp(s) => s.write(buf),
+            Link::Udp(s) => match s.send(buf) {
+                Err(e) if e.kind() == ErrorKind::ConnectionRefused => Ok(buf.len()),
+                other => other,
+            },
+        }
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
+
 /// The two links, their splitters, and the host's own sender (system 255, component 190, as a
 /// ground station; or another system id for the target).
 pub struct Router {
-    autopilot: TcpStream,
+    autopilot: Link,
     /// The unit's UART; `None` on a link to an autopilot alone (the evader's rover).
     unit: Option<TcpStream>,
     from_autopilot: Splitter,
@@ -127,8 +189,8 @@ pub const LINK_ID: u8 = 2;
 pub const CLOCK_LEAD: u64 = 12_000_000;
 
 impl Router {
-    /// Joins the autopilot's and the unit's TCP links.
-    pub fn new(autopilot: TcpStream, unit: TcpStream) -> Result<Router, String> {
+    /// Joins the autopilot's link and the unit's TCP link.
+    pub fn new(autopilot: impl Into<Link>, unit: TcpStream) -> Result<Router, String> {
         let mut router = Router::alone(autopilot)?;
         unit.set_nonblocking(true).map_err(|e| e.to_string())?;
         unit.set_nodelay(true).map_err(|e| e.to_string())?;
@@ -137,9 +199,9 @@ impl Router {
     }
 
     /// A link to the autopilot alone: the ground station's, with no unit behind it.
-    pub fn alone(autopilot: TcpStream) -> Result<Router, String> {
-        autopilot.set_nonblocking(true).map_err(|e| e.to_string())?;
-        autopilot.set_nodelay(true).map_err(|e| e.to_string())?;
+    pub fn alone(autopilot: impl Into<Link>) -> Result<Router, String> {
+        let autopilot = autopilot.into();
+        autopilot.set_nonblocking().map_err(|e| e.to_string())?;
         Ok(Router {
             autopilot,
             unit: None,
@@ -251,7 +313,7 @@ impl Router {
 }
 
 /// Reads what `stream` has into `splitter`; whether anything came.
-fn read_into(stream: &mut TcpStream, splitter: &mut Splitter, name: &str) -> Result<bool, String> {
+fn read_into(stream: &mut impl Read, splitter: &mut Splitter, name: &str) -> Result<bool, String> {
     let mut buf = [0u8; 4096];
     match stream.read(&mut buf) {
         Ok(0) => Err(format!("the {name} closed its link")),
@@ -266,7 +328,7 @@ fn read_into(stream: &mut TcpStream, splitter: &mut Splitter, name: &str) -> Res
 }
 
 /// Writes all of `bytes` to a non-blocking stream.
-fn write_all(stream: &mut TcpStream, mut bytes: &[u8], name: &str) -> Result<(), String> {
+fn write_all(stream: &mut impl Write, mut bytes: &[u8], name: &str) -> Result<(), String> {
     let deadline = Instant::now() + Duration::from_secs(5);
     while !bytes.is_empty() {
         match stream.write(bytes) {

@@ -1,0 +1,228 @@
+//! The harness both autopilots' chases run in (`cargo xtask run --link ardupilot|px4`): the
+//! MAVLink router between the autopilot's SITL, the unit and the host; what the harness reads of
+//! the link; one chase against a simulated evader, its fixes through the field; the unit as a
+//! QEMU image or the companion binary; and what both autopilots' runs share: the starts, the
+//! law's limits from the measured vehicle, the unit's parameters, the report of a chase.
+
+pub mod chase;
+pub mod field;
+pub mod harness;
+pub mod router;
+pub mod unit;
+
+use std::time::Duration;
+
+use host_tests::adversary::EvaderKind;
+use mavlink::dialects::common::{MavCmd, MavParamType, COMMAND_LONG_DATA, PARAM_SET_DATA};
+
+use chase::{Outcome, Start};
+use harness::{Harness, Injector, NoTarget, AUTOPILOT, UNIT_COMPONENT};
+use router::Source;
+
+/// The position and attitude streams' interval, us (20 Hz: the unit's control period).
+pub const STREAM_INTERVAL_US: f32 = 50_000.0;
+
+/// COMMAND_LONG `command` with `params` to the autopilot.
+pub fn command(command: MavCmd, params: [f32; 7]) -> COMMAND_LONG_DATA {
+    let [param1, param2, param3, param4, param5, param6, param7] = params;
+    COMMAND_LONG_DATA {
+        param1,
+        param2,
+        param3,
+        param4,
+        param5,
+        param6,
+        param7,
+        command,
+        target_system: AUTOPILOT.0,
+        target_component: AUTOPILOT.1,
+        confirmation: 0,
+    }
+}
+
+/// PARAM_SET of `name` to `value` for (`system`, `component`).
+pub fn param_set(target: (u8, u8), name: &str, value: f32) -> PARAM_SET_DATA {
+    PARAM_SET_DATA {
+        param_value: value,
+        target_system: target.0,
+        target_component: target.1,
+        param_id: name.into(),
+        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
+    }
+}
+
+/// The rover's limits as driven: top speed at thrust 1, and the largest steady turn rate
+/// either way at that speed.
+#[derive(Clone, Copy, Debug)]
+pub struct Measured {
+    /// m/s.
+    pub speed: f64,
+    /// rad/s: the smaller of the two sides'.
+    pub turn_rate: f64,
+    /// speed / turn_rate, m.
+    pub radius: f64,
+    /// The yaw rate's response to a step of its setpoint: the time to 63 % of the rate it
+    /// settles at, s.
+    pub response: f64,
+}
+
+/// The share of the rover's largest turn rate the law may command: the rest is the rate
+/// controller's room to track.
+pub const TURN_MARGIN: f64 = 0.8;
+/// Capture radius, m: a rover's length.
+pub const CAPTURE_RADIUS: f64 = 1.0;
+/// The target's system id (TC_TGT_SYSID's default).
+pub const TARGET_SYSTEM: u8 = 2;
+
+/// The law's limits for the measured rover: v_pm its top speed, w_pm the curvature of
+/// [`TURN_MARGIN`] of its largest turn rate at that speed, the evader at half of each (the
+/// paper's ratios).
+pub fn law_limits(m: &Measured) -> [f64; 4] {
+    let v_pm = (m.speed * 100.0).round() / 100.0;
+    let w_pm = (TURN_MARGIN * m.turn_rate / m.speed * 100.0).floor() / 100.0;
+    [v_pm, w_pm, v_pm / 2.0, w_pm / 2.0]
+}
+
+/// The theorem's threshold 2 r_e + 2 pi r_e v_pm / v_em, m.
+pub fn threshold(limits: [f64; 4]) -> f64 {
+    let r_e = 1.0 / limits[3];
+    2.0 * r_e + std::f64::consts::TAU * r_e * limits[0] / limits[2]
+}
+
+/// The starts: below the threshold (the paper's case 1 at the rover's scale) and beyond it (1.1
+/// threshold ahead and to the right), each against the straight, the circling and the
+/// law-playing evader; `short`: the first only.
+pub fn starts(limits: [f64; 4], short: bool) -> Vec<Start> {
+    starts_against(limits, short, &EVADERS[..3])
+}
+
+/// The evaders the chases fly against; the evader rover flies the zigzag too.
+pub const EVADERS: [EvaderKind; 4] = [
+    EvaderKind::Straight,
+    EvaderKind::Circle {
+        left: true,
+        half: false,
+    },
+    EvaderKind::Law,
+    EvaderKind::Zigzag,
+];
+
+/// [`starts`] against `evaders`.
+pub fn starts_against(limits: [f64; 4], short: bool, evaders: &[EvaderKind]) -> Vec<Start> {
+    // The paper's case 1 (the evader 6 m behind and 3 m to the right, same heading, with
+    // r_p = 0.5 m), scaled by the law's r_p / 0.5 m.
+    let scale = 2.0 / limits[1];
+    let beyond = 1.1 * threshold(limits);
+    let mut out = Vec::new();
+    for &evader in evaders {
+        out.push(Start {
+            name: "below",
+            ahead: -6.0 * scale,
+            right: 3.0 * scale,
+            heading: 0.0,
+            evader,
+        });
+    }
+    for &evader in evaders {
+        out.push(Start {
+            name: "beyond",
+            ahead: beyond * 0.8,
+            right: beyond * 0.6,
+            heading: std::f64::consts::FRAC_PI_2,
+            evader,
+        });
+    }
+    if short {
+        out.truncate(1);
+    }
+    out
+}
+
+/// Sets the unit's TC_* parameters (speeds first, so each step keeps the limits valid); Err
+/// where one is not echoed.
+pub fn configure_unit(h: &mut Harness, limits: [f64; 4], period: f64) -> Result<(), String> {
+    set_unit_params(
+        h,
+        &[
+            ("TC_V_PM", limits[0]),
+            ("TC_V_EM", limits[2]),
+            ("TC_W_EM", limits[3]),
+            ("TC_W_PM", limits[1]),
+            ("TC_CAPTURE", CAPTURE_RADIUS),
+            ("TC_PERIOD", period),
+        ],
+    )
+}
+
+/// Sets the unit's `values` in order; Err where one is not echoed.
+pub fn set_unit_params(h: &mut Harness, values: &[(&str, f64)]) -> Result<(), String> {
+    let unit = (1, UNIT_COMPONENT);
+    for &(name, value) in values {
+        let value = value as f32;
+        let from = h.params.len();
+        let message = param_set(unit, name, value);
+        h.router.send_to_unit_as(router::GCS, &message)?;
+        let echoed = |h: &Harness| {
+            h.params[from..]
+                .iter()
+                .any(|(s, n, v)| *s == Source::Unit && n == name && *v == value)
+        };
+        if !h.pump_until(&mut NoTarget, Duration::from_secs(3), &mut |h| echoed(h))? {
+            return Err(format!("the unit did not take {name} = {value}"));
+        }
+    }
+    Ok(())
+}
+
+/// One chase in one paragraph.
+pub fn report(o: &Outcome, limits: [f64; 4]) -> String {
+    let captured = o.captured.map_or("NEVER CAPTURED".to_string(), |t| {
+        format!(
+            "captured at {t:.2} s, {:+.2} s against the ideal Dubins pursuer's {:.2} s",
+            t - o.ideal,
+            o.ideal
+        )
+    });
+    format!(
+        "{} vs {:?}: start {:.1} m; the law's value at t = 0 {:.2} s (the unit's first TC_T {}); {captured}\n  \
+         causes: speed {:.2} m/s at 1 s, {:.1} m short of v_pm t by capture (~{:.2} s of delay at v_pm); \
+         turn-rate tracking rms {:.2} rad/s ({:.2} away from the switches); {} setpoints, {} sign flips\n  \
+         failsafe: the unit's \"target stale\" {} after capture; from its last setpoint, the autopilot's stop {} and standstill {}",
+        o.start.name,
+        o.start.evader,
+        o.distance,
+        o.predicted,
+        o.unit_predicted.map_or("none".to_string(), |v| format!("{v:.2} s")),
+        o.speed_at_1s,
+        o.speed_deficit,
+        o.speed_deficit / limits[0],
+        o.tracking_rms,
+        o.tracking_rms_settled,
+        o.setpoints,
+        o.flips,
+        seconds(o.unit_stale_after),
+        seconds(o.to_stop_message),
+        seconds(o.to_standstill),
+    )
+}
+
+pub fn seconds(s: Option<f64>) -> String {
+    s.map_or("never".to_string(), |s| format!("{s:.2} s"))
+}
+
+/// Forwards until the rover's ground speed is under 0.1 m/s (`seconds` of wall clock at
+/// most); its time then.
+pub fn wait_stopped(
+    h: &mut Harness,
+    injector: &mut dyn Injector,
+    seconds: f64,
+) -> Result<u32, String> {
+    let stopped = |h: &Harness| h.rover.is_some_and(|r| r.speed < 0.1);
+    if h.pump_until(injector, Duration::from_secs_f64(seconds), &mut |h| {
+        stopped(h)
+    })? {
+        Ok(h.now_ms())
+    } else {
+        Err(format!("the rover did not stop within {seconds} s"))
+    }
+}

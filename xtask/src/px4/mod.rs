@@ -1,0 +1,179 @@
+//! `cargo xtask run --link px4`: PX4 SITL (its SIH simulator, no Gazebo) flies the pursuer, an
+//! Ackermann rover in OFFBOARD driven by the unit's velocity setpoints (TC_VEHICLE 2); the unit
+//! is the `twocars-qemu-mavlink` image in QEMU or the `twocars-companion` binary; the host is the
+//! ground station, the router on PX4's offboard UDP link, and the target: an evader of the
+//! adversary suite simulated as a Dubins car, reported as system 2's GLOBAL_POSITION_INT
+//! (docs/px4.md).
+
+mod sitl;
+mod vehicle;
+
+use std::path::PathBuf;
+
+use host_tests::autopilot::HOME;
+
+use crate::autopilot::chase::{self, Outcome};
+use crate::autopilot::harness::Harness;
+use crate::autopilot::router::{Router, Source};
+use crate::autopilot::{
+    configure_unit, law_limits, report, set_unit_params, starts, threshold, unit, Measured,
+    CAPTURE_RADIUS, TARGET_SYSTEM,
+};
+
+/// The speed asked of the rover, m/s: under the SIH rover's 3 m/s limit, with room for its
+/// speed controller.
+const SPEED: f64 = 2.5;
+/// The SIH vehicle.
+const MODEL: &str = "sihsim_rover_ackermann";
+/// What PX4 says when it leaves OFFBOARD for want of setpoints.
+const STOP_TEXT: &str = "ailsafe";
+
+/// `cargo xtask run --link px4`'s options.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// The `px4` binary (default: `../shared/px4/bin/px4`, its `etc/` beside `bin/`).
+    pub px4: Option<PathBuf>,
+    /// One short chase instead of the whole set (what `cargo xtask test` flies).
+    pub short: bool,
+    /// The unit the `twocars-companion` binary on the host, not the QEMU image.
+    pub companion: bool,
+}
+
+/// What `fly` flew.
+pub struct Flown {
+    pub outcomes: Vec<Outcome>,
+    pub measured: Measured,
+    pub limits: [f64; 4],
+    /// Whether PX4 left OFFBOARD or said "failsafe" during a chase (before its end).
+    pub failsafe_in_chase: Vec<bool>,
+}
+
+/// Runs the chases.
+pub fn fly(options: &Options) -> Result<Flown, String> {
+    let binary = sitl::find(options.px4.as_deref()).ok_or(
+        "PX4 SITL not found: give --px4 PATH (a px4_sitl_default build with SIH, its etc/ \
+         beside bin/; docs/px4.md)",
+    )?;
+    let (launched, unit) = unit::start(options.companion, None)?;
+    let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
+    let (_px4, link) = sitl::Px4::start(&binary, MODEL, 0, home)?;
+    let mut h = Harness::new(Router::new(link, unit)?, HOME, TARGET_SYSTEM);
+    h.stop_text = STOP_TEXT;
+    println!("PX4 SITL ({MODEL}): {}", binary.display());
+    let ready_s = vehicle::make_ready(&mut h)?;
+    println!("ready: a position, OFFBOARD and armed after {ready_s:.1} s");
+    let measured = vehicle::measure(&mut h, SPEED)?;
+    let limits = law_limits(&measured);
+    let period = (measured.response * 100.0).round() / 100.0;
+    println!(
+        "the rover, driven by velocity setpoints of {SPEED} m/s: {:.2} m/s, largest turn rate {:.2} rad/s, radius {:.2} m, heading response {:.2} s",
+        measured.speed, measured.turn_rate, measured.radius, measured.response
+    );
+    println!(
+        "the law: v_pm {} m/s, w_pm {} 1/m, v_em {} m/s, w_em {} 1/m; threshold {:.1} m; TC_CAPTURE {CAPTURE_RADIUS} m, TC_PERIOD {period:.2} s (the heading response), TC_VEHICLE 2",
+        limits[0],
+        limits[1],
+        limits[2],
+        limits[3],
+        threshold(limits),
+    );
+    set_unit_params(&mut h, &[("TC_VEHICLE", 2.0)])?;
+    configure_unit(&mut h, limits, period)?;
+    h.period = period as f32;
+    let mut outcomes = Vec::new();
+    let mut failsafe_in_chase = Vec::new();
+    for (i, start) in starts(limits, options.short).into_iter().enumerate() {
+        vehicle::enter_offboard(&mut h)?;
+        vehicle::hold(&mut h, 1.0)?;
+        let texts = h.texts.len();
+        let modes = h.modes.len();
+        let outcome = chase::fly(&mut h, start, limits, CAPTURE_RADIUS, 7 + i as u64, false)?;
+        println!("{}", report(&outcome, limits));
+
+        failsafe_in_chase.push(left_offboard(&h, texts, modes, &outcome));
+        outcomes.push(outcome);
+    }
+    drop(launched);
+    Ok(Flown {
+        outcomes,
+        measured,
+        limits,
+        failsafe_in_chase,
+    })
+}
+
+/// Whether PX4 left OFFBOARD, or said "failsafe", between the chase's start (records from
+/// `texts` and `modes` on) and its end.
+fn left_offboard(h: &Harness, texts: usize, modes: usize, o: &Outcome) -> bool {
+    let end_ms = o.end_ms;
+    let said = h.texts[texts..]
+        .iter()
+        .any(|(t, s, text)| *t <= end_ms && *s == Source::Autopilot && text.contains(STOP_TEXT));
+    let left = h.modes[modes..]
+        .iter()
+        .any(|&(t, mode)| t <= end_ms && mode != vehicle::OFFBOARD);
+    said || left
+}
+
+/// `cargo xtask run --link px4`; the exit code.
+pub fn run(options: &Options) -> i32 {
+    match fly(options) {
+        Ok(flown) => {
+            let captured = flown.outcomes.iter().all(|o| o.captured.is_some());
+            let clean = !flown.failsafe_in_chase.iter().any(|&f| f);
+            if !clean {
+                println!("PX4 left OFFBOARD during a chase");
+            }
+            i32::from(!(captured && clean))
+        }
+        Err(e) => {
+            eprintln!("xtask run --link px4: {e}");
+            1
+        }
+    }
+}
+
+/// `cargo xtask test`'s PX4 chase: one start below the threshold against the straight evader,
+/// the rover driven by the QEMU image's velocity setpoints, where PX4 SITL is found (said
+/// plainly where not).
+pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
+    println!("== xtask test: PX4 SITL (SIH Ackermann rover) flying the pursuer, the MAVLink image its companion");
+    if sitl::find(None).is_none() {
+        println!("   SKIPPED: PX4 SITL not found (../shared/px4/bin/px4); docs/px4.md says what to build");
+        return;
+    }
+    let options = Options {
+        px4: None,
+        short: true,
+        companion: false,
+    };
+    record(
+        "px4::rover_captures_through_velocity_setpoints_without_offboard_loss",
+        fly(&options).and_then(|f| check_chase(&f)),
+    );
+}
+
+/// Captured no later than the ideal Dubins pursuer + 3 s (the rover starts from rest), no
+/// failsafe and no mode change during the chase, the setpoints' course flipping side at most 5
+/// times.
+fn check_chase(flown: &Flown) -> Result<String, String> {
+    let o = flown.outcomes.first().ok_or("no chase flown")?;
+    let captured = o.captured.ok_or("never captured")?;
+    let failsafe = flown.failsafe_in_chase.first().copied().unwrap_or(true);
+    let line = format!(
+        "rover {:.2} m/s, {:.2} rad/s, heading response {:.2} s; law {:?}; captured at {captured:.2} s (ideal {:.2} s); {} sign flips; {}; from the last setpoint, PX4's failsafe {} and standstill {}",
+        flown.measured.speed,
+        flown.measured.turn_rate,
+        flown.measured.response,
+        flown.limits,
+        o.ideal,
+        o.flips,
+        if failsafe { "PX4 LEFT OFFBOARD during the chase" } else { "OFFBOARD throughout" },
+        crate::autopilot::seconds(o.to_stop_message),
+        crate::autopilot::seconds(o.to_standstill),
+    );
+    if captured > o.ideal + 3.0 || failsafe || o.flips > 5 {
+        return Err(line);
+    }
+    Ok(line)
+}
