@@ -133,9 +133,9 @@ pub fn run(options: &Options) -> i32 {
     }
 }
 
-/// `cargo xtask test`'s PX4 chase: one start below the threshold against the straight evader,
-/// the rover driven by the QEMU image's velocity setpoints, where PX4 SITL is found (said
-/// plainly where not).
+/// `cargo xtask test`'s PX4 chases: one start below the threshold against the straight evader,
+/// the rover driven by the QEMU image's velocity setpoints, then by the companion binary's,
+/// where PX4 SITL is found (said plainly where not).
 pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
     println!("== xtask test: PX4 SITL (SIH Ackermann rover) flying the pursuer, the MAVLink image its companion");
     if sitl::find(None).is_none() {
@@ -147,10 +147,41 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
         short: true,
         companion: false,
     };
+    let image = fly(&options);
     record(
         "px4::rover_captures_through_velocity_setpoints_without_offboard_loss",
-        fly(&options).and_then(|f| check_chase(&f)),
+        image.as_ref().map_err(Clone::clone).and_then(check_chase),
     );
+    let companion = fly(&Options {
+        companion: true,
+        ..options
+    });
+    record(
+        "px4::the_companion_captures_as_the_qemu_image_within_a_control_period",
+        companion
+            .as_ref()
+            .map_err(Clone::clone)
+            .and_then(|c| check_alike(image.as_ref().map_err(Clone::clone)?, c)),
+    );
+}
+
+/// The companion's chase (`companion`) captured, and within one TC_PERIOD of the QEMU image's
+/// (`image`) capture time, each from its own PX4 instance.
+fn check_alike(image: &Flown, companion: &Flown) -> Result<String, String> {
+    let chase = check_chase(companion)?;
+    let time = |f: &Flown| f.outcomes.first().and_then(|o| o.captured);
+    let (Some(a), Some(b)) = (time(image), time(companion)) else {
+        return Err("a chase was not captured".to_string());
+    };
+    let period = (companion.measured.response * 100.0).round() / 100.0;
+    let line = format!(
+        "the companion captured at {b:.2} s, the QEMU image at {a:.2} s: {:.2} s apart (TC_PERIOD {period:.2} s); {chase}",
+        (a - b).abs()
+    );
+    if (a - b).abs() > period {
+        return Err(line);
+    }
+    Ok(line)
 }
 
 /// Captured no later than the ideal Dubins pursuer + 3 s (the rover starts from rest), no
