@@ -238,11 +238,12 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
         ("TC_TGT_SIG", 0.0),
         ("TC_TGT_SIGH", 0.0),
         ("TC_LEAD", 0.0),
+        ("TC_BANK_EFF", 1.0),
     ];
     assert_eq!(got, want.map(|(n, v)| (n.to_string(), v)));
     for (i, s) in list.iter().enumerate() {
         // param_count, param_index, param_type REAL32.
-        assert_eq!((s.u16(4), s.u16(6), s.u8(24)), (15, i as u16, 9));
+        assert_eq!((s.u16(4), s.u16(6), s.u8(24)), (16, i as u16, 9));
     }
     let by_name = link.send(
         (255, 190),
@@ -268,10 +269,11 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
     assert_eq!(ok.len(), 1);
     assert_eq!(param(&ok[0]), ("TC_TIMEOUT".into(), 0.5));
     for (name, value, kept) in [
-        ("TC_V_EM", 3.0, 1.0),    // v_em above v_pm
-        ("TC_W_PM", 0.5, 2.0),    // w_pm below w_em
-        ("TC_VEHICLE", 3.0, 0.0), // no such vehicle kind
-        ("TC_SYSID", 1.5, 1.0),   // not a whole number
+        ("TC_V_EM", 3.0, 1.0),     // v_em above v_pm
+        ("TC_W_PM", 0.5, 2.0),     // w_pm below w_em
+        ("TC_VEHICLE", 4.0, 0.0),  // no such vehicle kind
+        ("TC_BANK_EFF", 0.0, 1.0), // no turn at any bank
+        ("TC_SYSID", 1.5, 1.0),    // not a whole number
         ("TC_TIMEOUT", f32::NAN, 0.5),
         ("TC_V_PM", 1.0e9, 2.0), // beyond the envelope
     ] {
@@ -283,7 +285,7 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
     let unknown = link.set("TC_NOPE", 1.0);
     assert_eq!(unknown.len(), 1);
     assert_eq!(status(&unknown[0]).0, WARNING);
-    assert_eq!(link.endpoint.counters().param_refusals, 7);
+    assert_eq!(link.endpoint.counters().param_refusals, 8);
 }
 
 /// The paper's case 1 at ten times its lengths: the setpoint is the sampled law's, its sign
@@ -438,6 +440,36 @@ fn a_fixed_wing_gets_the_bank_angle_of_a_coordinated_turn_and_its_heading() {
         want.abs() > 0.1 && (roll - want).abs() < 1e-4,
         "{roll} vs {want}"
     );
+}
+
+/// TC_VEHICLE 3 (ArduPlane in GUIDED): the roll alone (type_mask 198: pitch, yaw and throttle
+/// left to its energy controller), the bank of the law's rate over TC_BANK_EFF.
+#[test]
+fn a_roll_only_fixed_wing_gets_the_bank_for_its_share_of_a_coordinated_turn() {
+    let (pursuer, evader) = CASE1;
+    let mut ground = Link::new();
+    ground.scale_tenfold();
+    ground.position(TARGET, 0, evader, 10.0);
+    let rate =
+        f64::from(attitude(of(&ground.position(OWN, 0, pursuer, 20.0), SET_ATTITUDE_TARGET)[0]).3);
+    for efficiency in [1.0, 0.75] {
+        let mut link = Link::new();
+        link.scale_tenfold();
+        link.set("TC_VEHICLE", 3.0);
+        let echo = link.set("TC_BANK_EFF", efficiency);
+        assert_eq!(param(&echo[0]), ("TC_BANK_EFF".into(), efficiency));
+        link.position(TARGET, 0, evader, 10.0);
+        let sent = link.position(OWN, 0, pursuer, 20.0);
+        let (_, _, mask, yaw_rate, _, q) = attitude(of(&sent, SET_ATTITUDE_TARGET)[0]);
+        assert_eq!((mask, yaw_rate), (2 | 4 | 64 | 128, 0.0));
+        let [w, x, y, z] = q.map(f64::from);
+        let roll = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y));
+        let want = (20.0 * rate / (f64::from(efficiency) * 9.80665)).atan();
+        assert!(
+            want.abs() > 0.1 && (roll - want).abs() < 1e-4,
+            "TC_BANK_EFF {efficiency}: {roll} vs {want}"
+        );
+    }
 }
 
 /// TC_VEHICLE 2 (a PX4 rover, which takes no yaw rate): a velocity setpoint in the local NED

@@ -78,10 +78,13 @@ const MIN_COURSE_SPEED_CM_S: f32 = 20.0;
 const FOLLOW_POSITION: u8 = 1 << 0;
 const FOLLOW_VELOCITY: u8 = 1 << 1;
 const FOLLOW_ATTITUDE: u8 = 1 << 3;
-/// SET_ATTITUDE_TARGET's type_mask: yaw rate and thrust used (ground vehicles), or attitude and
-/// thrust used (fixed wing).
+/// SET_ATTITUDE_TARGET's type_mask: yaw rate and thrust used (ground vehicles), attitude and
+/// thrust used (fixed wing), or the attitude's roll alone, pitch, yaw and throttle left to the
+/// autopilot's energy and yaw control (ArduPlane reads bit 128 set with the roll rate's bit
+/// clear as "roll from the quaternion").
 const YAW_RATE_ONLY: u8 = 1 | 2 | 128;
 const ATTITUDE_ONLY: u8 = 1 | 2 | 4;
+const ROLL_ONLY: u8 = 2 | 4 | 64 | 128;
 /// SET_POSITION_TARGET_LOCAL_NED's type_mask with the velocity used and position,
 /// acceleration, yaw and yaw rate ignored (a PX4 rover in OFFBOARD).
 const VELOCITY_ONLY: u16 = 1 | 2 | 4 | 64 | 128 | 256 | 1024 | 2048;
@@ -853,11 +856,21 @@ impl Session {
             target_component: AUTOPILOT_COMPONENT,
             type_mask: AttitudeTargetTypemask::from_bits_retain(YAW_RATE_ONLY),
         };
-        if self.params.byte(index::VEHICLE) == 1 {
-            message.q = roll_yaw_quaternion(bank_angle(speed, rate), heading);
-            message.type_mask = AttitudeTargetTypemask::from_bits_retain(ATTITUDE_ONLY);
-        } else {
-            message.body_yaw_rate = rate;
+        match self.params.byte(index::VEHICLE) {
+            vehicle @ (1 | 3) => {
+                // An aircraft that makes a share k of a coordinated turn's rate at a bank is
+                // asked the bank of rate omega / k.
+                let efficiency = self.params.get(index::BANK_EFF).unwrap_or(1.0);
+                let bank = bank_angle(speed, rate / efficiency);
+                message.q = roll_yaw_quaternion(bank, heading);
+                let mask = if vehicle == 1 {
+                    ATTITUDE_ONLY
+                } else {
+                    ROLL_ONLY
+                };
+                message.type_mask = AttitudeTargetTypemask::from_bits_retain(mask);
+            }
+            _ => message.body_yaw_rate = rate,
         }
         self.outbox.send(sysid, &message, send);
     }

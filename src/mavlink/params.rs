@@ -52,7 +52,7 @@ pub mod index {
     /// The target's system id.
     pub const TGT_SYSID: usize = 4;
     /// 0 ground vehicle (yaw rate), 1 fixed wing (bank angle), 2 ground vehicle by velocity
-    /// (PX4 rovers).
+    /// (PX4 rovers), 3 fixed wing by roll alone (the autopilot holds airspeed and height).
     pub const VEHICLE: usize = 5;
     /// The Configure policy byte: 0 paper, 1 flight.
     pub const POLICY: usize = 6;
@@ -75,17 +75,20 @@ pub mod index {
     /// How long after a setpoint the vehicle turns as told, s: both states are carried that
     /// far ahead.
     pub const LEAD: usize = 14;
+    /// The share of a coordinated turn's rate the aircraft makes at a bank: the bank for turn
+    /// rate omega is atan(v_pm omega / (TC_BANK_EFF g)).
+    pub const BANK_EFF: usize = 15;
 }
 
 /// Every parameter, in index order. Speeds and curvatures span the law's envelope
 /// ([`crate::law::geometry::MAX_SPEED`] and its kin); the limits are also checked together.
-pub const SPECS: [Spec; 15] = [
+pub const SPECS: [Spec; 16] = [
     real("TC_V_PM", 2.0, 1.0e-3, 1.0e4),
     real("TC_W_PM", 2.0, 1.0e-4, 1.0e4),
     real("TC_V_EM", 1.0, 1.0e-3, 1.0e4),
     real("TC_W_EM", 1.0, 1.0e-4, 1.0e4),
     whole("TC_TGT_SYSID", 2.0, 1.0, 255.0),
-    whole("TC_VEHICLE", 0.0, 0.0, 2.0),
+    whole("TC_VEHICLE", 0.0, 0.0, 3.0),
     whole("TC_POLICY", 1.0, 0.0, 1.0),
     real("TC_TIMEOUT", 1.0, 0.01, 60.0),
     whole("TC_SYSID", 1.0, 1.0, 255.0),
@@ -95,6 +98,7 @@ pub const SPECS: [Spec; 15] = [
     real("TC_TGT_SIG", 0.0, 0.0, 100.0),
     real("TC_TGT_SIGH", 0.0, 0.0, 3.0),
     real("TC_LEAD", 0.0, 0.0, 5.0),
+    real("TC_BANK_EFF", 1.0, 0.1, 2.0),
 ];
 
 /// Why a PARAM_SET was refused (the STATUSTEXT says which).

@@ -3,10 +3,14 @@
 //! the ground station, the router between them and the target: an evader of the adversary suite
 //! simulated as a Dubins car and reported as system 2's GLOBAL_POSITION_INT (docs/ardupilot.md).
 
+mod aircraft;
+pub mod plane;
 mod rover_evader;
 mod sitl;
 mod telemetry;
 mod vehicle;
+
+use sitl::{Frame, Launch};
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -65,17 +69,26 @@ fn configure_field(h: &mut Harness) -> Result<(), String> {
     Ok(())
 }
 
-/// Runs the chases; the outcomes, the measured limits, the law's and the harness (for the
-/// telemetry's figures).
-pub fn fly(options: &Options) -> Result<Flown, String> {
-    let binary = sitl::find(options.ardurover.as_deref()).ok_or(
-        "ArduPilot Rover SITL not found: give --ardurover PATH or set TWOCARS_ARDUROVER \
-         (docs/ardupilot.md says how to build it)",
-    )?;
+/// The unit (the QEMU image or the companion), SITL instance 0 of `frame` at home running
+/// `speedup` times the wall clock, and the router between them: signed where the unit's image
+/// has a key.
+fn connect(
+    binary: &std::path::Path,
+    frame: Frame,
+    speedup: u32,
+    companion: bool,
+) -> Result<(unit::Unit, sitl::Sitl, Router), String> {
     let key = signing_key()?;
-    let (launched, unit) = unit::start(options.companion, key)?;
+    let (launched, unit) = unit::start(companion, key)?;
     let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
-    let (_sitl, mut serial0) = sitl::Sitl::start(&binary, 0, home, 0.0)?;
+    let launch = Launch {
+        frame,
+        instance: 0,
+        home,
+        heading: 0.0,
+        speedup,
+    };
+    let (sitl, mut serial0) = sitl::Sitl::start(binary, launch)?;
     let router = match key {
         None => Router::new(serial0, unit)?,
         Some(key) => {
@@ -85,6 +98,17 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
             Router::new(sitl::connect_serial1(0)?, unit)?.with_signing(key, serial0)?
         }
     };
+    Ok((launched, sitl, router))
+}
+
+/// Runs the chases; the outcomes, the measured limits, the law's and the harness (for the
+/// telemetry's figures).
+pub fn fly(options: &Options) -> Result<Flown, String> {
+    let binary = sitl::find(Frame::Rover, options.ardurover.as_deref()).ok_or(
+        "ArduPilot Rover SITL not found: give --ardurover PATH or set TWOCARS_ARDUROVER \
+         (docs/ardupilot.md says how to build it)",
+    )?;
+    let (launched, _sitl, router) = connect(&binary, Frame::Rover, 1, options.companion)?;
     let mut h = Harness::new(router, HOME, TARGET_SYSTEM);
     println!("ArduPilot Rover SITL: {}", binary.display());
     let ready = vehicle::make_ready(&mut h, WP_SPEED)?;
@@ -115,7 +139,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
     // The law plans each turn over the rover's yaw-rate response: planned over the 50 ms
     // between its fixes, the rate controller's lag makes the rover weave (docs/ardupilot.md).
     let period = (measured.response * 100.0).round() / 100.0;
-    configure_unit(&mut h, limits, period)?;
+    configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;
     if options.field {
         configure_field(&mut h)?;
     }
@@ -310,10 +334,11 @@ pub fn run(options: &Options) -> i32 {
 /// simulated and then a second rover, with ArduPilot Rover SITL where it is found (said plainly
 /// where not); the same start signed both ways.
 pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
+    plane::record_tests(record);
     println!(
         "== xtask test: ArduPilot Rover SITL flying the pursuer, the MAVLink image its companion"
     );
-    if sitl::find(None).is_none() {
+    if sitl::find(Frame::Rover, None).is_none() {
         println!(
             "   SKIPPED: ArduPilot Rover SITL not found (TWOCARS_ARDUROVER or \
              ../shared/ardupilot/ardurover); docs/ardupilot.md says how to build it"
@@ -369,7 +394,7 @@ fn check_chase(flown: &Flown) -> Result<String, String> {
     let o = flown.outcomes.first().ok_or("no chase flown")?;
     let captured = o.captured.ok_or("never captured")?;
     let stop = o.to_stop_message.ok_or("ArduPilot never said it stopped")?;
-    let still = o.to_standstill.ok_or("the rover never stood still")?;
+    let still = o.to_failsafe.ok_or("the rover never stood still")?;
     let stale = o
         .unit_stale_after
         .ok_or("the unit never said the target was stale")?;

@@ -15,7 +15,7 @@ use mavlink::dialects::common::{
     AttitudeTargetTypemask, GLOBAL_POSITION_INT_DATA, SET_ATTITUDE_TARGET_DATA,
 };
 
-use super::sitl::Sitl;
+use super::sitl::{Frame, Launch, Sitl};
 use super::vehicle::{make_ready, YAW_RATE_AND_THRUST};
 use crate::autopilot::chase::{chase_params, place, pursue, Began, Outcome, Start};
 use crate::autopilot::harness::{Harness, Injector, NoTarget, RoverFix, AUTOPILOT};
@@ -47,7 +47,14 @@ pub fn launch(
     let heading = state[2].to_degrees().rem_euclid(360.0);
     let binary = binary.to_path_buf();
     let starting = std::thread::spawn(move || -> Result<EvaderRover, String> {
-        let (sitl, serial0) = Sitl::start(&binary, INSTANCE, home, heading)?;
+        let launch = Launch {
+            frame: Frame::Rover,
+            instance: INSTANCE,
+            home,
+            heading,
+            speedup: 1,
+        };
+        let (sitl, serial0) = Sitl::start(&binary, launch)?;
         let mut harness = Harness::new(Router::alone(serial0)?, HOME, 0);
         make_ready(&mut harness, wp_speed)?;
         Ok(EvaderRover {
@@ -172,7 +179,7 @@ pub fn fly(
         .rover
         .ok_or("no fix from the evader's rover")?
         .state;
-    let params = chase_params(limits, rover.state, evader0, eps);
+    let params = chase_params(limits, rover.state, evader0, eps, h.chase_limit_s);
     let adversary = Adversary::new(Opponent::Evader(start.evader), limits, params.dt, eps, seed)
         .ok_or("the adversary's limits are invalid")?;
     let fixes_before = evader.harness.fixes.len();

@@ -1,21 +1,51 @@
-//! ArduPilot Rover SITL as a child process: found, started in its own working directory under
-//! `target/ardupilot/`, its SERIAL0 (TCP 5760 + 10 x instance) connected, killed on drop.
+//! ArduPilot SITL (Rover or Plane) as a child process: found, started in its own working
+//! directory under `target/ardupilot/`, its SERIAL0 (TCP 5760 + 10 x instance) connected, killed
+//! on drop.
 
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 
-/// Where `ardurover` is looked for when no path is given: beside the repository, as the team's
-/// machines have it.
-const SHARED: &str = "../shared/ardupilot/ardurover";
+/// Which ArduPilot vehicle: its binary, SITL model and default parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Frame {
+    Rover,
+    Plane,
+}
 
-/// The SITL binary: `explicit`, else `TWOCARS_ARDUROVER`, else `../shared/ardupilot/ardurover`
-/// from the workspace; `None` where none exists.
-pub fn find(explicit: Option<&Path>) -> Option<PathBuf> {
+impl Frame {
+    /// The binary's name, as the team's machines have it in `../shared/ardupilot/`.
+    pub fn binary(self) -> &'static str {
+        match self {
+            Frame::Rover => "ardurover",
+            Frame::Plane => "arduplane",
+        }
+    }
+
+    /// The environment variable that names the binary.
+    pub fn variable(self) -> &'static str {
+        match self {
+            Frame::Rover => "TWOCARS_ARDUROVER",
+            Frame::Plane => "TWOCARS_ARDUPLANE",
+        }
+    }
+
+    fn model(self) -> &'static str {
+        match self {
+            Frame::Rover => "rover",
+            Frame::Plane => "plane",
+        }
+    }
+}
+
+/// The SITL binary for `frame`: `explicit`, else its variable ([`Frame::variable`]), else
+/// `../shared/ardupilot/<binary>` from the workspace; `None` where none exists.
+pub fn find(frame: Frame, explicit: Option<&Path>) -> Option<PathBuf> {
+    let shared = format!("../shared/ardupilot/{}", frame.binary());
     let candidates = [
         explicit.map(Path::to_path_buf),
-        std::env::var_os("TWOCARS_ARDUROVER").map(PathBuf::from),
-        Some(crate::workspace::root().join(SHARED)),
+        std::env::var_os(frame.variable()).map(PathBuf::from),
+        Some(crate::workspace::root().join(shared)),
     ];
     candidates.into_iter().flatten().find(|p| p.is_file())
 }
@@ -32,36 +62,45 @@ impl Drop for Sitl {
     }
 }
 
-/// The default parameters beside the binary (`rover.parm`), where present.
-fn defaults(binary: &Path) -> Option<PathBuf> {
-    let p = binary.parent()?.join("rover.parm");
+/// The default parameters beside the binary (`rover.parm`, `plane.parm`), where present.
+fn defaults(binary: &Path, frame: Frame) -> Option<PathBuf> {
+    let p = binary.parent()?.join(format!("{}.parm", frame.model()));
     p.is_file().then_some(p)
 }
 
+/// How a SITL instance starts: its vehicle, its instance number (ports shifted by 10 N), home
+/// (lat, lon in degrees) and heading (degrees clockwise from north), and how much faster than
+/// the wall clock it runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Launch {
+    pub frame: Frame,
+    pub instance: u16,
+    pub home: (f64, f64),
+    pub heading: f64,
+    pub speedup: u32,
+}
+
 impl Sitl {
-    /// Starts `binary` as instance `instance` with wiped parameters at `home` (lat, lon in
-    /// degrees) heading `heading` (degrees clockwise from north), and connects to its SERIAL0
+    /// Starts `binary` as `launch` says, with wiped parameters, and connects to its SERIAL0
     /// (SITL waits for that client before it runs).
-    pub fn start(
-        binary: &Path,
-        instance: u16,
-        home: (f64, f64),
-        heading: f64,
-    ) -> Result<(Sitl, TcpStream), String> {
+    pub fn start(binary: &Path, launch: Launch) -> Result<(Sitl, TcpStream), String> {
+        let instance = launch.instance;
         let dir = crate::workspace::target_dir().join(format!("ardupilot/instance{instance}"));
         // A fresh directory: SITL keeps a 16 MB dataflash log of every run in it.
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let (lat, lon) = launch.home;
         let mut command = Command::new(binary);
         command
             .current_dir(&dir)
-            .args(["--model", "rover", "--speedup", "1", "-w"])
+            .args(["--model", launch.frame.model(), "-w"])
+            .arg(format!("--speedup={}", launch.speedup))
             .arg(format!("-I{instance}"))
-            .arg(format!("--home={},{},584,{heading}", home.0, home.1))
+            .arg(format!("--home={lat},{lon},584,{}", launch.heading))
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::null());
-        if let Some(parm) = defaults(binary) {
+        if let Some(parm) = defaults(binary, launch.frame) {
             command.arg("--defaults").arg(parm);
         }
         let child = command

@@ -65,28 +65,53 @@ pub fn make_ready(h: &mut Harness, wp_speed: f32) -> Result<Ready, String> {
         return Err("ArduPilot's EKF never used GPS (120 s)".to_string());
     }
     let ekf_s = start.elapsed().as_secs_f64();
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while !(h.armed && h.mode == Some(GUIDED)) {
-        if Instant::now() > deadline {
-            return Err(format!(
-                "ArduPilot never armed in GUIDED (mode {:?}, armed {})",
-                h.mode, h.armed
-            ));
-        }
-        let guided = [1.0, GUIDED as f32, 0.0, 0.0, 0.0, 0.0, 0.0];
-        h.router
-            .send_to_autopilot(&command(MavCmd::MAV_CMD_DO_SET_MODE, guided))?;
-        let arm = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-        h.router
-            .send_to_autopilot(&command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, arm))?;
-        h.pump_until(&mut NoTarget, Duration::from_secs(1), &mut |h| {
-            h.armed && h.mode == Some(GUIDED)
-        })?;
-    }
+    switch_mode(h, GUIDED, true, Duration::from_secs(60))?;
     Ok(Ready {
         ekf_s,
         armed_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Asks for `mode` (and arming, with `arm`) once a second until the heartbeat shows both,
+/// `within` of wall clock at most.
+pub fn switch_mode(h: &mut Harness, mode: u32, arm: bool, within: Duration) -> Result<(), String> {
+    let deadline = Instant::now() + within;
+    while !(h.mode == Some(mode) && (h.armed || !arm)) {
+        if Instant::now() > deadline {
+            return Err(format!(
+                "ArduPilot never took mode {mode} (mode {:?}, armed {})",
+                h.mode, h.armed
+            ));
+        }
+        let set = [1.0, mode as f32, 0.0, 0.0, 0.0, 0.0, 0.0];
+        h.router
+            .send_to_autopilot(&command(MavCmd::MAV_CMD_DO_SET_MODE, set))?;
+        if arm {
+            let arm = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+            h.router
+                .send_to_autopilot(&command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, arm))?;
+        }
+        h.pump_until(&mut NoTarget, Duration::from_secs(1), &mut |h| {
+            h.mode == Some(mode) && (h.armed || !arm)
+        })?;
+    }
+    Ok(())
+}
+
+/// Sends `setpoint` to the autopilot every 50 ms of its clock until `end_ms`.
+pub fn send_until(
+    h: &mut Harness,
+    setpoint: &SET_ATTITUDE_TARGET_DATA,
+    end_ms: u32,
+) -> Result<(), String> {
+    while h.now_ms() < end_ms {
+        h.router.send_to_autopilot(setpoint)?;
+        let next = h.now_ms() + 50;
+        h.pump_until(&mut NoTarget, Duration::from_secs(2), &mut |h| {
+            h.now_ms() >= next
+        })?;
+    }
+    Ok(())
 }
 
 /// The ground station's setpoint (yaw rate, thrust 1) at 20 Hz for `seconds` of the rover's
@@ -110,13 +135,7 @@ fn drive(h: &mut Harness, yaw_rate: f32, seconds: f64) -> Result<(f64, f64, f64)
     let end = start + (seconds * 1000.0) as u32;
     let half = start + (seconds * 500.0) as u32;
     let (fixes, rates) = (h.fixes.len(), h.yaw_rates.len());
-    while h.now_ms() < end {
-        h.router.send_to_autopilot(&setpoint)?;
-        let next = h.now_ms() + 50;
-        h.pump_until(&mut NoTarget, Duration::from_secs(2), &mut |h| {
-            h.now_ms() >= next
-        })?;
-    }
+    send_until(h, &setpoint, end)?;
     let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len().max(1) as f64;
     let speed = mean(
         h.fixes[fixes..]

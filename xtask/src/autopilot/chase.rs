@@ -3,7 +3,7 @@
 //! the rover's; the unit flies the rover; capture when the rover's fix is within the capture
 //! radius; then the target goes silent and the failsafe chain is timed: the unit's last
 //! setpoint, the autopilot's word that it stopped (ArduPilot's "target not received") and the
-//! rover at a standstill.
+//! rover at a standstill, or an aircraft's navigation back at its own roll.
 
 use std::time::Duration;
 
@@ -15,7 +15,7 @@ use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 use twocars::{Policy, Variant};
 
 use super::field::Delayed;
-use super::harness::{Harness, Injector, RoverFix};
+use super::harness::{Harness, Injector, Pursuer, RoverFix};
 use super::router::Source;
 use super::wait_stopped;
 
@@ -121,8 +121,13 @@ pub struct Outcome {
     /// From the unit's last setpoint to the autopilot's word that it stopped
     /// ([`Harness::stop_text`]), s.
     pub to_stop_message: Option<f64>,
-    /// From the unit's last setpoint to the standstill, s.
-    pub to_standstill: Option<f64>,
+    /// From the unit's last setpoint to the autopilot's own failsafe: a rover at a standstill,
+    /// an aircraft's navigation demanding a roll of its own, s.
+    pub to_failsafe: Option<f64>,
+    /// The least and the greatest airspeed through the chase (VFR_HUD), m/s.
+    pub airspeed: Option<(f64, f64)>,
+    /// The least and the greatest height above home through the chase, m.
+    pub height: (f64, f64),
     /// The unit's "target stale" STATUSTEXT after capture, s after capture.
     pub unit_stale_after: Option<f64>,
     /// The rover's time at the chase's end (capture or time-out), ms.
@@ -191,7 +196,7 @@ pub fn fly(
 ) -> Result<Outcome, String> {
     let rover = h.rover.ok_or("no fix from the rover")?;
     let evader0 = place(rover.state, &start);
-    let params = chase_params(limits, rover.state, evader0, eps);
+    let params = chase_params(limits, rover.state, evader0, eps, h.chase_limit_s);
     let adversary = Adversary::new(Opponent::Evader(start.evader), limits, params.dt, eps, seed)
         .ok_or("the adversary's limits are invalid")?;
     let target = Target {
@@ -212,19 +217,22 @@ pub fn fly(
 
 /// A chase's parameters from the rover's and the evader's states: the host's step is the
 /// rover's fix interval.
-pub fn chase_params(limits: [f64; 4], pursuer: [f64; 3], evader: [f64; 3], eps: f64) -> SimParams {
+pub fn chase_params(
+    limits: [f64; 4],
+    pursuer: [f64; 3],
+    evader: [f64; 3],
+    eps: f64,
+    t_max: f64,
+) -> SimParams {
     SimParams {
         limits,
         pursuer,
         evader,
         dt: f64::from(super::STREAM_INTERVAL_US) * 1e-6,
-        t_max: T_MAX,
+        t_max,
         eps,
     }
 }
-
-/// A chase's time limit, s.
-pub const T_MAX: f64 = 120.0;
 
 /// How a chase began: the start, both states, the ideal pursuer's run from them.
 pub struct Began {
@@ -258,7 +266,7 @@ pub fn pursue<T: Injector>(
     field: bool,
 ) -> Result<Outcome, String> {
     let marks = Marks::now(h);
-    let wall = std::time::Instant::now() + Duration::from_secs_f64(T_MAX * 2.0 + 10.0);
+    let wall = std::time::Instant::now() + Duration::from_secs_f64(h.chase_limit_s * 2.0 + 10.0);
     // Through the field, the target's fixes come late, sparse and noisy.
     let mut delayed = Delayed::new(target, seed);
     while delayed.on() {
@@ -273,8 +281,12 @@ pub fn pursue<T: Injector>(
         h.pump_until(injector, Duration::from_millis(100), &mut |_| false)?;
     }
     let end_ms = h.now_ms();
-    // The failsafe: the target is silent from here; the rover must come to a standstill.
-    let stopped_ms = wait_stopped(h, &mut delayed, 15.0).ok();
+    // The failsafe: the target is silent from here; a rover must come to a standstill, an
+    // aircraft's autopilot take its roll back.
+    let failsafe_ms = match h.pursuer {
+        Pursuer::Rover => wait_stopped(h, &mut delayed, 15.0).ok(),
+        Pursuer::Aircraft => wait_own_roll(h, &mut delayed, marks.setpoints, 15.0)?,
+    };
     let ended = Ended {
         start: began.start,
         rover: began.rover,
@@ -282,10 +294,51 @@ pub fn pursue<T: Injector>(
         ideal: began.ideal.clone(),
         captured_ms: delayed.captured_ms(),
         end_ms,
-        stopped_ms,
+        failsafe_ms,
         v_pm: began.v_pm,
     };
     Ok(outcome(h, &marks, &ended))
+}
+
+/// A nav roll this far from the unit's last bank (deg) is the autopilot's own.
+const OWN_ROLL_DEG: f32 = 2.0;
+
+/// Forwards until the autopilot's navigation demands a roll of its own (more than
+/// [`OWN_ROLL_DEG`] from the unit's last bank, after the unit's last setpoint since
+/// `setpoints`), `seconds` of wall clock at most; its time then.
+fn wait_own_roll(
+    h: &mut Harness,
+    injector: &mut dyn Injector,
+    setpoints: usize,
+    seconds: f64,
+) -> Result<Option<u32>, String> {
+    let own = |h: &Harness| {
+        let last = h.setpoints[setpoints..].last()?;
+        let bank = last.bank.to_degrees();
+        h.nav_rolls
+            .iter()
+            .rev()
+            .take_while(|(t, _)| *t > last.time_ms)
+            .filter(|(_, roll)| (roll - bank).abs() > OWN_ROLL_DEG)
+            .map(|(t, _)| *t)
+            .last()
+    };
+    // The unit's setpoints must have ended first: no setpoint for a second of wall clock.
+    let mut count = h.setpoints.len();
+    let mut quiet_since = std::time::Instant::now();
+    let deadline = std::time::Instant::now() + Duration::from_secs_f64(seconds);
+    while std::time::Instant::now() < deadline {
+        h.pump_until(injector, Duration::from_millis(100), &mut |_| false)?;
+        if h.setpoints.len() != count {
+            count = h.setpoints.len();
+            quiet_since = std::time::Instant::now();
+        } else if quiet_since.elapsed() > Duration::from_secs(1) {
+            if let Some(t) = own(h) {
+                return Ok(Some(t));
+            }
+        }
+    }
+    Ok(None)
 }
 
 /// A chase as it ended.
@@ -296,10 +349,10 @@ struct Ended {
     evader0: [f64; 3],
     ideal: host_tests::sim::SimResult,
     /// The rover's time at capture, at the chase's end (capture or time-out) and at the
-    /// standstill after it, ms.
+    /// autopilot's own failsafe after it, ms.
     captured_ms: Option<u32>,
     end_ms: u32,
-    stopped_ms: Option<u32>,
+    failsafe_ms: Option<u32>,
     v_pm: f64,
 }
 
@@ -308,7 +361,7 @@ fn outcome(h: &Harness, marks: &Marks, e: &Ended) -> Outcome {
     let Ended {
         rover,
         end_ms,
-        stopped_ms,
+        failsafe_ms,
         ..
     } = *e;
     let last_setpoint = h.setpoints[marks.setpoints..].last().map(|s| s.time_ms);
@@ -346,10 +399,25 @@ fn outcome(h: &Harness, marks: &Marks, e: &Ended) -> Outcome {
         setpoints: h.setpoints.len() - marks.setpoints,
         flips: flips(&h.setpoints[marks.setpoints..], end_ms),
         to_stop_message: last_setpoint.zip(stop_message).map(|(a, b)| seconds(a, b)),
-        to_standstill: last_setpoint.zip(stopped_ms).map(|(a, b)| seconds(a, b)),
+        to_failsafe: last_setpoint.zip(failsafe_ms).map(|(a, b)| seconds(a, b)),
+        airspeed: range(
+            h.airspeeds
+                .iter()
+                .filter(|(t, _)| (rover.time_ms..=end_ms).contains(t))
+                .map(|(_, v)| f64::from(*v)),
+        ),
+        height: range(chase_fixes.iter().map(|f| f.height)).unwrap_or((f64::NAN, f64::NAN)),
         unit_stale_after: unit_stale.map(|t| seconds(end_ms, t)),
         end_ms,
     }
+}
+
+/// The least and the greatest of `values`; `None` where there are none.
+fn range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    values.fold(None, |r, v| match r {
+        None => Some((v, v)),
+        Some((lo, hi)) => Some((f64::min(lo, v), f64::max(hi, v))),
+    })
 }
 
 /// The setpoints up to `end_ms` whose yaw rate's sign is opposite to the last nonzero one's.

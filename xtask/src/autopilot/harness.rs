@@ -29,6 +29,8 @@ pub struct RoverFix {
     pub state: [f64; 3],
     /// Ground speed, m/s.
     pub speed: f64,
+    /// Height above home, m.
+    pub height: f64,
 }
 
 /// Puts the target's fix on the unit's link before each of the rover's.
@@ -65,6 +67,8 @@ pub struct Setpoint {
     pub yaw_rate: f32,
     /// Thrust; for a velocity setpoint its speed, m/s.
     pub thrust: f32,
+    /// For an attitude setpoint its roll, rad (positive right wing down); else 0.
+    pub bank: f32,
 }
 
 /// What the harness has read so far.
@@ -78,6 +82,12 @@ pub struct Harness {
     pub position: Option<GLOBAL_POSITION_INT_DATA>,
     /// The rover's yaw rate (ATTITUDE.yawspeed, rad/s) at the rover's time.
     pub yaw_rates: Vec<(u32, f32)>,
+    /// The aircraft's roll (ATTITUDE.roll, rad) at its time.
+    pub rolls: Vec<(u32, f32)>,
+    /// The aircraft's airspeed (VFR_HUD, m/s) at its time.
+    pub airspeeds: Vec<(u32, f32)>,
+    /// The roll the autopilot's navigation demands (NAV_CONTROLLER_OUTPUT.nav_roll, deg).
+    pub nav_rolls: Vec<(u32, f32)>,
     pub fixes: Vec<RoverFix>,
     pub armed: bool,
     pub mode: Option<u32>,
@@ -106,6 +116,22 @@ pub struct Harness {
     pub stop_text: &'static str,
     /// The unit's TC_PERIOD, s: a velocity setpoint's turn is over it.
     pub period: f32,
+    /// The unit's TC_V_PM (m/s) and TC_BANK_EFF: an attitude setpoint's roll is read as the
+    /// turn rate TC_BANK_EFF g tan(roll) / TC_V_PM.
+    pub bank_turn: (f32, f32),
+    /// The pursuer: a rover stops when the setpoints end, an aircraft flies on.
+    pub pursuer: Pursuer,
+    /// A chase's time limit, s of the autopilot's clock.
+    pub chase_limit_s: f64,
+}
+
+/// What kind of vehicle the pursuer is: what the failsafe after a chase is timed to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pursuer {
+    /// Timed to its standstill.
+    Rover,
+    /// Timed to its navigation's own roll (the autopilot's setpoint timeout).
+    Aircraft,
 }
 
 impl Harness {
@@ -117,6 +143,9 @@ impl Harness {
             rover: None,
             position: None,
             yaw_rates: Vec::new(),
+            rolls: Vec::new(),
+            airspeeds: Vec::new(),
+            nav_rolls: Vec::new(),
             fixes: Vec::new(),
             armed: false,
             mode: None,
@@ -133,6 +162,9 @@ impl Harness {
             last_gcs_heartbeat: None,
             stop_text: "target not received",
             period: 1.0,
+            bank_turn: (1.0, 1.0),
+            pursuer: Pursuer::Rover,
+            chase_limit_s: 120.0,
         }
     }
 
@@ -233,6 +265,7 @@ impl Harness {
             time_ms: p.time_boot_ms,
             state: [north, east, heading],
             speed: vn.hypot(ve),
+            height: f64::from(p.relative_alt) / 1000.0,
         }
     }
 
@@ -246,7 +279,14 @@ impl Harness {
                 self.mode = Some(h.custom_mode);
                 self.modes.push((now, h.custom_mode));
             }
-            MavMessage::ATTITUDE(a) if from_autopilot => self.yaw_rates.push((now, a.yawspeed)),
+            MavMessage::ATTITUDE(a) if from_autopilot => {
+                self.yaw_rates.push((now, a.yawspeed));
+                self.rolls.push((now, a.roll));
+            }
+            MavMessage::VFR_HUD(v) if from_autopilot => self.airspeeds.push((now, v.airspeed)),
+            MavMessage::NAV_CONTROLLER_OUTPUT(n) if from_autopilot => {
+                self.nav_rolls.push((now, n.nav_roll));
+            }
             MavMessage::COMMAND_ACK(a) if from_autopilot => {
                 self.acks.push((a.command as u32, a.result as u8));
             }
@@ -262,11 +302,10 @@ impl Harness {
                     .to_string();
                 self.params.push((source, name, p.param_value));
             }
-            MavMessage::SET_ATTITUDE_TARGET(s) if from_unit => self.setpoints.push(Setpoint {
-                time_ms: now,
-                yaw_rate: s.body_yaw_rate,
-                thrust: s.thrust,
-            }),
+            MavMessage::SET_ATTITUDE_TARGET(s) if from_unit => {
+                let setpoint = self.attitude_setpoint(&s, now);
+                self.setpoints.push(setpoint);
+            }
             MavMessage::SET_POSITION_TARGET_LOCAL_NED(s) if from_unit => {
                 let heading = self.rover.map_or(0.0, |r| r.state[2]);
                 let course = f64::from(s.vy).atan2(f64::from(s.vx));
@@ -278,6 +317,7 @@ impl Harness {
                     time_ms: now,
                     yaw_rate: turn as f32 / self.period,
                     thrust: s.vx.hypot(s.vy),
+                    bank: 0.0,
                 });
             }
             MavMessage::NAMED_VALUE_FLOAT(n) if from_unit => {
@@ -295,6 +335,33 @@ impl Harness {
                 }
             }
             _ => {}
+        }
+    }
+
+    /// The unit's SET_ATTITUDE_TARGET: its yaw rate, or where the attitude is used (type_mask
+    /// bit 128 clear, or the roll rate's bit 1 clear) the turn rate its roll asks for.
+    fn attitude_setpoint(
+        &self,
+        s: &mavlink::dialects::common::SET_ATTITUDE_TARGET_DATA,
+        now: u32,
+    ) -> Setpoint {
+        let mask = s.type_mask.bits();
+        if mask & 128 != 0 && mask & 1 != 0 {
+            return Setpoint {
+                time_ms: now,
+                yaw_rate: s.body_yaw_rate,
+                thrust: s.thrust,
+                bank: 0.0,
+            };
+        }
+        let [w, x, y, z] = s.q;
+        let bank = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y));
+        let (speed, efficiency) = self.bank_turn;
+        Setpoint {
+            time_ms: now,
+            yaw_rate: efficiency * twocars::geodetic::STANDARD_GRAVITY * bank.tan() / speed,
+            thrust: s.thrust,
+            bank,
         }
     }
 

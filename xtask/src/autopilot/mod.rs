@@ -69,7 +69,7 @@ pub struct Measured {
 /// The share of the rover's largest turn rate the law may command: the rest is the rate
 /// controller's room to track.
 pub const TURN_MARGIN: f64 = 0.8;
-/// Capture radius, m: a rover's length.
+/// Capture radius for rovers, m: a rover's length.
 pub const CAPTURE_RADIUS: f64 = 1.0;
 /// The target's system id (TC_TGT_SYSID's default).
 pub const TARGET_SYSTEM: u8 = 2;
@@ -138,9 +138,14 @@ pub fn starts_against(limits: [f64; 4], short: bool, evaders: &[EvaderKind]) -> 
     out
 }
 
-/// Sets the unit's TC_* parameters (speeds first, so each step keeps the limits valid); Err
-/// where one is not echoed.
-pub fn configure_unit(h: &mut Harness, limits: [f64; 4], period: f64) -> Result<(), String> {
+/// Sets the unit's TC_* parameters (speeds first, so each step keeps the limits valid), its
+/// capture radius `capture` (m) and guidance period `period` (s); Err where one is not echoed.
+pub fn configure_unit(
+    h: &mut Harness,
+    limits: [f64; 4],
+    capture: f64,
+    period: f64,
+) -> Result<(), String> {
     set_unit_params(
         h,
         &[
@@ -148,7 +153,7 @@ pub fn configure_unit(h: &mut Harness, limits: [f64; 4], period: f64) -> Result<
             ("TC_V_EM", limits[2]),
             ("TC_W_EM", limits[3]),
             ("TC_W_PM", limits[1]),
-            ("TC_CAPTURE", CAPTURE_RADIUS),
+            ("TC_CAPTURE", capture),
             ("TC_PERIOD", period),
         ],
     )
@@ -187,7 +192,7 @@ pub fn report(o: &Outcome, limits: [f64; 4]) -> String {
         "{} vs {:?}: start {:.1} m; the law's value at t = 0 {:.2} s (the unit's first TC_T {}); {captured}\n  \
          causes: speed {:.2} m/s at 1 s, {:.1} m short of v_pm t by capture (~{:.2} s of delay at v_pm); \
          turn-rate tracking rms {:.2} rad/s ({:.2} away from the switches); {} setpoints, {} sign flips\n  \
-         failsafe: the unit's \"target stale\" {} after capture; from its last setpoint, the autopilot's stop {} and standstill {}",
+         failsafe: the unit's \"target stale\" {} after capture; from its last setpoint, the autopilot's word {} and its failsafe {} (a rover at a standstill, an aircraft at its own roll)",
         o.start.name,
         o.start.evader,
         o.distance,
@@ -202,7 +207,7 @@ pub fn report(o: &Outcome, limits: [f64; 4]) -> String {
         o.flips,
         seconds(o.unit_stale_after),
         seconds(o.to_stop_message),
-        seconds(o.to_standstill),
+        seconds(o.to_failsafe),
     )
 }
 

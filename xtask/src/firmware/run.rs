@@ -101,6 +101,17 @@ pub struct RunArgs {
     /// (over TCP to the router) in place of the QEMU image (docs/companion.md).
     #[arg(long)]
     companion: bool,
+    /// With `--link ardupilot`: the pursuer a rover (ArduPilot Rover) or a plane (ArduPlane,
+    /// in GUIDED under roll setpoints).
+    #[arg(long, value_enum, default_value = "rover")]
+    vehicle: RunVehicle,
+    /// With `--link ardupilot --vehicle plane`: the `arduplane` SITL binary (default:
+    /// TWOCARS_ARDUPLANE, then ../shared/ardupilot/arduplane).
+    #[arg(long)]
+    arduplane: Option<std::path::PathBuf>,
+    /// With `--vehicle plane`: SITL's speed-up over the wall clock.
+    #[arg(long, default_value_t = crate::ardupilot::plane::SPEEDUP)]
+    speedup: u32,
     /// With `--link px4`: the `px4` SITL binary, its `etc/` beside `bin/` (default:
     /// ../shared/px4/bin/px4).
     #[arg(long)]
@@ -118,6 +129,15 @@ pub enum RunLink {
     Ardupilot,
     /// MAVLink 2 with PX4 SITL (SIH Ackermann rover) flying the pursuer (docs/px4.md).
     Px4,
+}
+
+/// The pursuer's vehicle under an autopilot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunVehicle {
+    /// A ground vehicle.
+    Rover,
+    /// A fixed-wing aircraft.
+    Plane,
 }
 
 /// The boards `run` can emulate.
@@ -326,6 +346,14 @@ pub fn run(args: &RunArgs) -> i32 {
     if args.link == RunLink::Ardupilot {
         if let Some(key) = &args.signing_key {
             set_signing_key(key);
+        }
+        if args.vehicle == RunVehicle::Plane {
+            return crate::ardupilot::plane::run(&crate::ardupilot::plane::Options {
+                arduplane: args.arduplane.clone(),
+                short: false,
+                companion: args.companion,
+                speedup: args.speedup,
+            });
         }
         let options = crate::ardupilot::Options {
             ardurover: args.ardurover.clone(),

@@ -78,7 +78,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         threshold(limits),
     );
     set_unit_params(&mut h, &[("TC_VEHICLE", 2.0)])?;
-    configure_unit(&mut h, limits, period)?;
+    configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;
     h.period = period as f32;
     let mut outcomes = Vec::new();
     let mut failsafe_in_chase = Vec::new();
@@ -201,7 +201,7 @@ fn check_chase(flown: &Flown) -> Result<String, String> {
         o.flips,
         if failsafe { "PX4 LEFT OFFBOARD during the chase" } else { "OFFBOARD throughout" },
         crate::autopilot::seconds(o.to_stop_message),
-        crate::autopilot::seconds(o.to_standstill),
+        crate::autopilot::seconds(o.to_failsafe),
     );
     if captured > o.ideal + 3.0 || failsafe || o.flips > 5 {
         return Err(line);
