@@ -15,6 +15,16 @@ pub const PARAM_REQUEST_READ: (u32, u8) = (20, 214);
 pub const PARAM_REQUEST_LIST: (u32, u8) = (21, 159);
 /// (message id, CRC_EXTRA).
 pub const HEARTBEAT: (u32, u8) = (0, 50);
+/// VFR_HUD: an autopilot's airspeed, ground speed, altitude and climb.
+pub const VFR_HUD: (u32, u8) = (74, 20);
+
+/// VFR_HUD's payload in wire order: airspeed, ground speed, altitude and climb (f32), then
+/// heading (i16) and throttle (u16); only the airspeed (m/s) set.
+pub fn vfr_hud_payload(airspeed: f32) -> Vec<u8> {
+    let mut p = airspeed.to_le_bytes().to_vec();
+    p.extend_from_slice(&[0u8; 16]);
+    p
+}
 
 /// X.25 (CRC-16/MCRF4XX) as the MAVLink specification gives it.
 pub fn x25(bytes: &[u8]) -> u16 {
@@ -95,12 +105,24 @@ pub fn position_payload_at(
     vy: i16,
     hdg: u16,
 ) -> Vec<u8> {
+    position_payload_in_air(time_boot_ms, [lat, lon], [vx, vy, 5], hdg, 10_000)
+}
+
+/// GLOBAL_POSITION_INT's payload with the height above home `relative_alt` (mm) and the
+/// velocity north, east and down (cm/s).
+pub fn position_payload_in_air(
+    time_boot_ms: u32,
+    [lat, lon]: [i32; 2],
+    velocity: [i16; 3],
+    hdg: u16,
+    relative_alt: i32,
+) -> Vec<u8> {
     let mut p = Vec::new();
     p.extend_from_slice(&time_boot_ms.to_le_bytes());
-    for v in [lat, lon, 500_000, 10_000] {
+    for v in [lat, lon, 500_000, relative_alt] {
         p.extend_from_slice(&v.to_le_bytes());
     }
-    for v in [vx, vy, 5] {
+    for v in velocity {
         p.extend_from_slice(&v.to_le_bytes());
     }
     p.extend_from_slice(&hdg.to_le_bytes());

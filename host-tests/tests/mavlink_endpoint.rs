@@ -5,10 +5,10 @@
 use host_tests::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
 use host_tests::mavlink_spec::{
     follow_target_payload, param_request_list_payload, param_request_read_payload,
-    param_set_payload, position_payload_at, read_v2, v2_from, Sent, FOLLOW_TARGET,
-    GLOBAL_POSITION_INT, HEARTBEAT, NAMED_VALUE_FLOAT, PARAM_REQUEST_LIST, PARAM_REQUEST_READ,
-    PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT, SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED,
-    STATUSTEXT,
+    param_set_payload, position_payload_at, position_payload_in_air, read_v2, v2_from,
+    vfr_hud_payload, Sent, FOLLOW_TARGET, GLOBAL_POSITION_INT, HEARTBEAT, NAMED_VALUE_FLOAT,
+    PARAM_REQUEST_LIST, PARAM_REQUEST_READ, PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT,
+    SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED, STATUSTEXT, VFR_HUD,
 };
 use std::f64::consts::{FRAC_PI_2, PI};
 use twocars::mavlink::{Endpoint, SPECS};
@@ -271,7 +271,7 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
     for (name, value, kept) in [
         ("TC_V_EM", 3.0, 1.0),     // v_em above v_pm
         ("TC_W_PM", 0.5, 2.0),     // w_pm below w_em
-        ("TC_VEHICLE", 4.0, 0.0),  // no such vehicle kind
+        ("TC_VEHICLE", 5.0, 0.0),  // no such vehicle kind
         ("TC_BANK_EFF", 0.0, 1.0), // no turn at any bank
         ("TC_SYSID", 1.5, 1.0),    // not a whole number
         ("TC_TIMEOUT", f32::NAN, 0.5),
@@ -470,6 +470,55 @@ fn a_roll_only_fixed_wing_gets_the_bank_for_its_share_of_a_coordinated_turn() {
             "TC_BANK_EFF {efficiency}: {roll} vs {want}"
         );
     }
+}
+
+/// TC_VEHICLE 4 (PX4 in offboard): the bank as TC_VEHICLE 1, and pitch and thrust from the
+/// unit's energy hold: level at the height it starts at, nose up when the aircraft sinks below
+/// it, more throttle when VFR_HUD's airspeed falls below TC_V_PM.
+#[test]
+fn an_energy_holding_fixed_wing_pitches_for_height_and_throttles_for_airspeed() {
+    let mut link = Link::new();
+    link.scale_tenfold();
+    link.set("TC_VEHICLE", 4.0);
+    let (pursuer, evader) = CASE1;
+    let (lat, lon) = link.plane.fix(pursuer[0], pursuer[1]);
+    let (vx, vy) = velocity_cm_s(20.0, pursuer[2]);
+    let hdg = hdg_cdeg(pursuer[2]);
+    let own = |link: &mut Link, time_ms: u32, height_mm: i32, vz: i16| {
+        link.position(TARGET, time_ms, evader, 10.0);
+        let payload = position_payload_in_air(time_ms, [lat, lon], [vx, vy, vz], hdg, height_mm);
+        let sent = link.send(OWN, GLOBAL_POSITION_INT, &payload);
+        let (_, _, mask, _, thrust, q) = attitude(of(&sent, SET_ATTITUDE_TARGET)[0]);
+        let [w, x, y, z] = q.map(f64::from);
+        let roll = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y));
+        let pitch = (2.0 * (w * y - z * x)).asin();
+        (mask, roll, pitch, thrust)
+    };
+    let (mask, roll, pitch, level_thrust) = own(&mut link, 0, 100_000, 0);
+    assert_eq!(mask, 1 | 2 | 4);
+    assert!(pitch.abs() < 1e-3, "level at the height held: {pitch}");
+    assert!((0.0..=1.0).contains(&level_thrust));
+    // The bank is TC_VEHICLE 1's on the same states.
+    let mut bank = Link::new();
+    bank.scale_tenfold();
+    bank.set("TC_VEHICLE", 1.0);
+    bank.position(TARGET, 0, evader, 10.0);
+    let sent = bank.position(OWN, 0, pursuer, 20.0);
+    let [w, x, y, z] = attitude(of(&sent, SET_ATTITUDE_TARGET)[0]).5.map(f64::from);
+    let want = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y));
+    assert!(
+        want.abs() > 0.1 && (roll - want).abs() < 1e-4,
+        "{roll} vs {want}"
+    );
+    // 10 m below the height held and sinking at 1 m/s: nose up.
+    let (_, _, pitch, _) = own(&mut link, 50, 90_000, 100);
+    assert!(pitch > 0.2, "{pitch}");
+    // VFR_HUD says 15 m/s, a quarter below TC_V_PM: more throttle than at 20 m/s.
+    link.send(OWN, VFR_HUD, &vfr_hud_payload(20.0));
+    let (_, _, _, at_speed) = own(&mut link, 100, 100_000, 0);
+    link.send(OWN, VFR_HUD, &vfr_hud_payload(15.0));
+    let (_, _, _, slow) = own(&mut link, 150, 100_000, 0);
+    assert!(slow > at_speed + 0.4, "{slow} vs {at_speed}");
 }
 
 /// TC_VEHICLE 2 (a PX4 rover, which takes no yaw rate): a velocity setpoint in the local NED

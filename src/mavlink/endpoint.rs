@@ -25,22 +25,19 @@
 //! [`crate::geodetic`] about the first own fix, moved to the own fix whenever that is
 //! [`REANCHOR_M`] away.
 
-use core::f32::consts::FRAC_PI_2;
+use ::mavlink::dialects::common::{MavSeverity, FOLLOW_TARGET_DATA, GLOBAL_POSITION_INT_DATA};
 
-use ::mavlink::dialects::common::{
-    AttitudeTargetTypemask, MavFrame, MavSeverity, PositionTargetTypemask, FOLLOW_TARGET_DATA,
-    GLOBAL_POSITION_INT_DATA, SET_ATTITUDE_TARGET_DATA, SET_POSITION_TARGET_LOCAL_NED_DATA,
-};
-
+use super::energy::{Energy, EnergyHold, Flight};
 use super::frame::{Frame, FrameReader};
 use super::messages::{decode, extra_crc, Message};
 use super::outgoing::{Outbox, COMPONENT, MAX_PARAM_VALUE};
 use super::params::{index, Params, Refusal, SPECS};
+use super::setpoint::{setpoint, Address, Setpoint, Turn, FIXED_WING_ENERGY};
 use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN, LINK_ID, PROVISIONED};
 use super::tracking::{ClockRate, Tracking};
 use crate::estimate::Stale;
 use crate::geodetic::{
-    bank_angle, course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
+    course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
 };
 use crate::guidance::{Guidance, Policy};
 use crate::law::capture::Variant;
@@ -78,17 +75,6 @@ const MIN_COURSE_SPEED_CM_S: f32 = 20.0;
 const FOLLOW_POSITION: u8 = 1 << 0;
 const FOLLOW_VELOCITY: u8 = 1 << 1;
 const FOLLOW_ATTITUDE: u8 = 1 << 3;
-/// SET_ATTITUDE_TARGET's type_mask: yaw rate and thrust used (ground vehicles), attitude and
-/// thrust used (fixed wing), or the attitude's roll alone, pitch, yaw and throttle left to the
-/// autopilot's energy and yaw control (ArduPlane reads bit 128 set with the roll rate's bit
-/// clear as "roll from the quaternion").
-const YAW_RATE_ONLY: u8 = 1 | 2 | 128;
-const ATTITUDE_ONLY: u8 = 1 | 2 | 4;
-const ROLL_ONLY: u8 = 2 | 4 | 64 | 128;
-/// SET_POSITION_TARGET_LOCAL_NED's type_mask with the velocity used and position,
-/// acceleration, yaw and yaw rate ignored (a PX4 rover in OFFBOARD).
-const VELOCITY_ONLY: u16 = 1 | 2 | 4 | 64 | 128 | 256 | 1024 | 2048;
-
 /// Why no setpoint went out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Halt {
@@ -215,6 +201,12 @@ struct Session {
     period_ms: u32,
     origin: Option<LocalFrame>,
     own: Option<Fix>,
+    /// The own aircraft's height, climb and ground speed at the last own state, and the
+    /// seconds since the one before (TC_VEHICLE 4's energy hold).
+    flight: Option<(Flight, f32)>,
+    /// The autopilot's last VFR_HUD airspeed (m/s) and when it arrived (our ms).
+    airspeed: Option<(f32, u32)>,
+    energy: EnergyHold,
     target: Option<Target>,
     health: Health,
     last_status: Status,
@@ -254,6 +246,9 @@ impl Endpoint {
             period_ms: DEFAULT_PERIOD_MS,
             origin: None,
             own: None,
+            flight: None,
+            airspeed: None,
+            energy: EnergyHold::new(),
             target: None,
             health: Health::Starting,
             last_status: Status::Ok,
@@ -556,6 +551,11 @@ impl Session {
                 // Sent from the next poll on, as the transmit queue has room.
                 self.listing = Some(0);
             }
+            Message::VfrHud(m) => {
+                if frame.system == self.sysid() && frame.component == AUTOPILOT_COMPONENT {
+                    self.airspeed = Some((m.airspeed, now_ms));
+                }
+            }
             Message::Heartbeat(_) => {}
             _ => self.counters.ignored = self.counters.ignored.wrapping_add(1),
         }
@@ -685,9 +685,11 @@ impl Session {
             self.halt(halt, send);
             return;
         };
-        if let Some(last) = self.own {
-            self.measure_period(fix.sent_ms.wrapping_sub(last.sent_ms));
+        let interval_ms = self.own.map(|last| fix.sent_ms.wrapping_sub(last.sent_ms));
+        if let Some(interval_ms) = interval_ms {
+            self.measure_period(interval_ms);
         }
+        self.flight = Some((flight(m), energy_step(interval_ms)));
         let timeout = self.params.timeout_ms();
         let stale = self
             .own
@@ -824,55 +826,40 @@ impl Session {
         send: &mut dyn FnMut(&[u8]),
     ) {
         let sysid = self.sysid();
-        if self.params.byte(index::VEHICLE) == 2 {
-            // The velocity's course is the heading advanced by the turn over the guidance's
-            // period (the span the sampled command is planned for), at most a quarter turn so
-            // that the side of the turn is unambiguous.
-            let period = self.guidance_period(self.period_ms);
-            let advance = (rate * period).clamp(-FRAC_PI_2, FRAC_PI_2);
-            let course = heading + advance;
-            let (sin, cos) = crate::num::f32_math::sin_cos(course);
-            let message = SET_POSITION_TARGET_LOCAL_NED_DATA {
-                time_boot_ms: now_ms,
-                vx: speed * cos,
-                vy: speed * sin,
-                target_system: sysid,
-                target_component: AUTOPILOT_COMPONENT,
-                coordinate_frame: MavFrame::MAV_FRAME_LOCAL_NED,
-                type_mask: PositionTargetTypemask::from_bits_retain(VELOCITY_ONLY),
-                ..SET_POSITION_TARGET_LOCAL_NED_DATA::DEFAULT
-            };
-            self.outbox.send(sysid, &message, send);
-            return;
-        }
-        let mut message = SET_ATTITUDE_TARGET_DATA {
-            time_boot_ms: now_ms,
-            q: [1.0, 0.0, 0.0, 0.0],
-            body_roll_rate: 0.0,
-            body_pitch_rate: 0.0,
-            body_yaw_rate: 0.0,
-            thrust: 1.0,
-            target_system: sysid,
-            target_component: AUTOPILOT_COMPONENT,
-            type_mask: AttitudeTargetTypemask::from_bits_retain(YAW_RATE_ONLY),
+        let vehicle = self.params.byte(index::VEHICLE);
+        let turn = Turn {
+            speed,
+            rate,
+            heading,
+            period: self.guidance_period(self.period_ms),
         };
-        match self.params.byte(index::VEHICLE) {
-            vehicle @ (1 | 3) => {
-                // An aircraft that makes a share k of a coordinated turn's rate at a bank is
-                // asked the bank of rate omega / k.
-                let efficiency = self.params.get(index::BANK_EFF).unwrap_or(1.0);
-                let bank = bank_angle(speed, rate / efficiency);
-                message.q = roll_yaw_quaternion(bank, heading);
-                let mask = if vehicle == 1 {
-                    ATTITUDE_ONLY
-                } else {
-                    ROLL_ONLY
-                };
-                message.type_mask = AttitudeTargetTypemask::from_bits_retain(mask);
-            }
-            _ => message.body_yaw_rate = rate,
+        let energy = (vehicle == FIXED_WING_ENERGY)
+            .then(|| self.energy_command(speed, now_ms))
+            .flatten();
+        let efficiency = self.params.get(index::BANK_EFF).unwrap_or(1.0);
+        let to = Address {
+            system: sysid,
+            component: AUTOPILOT_COMPONENT,
+            now_ms,
+        };
+        match setpoint(vehicle, &turn, efficiency, energy, to) {
+            Setpoint::Attitude(m) => self.outbox.send(sysid, &m, send),
+            Setpoint::Velocity(m) => self.outbox.send(sysid, &m, send),
         }
-        self.outbox.send(sysid, &message, send);
+    }
+
+    /// The energy hold's pitch and throttle on the last own state, at airspeed `speed` (m/s):
+    /// the autopilot's VFR_HUD airspeed where one came within TC_TIMEOUT, else the ground
+    /// speed.
+    fn energy_command(&mut self, speed: f32, now_ms: u32) -> Option<Energy> {
+        let (mut flight, dt) = self.flight?;
+        let timeout = self.params.timeout_ms();
+        if let Some((airspeed, arrived_ms)) = self.airspeed {
+            if now_ms.wrapping_sub(arrived_ms) <= timeout {
+                flight.airspeed = airspeed;
+            }
+        }
+        Some(self.energy.command(flight, speed, dt))
     }
 
     /// No setpoint, for `halt`: announced when the halt begins (not again while it lasts).
@@ -885,6 +872,7 @@ impl Session {
         if let Some(guidance) = self.guidance.as_mut() {
             guidance.reset();
         }
+        self.energy.reset();
         let severity = MavSeverity::MAV_SEVERITY_WARNING;
         self.outbox
             .status_text(self.sysid(), severity, halt.text(), send);
@@ -917,6 +905,23 @@ fn position_fix(m: &GLOBAL_POSITION_INT_DATA, now_ms: u32) -> Option<Fix> {
     })
 }
 
+/// The own aircraft's height (relative_alt, mm), climb (-vz, cm/s) and ground speed (cm/s) in
+/// SI units.
+fn flight(m: &GLOBAL_POSITION_INT_DATA) -> Flight {
+    let (vx, vy) = (f32::from(m.vx), f32::from(m.vy));
+    Flight {
+        height: m.relative_alt as f32 / 1000.0,
+        climb: -f32::from(m.vz) / 100.0,
+        airspeed: crate::num::f32_math::sqrt(vx * vx + vy * vy) / 100.0,
+    }
+}
+
+/// The energy hold's step for an own-state spacing (ms): within 1 ms to 200 ms, a gap
+/// integrates no more than 200 ms; the default period before the second state.
+fn energy_step(interval_ms: Option<u32>) -> f32 {
+    interval_ms.unwrap_or(DEFAULT_PERIOD_MS).clamp(1, 200) as f32 / 1000.0
+}
+
 /// The fix of a FOLLOW_TARGET: its position if flagged valid; heading from its attitude, or
 /// the course from its velocity.
 fn follow_fix(m: &FOLLOW_TARGET_DATA, now_ms: u32) -> Option<Fix> {
@@ -938,13 +943,4 @@ fn follow_fix(m: &FOLLOW_TARGET_DATA, now_ms: u32) -> Option<Fix> {
         sent_ms: m.timestamp as u32,
         arrived_ms: now_ms,
     })
-}
-
-/// The attitude quaternion (w, x, y, z; body to north-east-down) of roll `roll`, pitch 0 and
-/// yaw `yaw` (rad).
-fn roll_yaw_quaternion(roll: f32, yaw: f32) -> [f32; 4] {
-    use crate::num::Scalar;
-    let (sr, cr) = Scalar::sin_cos(roll * 0.5);
-    let (sy, cy) = Scalar::sin_cos(yaw * 0.5);
-    [cr * cy, sr * cy, sr * sy, cr * sy]
 }

@@ -5,7 +5,7 @@
 use super::frame::{Frame, Version};
 use ::mavlink::dialects::common::{
     FOLLOW_TARGET_DATA, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA, PARAM_REQUEST_LIST_DATA,
-    PARAM_REQUEST_READ_DATA, PARAM_SET_DATA,
+    PARAM_REQUEST_READ_DATA, PARAM_SET_DATA, VFR_HUD_DATA,
 };
 use ::mavlink::{MavlinkVersion, MessageData};
 
@@ -24,6 +24,8 @@ pub enum Message {
     ParamRequestList(PARAM_REQUEST_LIST_DATA),
     /// A peer's heartbeat.
     Heartbeat(HEARTBEAT_DATA),
+    /// The autopilot's airspeed (TC_VEHICLE 4's energy hold).
+    VfrHud(VFR_HUD_DATA),
 }
 
 /// Why a checked frame did not decode.
@@ -44,6 +46,7 @@ pub fn extra_crc(message_id: u32) -> Option<u8> {
         PARAM_REQUEST_READ_DATA::ID => PARAM_REQUEST_READ_DATA::EXTRA_CRC,
         PARAM_REQUEST_LIST_DATA::ID => PARAM_REQUEST_LIST_DATA::EXTRA_CRC,
         HEARTBEAT_DATA::ID => HEARTBEAT_DATA::EXTRA_CRC,
+        VFR_HUD_DATA::ID => VFR_HUD_DATA::EXTRA_CRC,
         _ => return None,
     })
 }
@@ -75,6 +78,9 @@ pub fn decode(frame: &Frame<'_>) -> Result<Message, MessageError> {
         ),
         HEARTBEAT_DATA::ID => {
             Message::Heartbeat(HEARTBEAT_DATA::deser(version, payload).map_err(malformed)?)
+        }
+        VFR_HUD_DATA::ID => {
+            Message::VfrHud(VFR_HUD_DATA::deser(version, payload).map_err(malformed)?)
         }
         _ => return Err(MessageError::Unknown(id)),
     })

@@ -5,6 +5,7 @@
 //! board shells feed it bytes and a clock (`service`, with the `firmware` feature).
 
 pub mod endpoint;
+pub mod energy;
 #[doc(hidden)]
 pub mod frame;
 #[doc(hidden)]
@@ -14,6 +15,7 @@ pub mod outgoing;
 pub mod params;
 #[cfg(feature = "firmware")]
 pub mod service;
+mod setpoint;
 pub mod signing;
 mod tracking;
 

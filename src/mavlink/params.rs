@@ -52,7 +52,8 @@ pub mod index {
     /// The target's system id.
     pub const TGT_SYSID: usize = 4;
     /// 0 ground vehicle (yaw rate), 1 fixed wing (bank angle), 2 ground vehicle by velocity
-    /// (PX4 rovers), 3 fixed wing by roll alone (the autopilot holds airspeed and height).
+    /// (PX4 rovers), 3 fixed wing by roll alone (the autopilot holds airspeed and height), 4
+    /// fixed wing with the unit's energy hold (PX4 in offboard).
     pub const VEHICLE: usize = 5;
     /// The Configure policy byte: 0 paper, 1 flight.
     pub const POLICY: usize = 6;
@@ -88,7 +89,7 @@ pub const SPECS: [Spec; 16] = [
     real("TC_V_EM", 1.0, 1.0e-3, 1.0e4),
     real("TC_W_EM", 1.0, 1.0e-4, 1.0e4),
     whole("TC_TGT_SYSID", 2.0, 1.0, 255.0),
-    whole("TC_VEHICLE", 0.0, 0.0, 3.0),
+    whole("TC_VEHICLE", 0.0, 0.0, 4.0),
     whole("TC_POLICY", 1.0, 0.0, 1.0),
     real("TC_TIMEOUT", 1.0, 0.01, 60.0),
     whole("TC_SYSID", 1.0, 1.0, 255.0),

@@ -12,7 +12,8 @@ use super::sitl::{self, Frame};
 use crate::autopilot::chase::{self, Outcome};
 use crate::autopilot::harness::{Harness, Pursuer};
 use crate::autopilot::{
-    configure_unit, report, set_unit_params, starts, threshold, TARGET_SYSTEM, TURN_MARGIN,
+    aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, threshold,
+    TARGET_SYSTEM,
 };
 
 /// Capture radius, m: the SITL plane's span (about 2 m) less nothing, plus three sigma of a
@@ -48,16 +49,6 @@ pub struct Flown {
     pub efficiency: f64,
 }
 
-/// The law's limits for the measured plane: v_pm its ground speed level, w_pm [`TURN_MARGIN`]
-/// of its curvature at the measured bank (three significant digits, rounded down), the evader
-/// at half of each.
-pub fn law_limits(m: &aircraft::Flown) -> [f64; 4] {
-    let v_pm = (m.speed * 10.0).round() / 10.0;
-    let scale = 10f64.powi(2 - (TURN_MARGIN * m.curvature).log10().floor() as i32);
-    let w_pm = (TURN_MARGIN * m.curvature * scale).floor() / scale;
-    [v_pm, w_pm, v_pm / 2.0, w_pm / 2.0]
-}
-
 /// Runs the chases.
 pub fn fly(options: &Options) -> Result<Flown, String> {
     let binary = sitl::find(Frame::Plane, options.arduplane.as_deref()).ok_or(
@@ -80,7 +71,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         aircraft::HEIGHT
     );
     let m = aircraft::measure(&mut h)?;
-    let limits = law_limits(&m);
+    let limits = aircraft_limits(m.speed, m.curvature);
     let efficiency = (m.efficiency * 100.0).round() / 100.0;
     let period = (m.response * 100.0).round() / 100.0;
     println!(
@@ -109,7 +100,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         println!(
             "{}\n  {}",
             report(&outcome, limits),
-            energy(&outcome, limits)
+            energy_line(&outcome, limits)
         );
         outcomes.push(outcome);
     }
@@ -120,18 +111,6 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         limits,
         efficiency,
     })
-}
-
-/// The airspeed and height a chase held.
-fn energy(o: &Outcome, limits: [f64; 4]) -> String {
-    let (lo, hi) = o.airspeed.unwrap_or((f64::NAN, f64::NAN));
-    format!(
-        "energy: airspeed {lo:.2} to {hi:.2} m/s ({:+.1} % to {:+.1} % of TC_V_PM), height {:.1} to {:.1} m",
-        100.0 * (lo / limits[0] - 1.0),
-        100.0 * (hi / limits[0] - 1.0),
-        o.height.0,
-        o.height.1
-    )
 }
 
 /// `cargo xtask run --link ardupilot --vehicle plane`; the exit code.
@@ -189,7 +168,7 @@ fn check_chase(flown: &Flown) -> Result<String, String> {
         flown.efficiency,
         o.ideal,
         o.flips,
-        energy(o, flown.limits),
+        energy_line(o, flown.limits),
     );
     let height_apart = (o.height.1 - o.height.0).max(0.0);
     let ok = captured <= o.ideal + 3.0

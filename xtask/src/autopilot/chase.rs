@@ -266,6 +266,7 @@ pub fn pursue<T: Injector>(
     field: bool,
 ) -> Result<Outcome, String> {
     let marks = Marks::now(h);
+    let mode = h.mode;
     let wall = std::time::Instant::now() + Duration::from_secs_f64(h.chase_limit_s * 2.0 + 10.0);
     // Through the field, the target's fixes come late, sparse and noisy.
     let mut delayed = Delayed::new(target, seed);
@@ -285,7 +286,7 @@ pub fn pursue<T: Injector>(
     // aircraft's autopilot take its roll back.
     let failsafe_ms = match h.pursuer {
         Pursuer::Rover => wait_stopped(h, &mut delayed, 15.0).ok(),
-        Pursuer::Aircraft => wait_own_roll(h, &mut delayed, marks.setpoints, 15.0)?,
+        Pursuer::Aircraft => wait_own_roll(h, &mut delayed, (marks.setpoints, mode), 15.0)?,
     };
     let ended = Ended {
         start: began.start,
@@ -303,25 +304,33 @@ pub fn pursue<T: Injector>(
 /// A nav roll this far from the unit's last bank (deg) is the autopilot's own.
 const OWN_ROLL_DEG: f32 = 2.0;
 
-/// Forwards until the autopilot's navigation demands a roll of its own (more than
-/// [`OWN_ROLL_DEG`] from the unit's last bank, after the unit's last setpoint since
-/// `setpoints`), `seconds` of wall clock at most; its time then.
+/// Forwards until the autopilot flies on its own after the unit's last setpoint (the
+/// setpoints since `chase.0`): its navigation demands a roll more than [`OWN_ROLL_DEG`] from
+/// the unit's last bank (ArduPlane), or it leaves the chase's mode `chase.1` (PX4's offboard
+/// loss); `seconds` of wall clock at most; its time then.
 fn wait_own_roll(
     h: &mut Harness,
     injector: &mut dyn Injector,
-    setpoints: usize,
+    chase: (usize, Option<u32>),
     seconds: f64,
 ) -> Result<Option<u32>, String> {
     let own = |h: &Harness| {
-        let last = h.setpoints[setpoints..].last()?;
+        let last = h.setpoints[chase.0..].last()?;
         let bank = last.bank.to_degrees();
-        h.nav_rolls
+        let after = |t: &u32| *t > last.time_ms;
+        let rolled = h
+            .nav_rolls
             .iter()
-            .rev()
-            .take_while(|(t, _)| *t > last.time_ms)
-            .filter(|(_, roll)| (roll - bank).abs() > OWN_ROLL_DEG)
+            .filter(|(t, roll)| after(t) && (roll - bank).abs() > OWN_ROLL_DEG)
             .map(|(t, _)| *t)
-            .last()
+            .next();
+        let left = h
+            .modes
+            .iter()
+            .filter(|(t, mode)| after(t) && Some(*mode) != chase.1)
+            .map(|(t, _)| *t)
+            .next();
+        rolled.into_iter().chain(left).min()
     };
     // The unit's setpoints must have ended first: no setpoint for a second of wall clock.
     let mut count = h.setpoints.len();

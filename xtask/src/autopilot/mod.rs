@@ -83,6 +83,29 @@ pub fn law_limits(m: &Measured) -> [f64; 4] {
     [v_pm, w_pm, v_pm / 2.0, w_pm / 2.0]
 }
 
+/// The law's limits for an aircraft flying `speed` (m/s, ground speed level) and `curvature`
+/// (1/m, at the bank measured): v_pm the speed (to 0.1 m/s), w_pm [`TURN_MARGIN`] of the
+/// curvature (three significant digits, rounded down), the evader at half of each.
+pub fn aircraft_limits(speed: f64, curvature: f64) -> [f64; 4] {
+    let v_pm = (speed * 10.0).round() / 10.0;
+    let w = TURN_MARGIN * curvature;
+    let scale = 10f64.powi(2 - w.log10().floor() as i32);
+    let w_pm = (w * scale).floor() / scale;
+    [v_pm, w_pm, v_pm / 2.0, w_pm / 2.0]
+}
+
+/// The airspeed and height an aircraft's chase held.
+pub fn energy_line(o: &Outcome, limits: [f64; 4]) -> String {
+    let (lo, hi) = o.airspeed.unwrap_or((f64::NAN, f64::NAN));
+    format!(
+        "energy: airspeed {lo:.2} to {hi:.2} m/s ({:+.1} % to {:+.1} % of TC_V_PM), height {:.1} to {:.1} m",
+        100.0 * (lo / limits[0] - 1.0),
+        100.0 * (hi / limits[0] - 1.0),
+        o.height.0,
+        o.height.1
+    )
+}
+
 /// The theorem's threshold 2 r_e + 2 pi r_e v_pm / v_em, m.
 pub fn threshold(limits: [f64; 4]) -> f64 {
     let r_e = 1.0 / limits[3];

@@ -101,8 +101,8 @@ pub struct RunArgs {
     /// (over TCP to the router) in place of the QEMU image (docs/companion.md).
     #[arg(long)]
     companion: bool,
-    /// With `--link ardupilot`: the pursuer a rover (ArduPilot Rover) or a plane (ArduPlane,
-    /// in GUIDED under roll setpoints).
+    /// With `--link ardupilot` or `px4`: the pursuer a rover or a plane (ArduPlane in GUIDED
+    /// under roll setpoints; PX4's SIH airplane in OFFBOARD under the unit's energy hold).
     #[arg(long, value_enum, default_value = "rover")]
     vehicle: RunVehicle,
     /// With `--link ardupilot --vehicle plane`: the `arduplane` SITL binary (default:
@@ -336,6 +336,13 @@ fn print_table_value(o: &RunOptions, case: &Case, set: &ValueTables<'_>) {
 
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
+    if args.link == RunLink::Px4 && args.vehicle == RunVehicle::Plane {
+        return crate::px4::plane::run(&crate::px4::plane::Options {
+            px4: args.px4.clone(),
+            short: false,
+            companion: args.companion,
+        });
+    }
     if args.link == RunLink::Px4 {
         return crate::px4::run(&crate::px4::Options {
             px4: args.px4.clone(),

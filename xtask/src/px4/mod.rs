@@ -5,6 +5,8 @@
 //! adversary suite simulated as a Dubins car, reported as system 2's GLOBAL_POSITION_INT
 //! (docs/px4.md).
 
+mod aircraft;
+pub mod plane;
 mod sitl;
 mod vehicle;
 
@@ -83,7 +85,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
     let mut outcomes = Vec::new();
     let mut failsafe_in_chase = Vec::new();
     for (i, start) in starts(limits, options.short).into_iter().enumerate() {
-        vehicle::enter_offboard(&mut h)?;
+        vehicle::enter_offboard(&mut h, &mut |h, s| vehicle::hold(h, s))?;
         vehicle::hold(&mut h, 1.0)?;
         let texts = h.texts.len();
         let modes = h.modes.len();
@@ -104,7 +106,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
 
 /// Whether PX4 left OFFBOARD, or said "failsafe", between the chase's start (records from
 /// `texts` and `modes` on) and its end.
-fn left_offboard(h: &Harness, texts: usize, modes: usize, o: &Outcome) -> bool {
+pub(super) fn left_offboard(h: &Harness, texts: usize, modes: usize, o: &Outcome) -> bool {
     let end_ms = o.end_ms;
     let said = h.texts[texts..]
         .iter()
@@ -163,6 +165,7 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
             .map_err(Clone::clone)
             .and_then(|c| check_alike(image.as_ref().map_err(Clone::clone)?, c)),
     );
+    plane::record_tests(record);
 }
 
 /// The companion's chase (`companion`) captured, and within one TC_PERIOD of the QEMU image's

@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use mavlink::dialects::common::{
     MavCmd, MavFrame, PositionTargetTypemask, SET_POSITION_TARGET_LOCAL_NED_DATA,
 };
+use mavlink::MessageData;
 
 use crate::autopilot::harness::{Harness, NoTarget, AUTOPILOT};
 use crate::autopilot::{command, Measured, STREAM_INTERVAL_US};
@@ -16,15 +17,16 @@ use crate::autopilot::{command, Measured, STREAM_INTERVAL_US};
 pub const OFFBOARD: u32 = 6 << 16;
 /// SET_POSITION_TARGET_LOCAL_NED's type_mask for a velocity alone (the unit's TC_VEHICLE 2).
 pub const VELOCITY_ONLY: u16 = 3527;
-/// GLOBAL_POSITION_INT's and ATTITUDE's message ids: the streams the unit and the harness read.
-const STREAMS: [f32; 2] = [33.0, 30.0];
+/// GLOBAL_POSITION_INT's and ATTITUDE's message ids with their intervals (us): the streams
+/// the unit and the harness read.
+pub const STREAMS: [(f32, f32); 2] = [(33.0, STREAM_INTERVAL_US), (30.0, STREAM_INTERVAL_US)];
+/// VFR_HUD's id: an aircraft's airspeed, at 10 Hz; off for a rover.
+pub const VFR_HUD: f32 = 74.0;
 /// The Onboard mode's other streams above 5 Hz (ODOMETRY, HIGHRES_IMU, ATTITUDE_QUATERNION,
-/// LOCAL_POSITION_NED, SERVO_OUTPUT_RAW, GPS_RAW_INT, ALTITUDE, VFR_HUD, DISTANCE_SENSOR,
-/// TIMESYNC): off, as a user configures the companion's link, so that the unit's UART carries
-/// what it reads.
-const QUIETED: [f32; 10] = [
-    331.0, 105.0, 31.0, 32.0, 36.0, 24.0, 141.0, 74.0, 132.0, 111.0,
-];
+/// LOCAL_POSITION_NED, SERVO_OUTPUT_RAW, GPS_RAW_INT, ALTITUDE, DISTANCE_SENSOR, TIMESYNC):
+/// off, as a user configures the companion's link, so that the unit's UART carries what it
+/// reads.
+const QUIETED: [f32; 9] = [331.0, 105.0, 31.0, 32.0, 36.0, 24.0, 141.0, 132.0, 111.0];
 /// MAV_CMD_SET_MESSAGE_INTERVAL's command number.
 const SET_MESSAGE_INTERVAL: u32 = 511;
 
@@ -43,10 +45,10 @@ pub fn velocity(speed: f64, course: f64) -> SET_POSITION_TARGET_LOCAL_NED_DATA {
 }
 
 /// Streams `setpoint(h)` at 20 Hz for `seconds` of the vehicle's time.
-fn stream(
+pub fn stream<M: MessageData>(
     h: &mut Harness,
     seconds: f64,
-    setpoint: &mut dyn FnMut(&Harness) -> SET_POSITION_TARGET_LOCAL_NED_DATA,
+    setpoint: &mut dyn FnMut(&Harness) -> M,
 ) -> Result<(), String> {
     let end = h.now_ms() + (seconds * 1000.0) as u32;
     while h.now_ms() < end {
@@ -67,20 +69,17 @@ pub fn hold(h: &mut Harness, seconds: f64) -> Result<(), String> {
     stream(h, seconds, &mut |_| velocity(0.0, 0.0))
 }
 
-/// Waits for PX4's heartbeat (30 s at most), sets the position and attitude streams to 20 Hz
-/// and turns the Onboard mode's other fast streams off, waits for a position (90 s at most),
-/// then enters OFFBOARD and arms; the wall-clock seconds it took.
-pub fn make_ready(h: &mut Harness) -> Result<f64, String> {
+/// Waits for PX4's heartbeat (30 s at most), sets `streams` (id, interval in us) and turns the
+/// Onboard mode's other fast streams off, and waits for a position (90 s at most); the
+/// wall-clock seconds it took.
+pub fn prepare(h: &mut Harness, streams: &[(f32, f32)]) -> Result<f64, String> {
     let start = Instant::now();
     if !h.pump_until(&mut NoTarget, Duration::from_secs(30), &mut |h| {
         h.mode.is_some()
     })? {
         return Err("no heartbeat from PX4 within 30 s".to_string());
     }
-    let intervals = STREAMS
-        .map(|id| (id, STREAM_INTERVAL_US))
-        .into_iter()
-        .chain(QUIETED.map(|id| (id, -1.0)));
+    let intervals = streams.iter().copied().chain(QUIETED.map(|id| (id, -1.0)));
     for (id, interval) in intervals {
         set_interval(h, id, interval)?;
     }
@@ -88,7 +87,15 @@ pub fn make_ready(h: &mut Harness) -> Result<f64, String> {
     if !h.pump_until(&mut NoTarget, Duration::from_secs(90), &mut |h| placed(h))? {
         return Err("PX4 gave no position within 90 s".to_string());
     }
-    enter_offboard(h)?;
+    Ok(start.elapsed().as_secs_f64())
+}
+
+/// [`prepare`] with the rover's streams (VFR_HUD off too), then OFFBOARD and armed behind a
+/// zero velocity.
+pub fn make_ready(h: &mut Harness) -> Result<f64, String> {
+    let start = Instant::now();
+    prepare(h, &[STREAMS[0], STREAMS[1], (VFR_HUD, -1.0)])?;
+    enter_offboard(h, &mut |h, s| hold(h, s))?;
     Ok(start.elapsed().as_secs_f64())
 }
 
@@ -113,8 +120,12 @@ fn set_interval(h: &mut Harness, id: f32, interval: f32) -> Result<(), String> {
     ))
 }
 
-/// Streams a zero velocity, asks for OFFBOARD and arming until both hold (60 s at most).
-pub fn enter_offboard(h: &mut Harness) -> Result<(), String> {
+/// Streams `keep` (the vehicle's setpoint for that many seconds), asks for OFFBOARD and arming
+/// until both hold (60 s at most).
+pub fn enter_offboard(
+    h: &mut Harness,
+    keep: &mut dyn FnMut(&mut Harness, f64) -> Result<(), String>,
+) -> Result<(), String> {
     let deadline = Instant::now() + Duration::from_secs(60);
     while !(h.armed && h.mode == Some(OFFBOARD)) {
         if Instant::now() > deadline {
@@ -123,14 +134,14 @@ pub fn enter_offboard(h: &mut Harness) -> Result<(), String> {
                 h.mode, h.armed
             ));
         }
-        hold(h, 0.5)?;
+        keep(h, 0.5)?;
         let offboard = [1.0, 6.0, 0.0, 0.0, 0.0, 0.0, 0.0];
         h.router
             .send_to_autopilot(&command(MavCmd::MAV_CMD_DO_SET_MODE, offboard))?;
         let arm = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
         h.router
             .send_to_autopilot(&command(MavCmd::MAV_CMD_COMPONENT_ARM_DISARM, arm))?;
-        hold(h, 0.5)?;
+        keep(h, 0.5)?;
     }
     Ok(())
 }
