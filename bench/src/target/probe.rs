@@ -6,7 +6,11 @@ use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_semihosting::debug::{exit, EXIT_FAILURE, EXIT_SUCCESS};
 
 const PAINT: u32 = 0xA5A5_5A5A;
-/// Bytes of stack painted below the caller's frame.
+/// Bytes of stack painted below the caller's frame: 16 KiB on the M4F's board (mps2-an386,
+/// 4 MB of RAM), where the MAVLink path's replay goes past 4 KiB; 4 KiB on the M0's.
+#[cfg(target_abi = "eabihf")]
+const PAINT_BYTES: usize = 16 * 1024;
+#[cfg(not(target_abi = "eabihf"))]
 const PAINT_BYTES: usize = 4096;
 
 /// Starts SysTick on the processor clock, counting down from its 24-bit maximum; exits with
