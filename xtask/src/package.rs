@@ -1,6 +1,7 @@
 //! The crate as a user meets it: every command README shows, run as written from the
-//! repository's root, and the core's user features on the oldest Rust the manifest claims
-//! (`rust-version`). `cargo xtask test` runs both.
+//! repository's root; every example built from the packaged crate; and the core's user
+//! features on the oldest Rust the manifest claims (`rust-version`). `cargo xtask test` runs
+//! all three.
 
 use std::process::{Command, Stdio};
 
@@ -145,6 +146,94 @@ pub fn check_rust_version() -> (u64, u64) {
         eprintln!("rust-version: the core ({features}) does not build on Rust {version}");
         (0, 1)
     }
+}
+
+/// The examples as a user builds them from the published crate: (name, features, target; none
+/// for the host).
+const EXAMPLES: [(&str, &str, Option<&str>); 5] = [
+    ("paper_case_1", "", None),
+    ("closed_loop", "", None),
+    ("cortex_m4f", "board-qemu", Some("thumbv7em-none-eabihf")),
+    ("cortex_m0", "board-microbit", Some("thumbv6m-none-eabi")),
+    (
+        "stm32f4_hal",
+        "board-stm32f405,polled",
+        Some("thumbv7em-none-eabihf"),
+    ),
+];
+
+/// Packages the core (`cargo package`, not verified: the examples are what this checks), unpacks
+/// the .crate in the system's temporary directory and builds every example from it (into
+/// `target/package-check/`), each with its
+/// features, the Cortex-M ones with cortex-m-rt's linker script as a user's
+/// `.cargo/config.toml` gives it; (passed, failed).
+pub fn check_package() -> (u64, u64) {
+    let dir = crate::workspace::target_dir().join("package-check");
+    let _ = std::fs::remove_dir_all(&dir);
+    let packaged = Command::new("cargo")
+        .args(["package", "-p", "twocars", "--no-verify", "--allow-dirty"])
+        .env("CARGO_TARGET_DIR", &dir)
+        .current_dir(root())
+        .status()
+        .is_ok_and(|s| s.success());
+    let crate_file = std::fs::read_dir(dir.join("package"))
+        .ok()
+        .and_then(|entries| {
+            entries
+                .flatten()
+                .map(|e| e.path())
+                .find(|p| p.extension().is_some_and(|e| e == "crate"))
+        });
+    let Some(crate_file) = crate_file.filter(|_| packaged) else {
+        eprintln!("package: cargo package made no .crate");
+        return (0, 1);
+    };
+    // Outside the workspace, as a user's copy is: inside it, cargo takes it for a member.
+    let unpacked = std::env::temp_dir().join(format!("twocars-package-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&unpacked);
+    let _ = std::fs::create_dir_all(&unpacked);
+    let untarred = Command::new("tar")
+        .arg("xzf")
+        .arg(&crate_file)
+        .arg("-C")
+        .arg(&unpacked)
+        .status()
+        .is_ok_and(|s| s.success());
+    let source = std::fs::read_dir(&unpacked)
+        .ok()
+        .and_then(|mut entries| entries.next())
+        .and_then(Result::ok)
+        .map(|e| e.path());
+    let Some(source) = source.filter(|_| untarred) else {
+        eprintln!("package: could not unpack {}", crate_file.display());
+        return (0, 1);
+    };
+    let (mut passed, mut failed) = (0, 0);
+    for (name, features, target) in EXAMPLES {
+        let mut build = Command::new("cargo");
+        build
+            .args(["build", "--release", "--example", name])
+            .env("CARGO_TARGET_DIR", dir.join("build"))
+            .current_dir(&source)
+            .stdout(Stdio::null());
+        if !features.is_empty() {
+            build.args(["--features", features]);
+        }
+        if let Some(target) = target {
+            build
+                .args(["--target", target])
+                .env("RUSTFLAGS", "-C link-arg=-Tlink.x");
+        }
+        if build.status().is_ok_and(|s| s.success()) {
+            println!("package: example {name} builds from the published crate ... ok");
+            passed += 1;
+        } else {
+            eprintln!("package: example {name} does not build from the published crate");
+            failed += 1;
+        }
+    }
+    let _ = std::fs::remove_dir_all(&unpacked);
+    (passed, failed)
 }
 
 #[cfg(test)]

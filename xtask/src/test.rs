@@ -234,7 +234,7 @@ impl Step {
 }
 
 /// The suite, in order; the full run stops at the first step that fails.
-const STEPS: [Step; 15] = [
+const STEPS: [Step; 16] = [
     Step::quick("format", format),
     Step::quick("clippy-host", clippy_host),
     Step::full("clippy-core", clippy_core),
@@ -250,6 +250,11 @@ const STEPS: [Step; 15] = [
     Step::full("readme", |suite| {
         println!("== xtask test: README's commands, as written, from the root");
         let counts = timed("README's commands", crate::package::run_readme);
+        suite.count(counts)
+    }),
+    Step::full("package", |suite| {
+        println!("== xtask test: the examples built from the packaged crate");
+        let counts = timed("the package check", crate::package::check_package);
         suite.count(counts)
     }),
     Step::full("rust-version", |suite| {
