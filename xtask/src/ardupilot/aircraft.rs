@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use mavlink::dialects::common::{AttitudeTargetTypemask, MavCmd, SET_ATTITUDE_TARGET_DATA};
 
 use super::vehicle::{send_until, set_autopilot_param, switch_mode, GUIDED};
+use crate::autopilot::aircraft::{efficiency, read_step, StepMarks};
 use crate::autopilot::harness::{Harness, NoTarget, AUTOPILOT};
 use crate::autopilot::router::Source;
 use crate::autopilot::{command, STREAM_INTERVAL_US};
@@ -95,39 +96,21 @@ fn roll(h: &mut Harness, bank_deg: f64, seconds: f64) -> Result<Step, String> {
         type_mask: AttitudeTargetTypemask::from_bits_truncate(ROLL_ONLY),
         ..Default::default()
     };
-    let start = h.now_ms();
-    let end = start + (seconds * 1000.0) as u32;
-    let half = start + (seconds * 500.0) as u32;
-    let (fixes, rolls, airspeeds) = (h.fixes.len(), h.rolls.len(), h.airspeeds.len());
+    let marks = StepMarks::now(h);
+    let end = h.now_ms() + (seconds * 1000.0) as u32;
+    let half = h.now_ms() + (seconds * 500.0) as u32;
+    let airspeeds = h.airspeeds.len();
     send_until(h, &setpoint, end)?;
-    let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len().max(1) as f64;
-    let settled: Vec<_> = h.fixes[fixes..]
+    let (speed, rate, response) = read_step(h, marks, bank_deg, seconds);
+    let settled: Vec<f64> = h.airspeeds[airspeeds..]
         .iter()
-        .filter(|f| f.time_ms >= half)
+        .filter(|(t, _)| *t >= half)
+        .map(|(_, v)| f64::from(*v))
         .collect();
-    let turned: f64 = settled
-        .windows(2)
-        .map(|w| host_tests::kinematics::wrap_pi(w[1].state[2] - w[0].state[2]))
-        .sum();
-    let span = match (settled.first(), settled.last()) {
-        (Some(a), Some(b)) => f64::from(b.time_ms.wrapping_sub(a.time_ms)) / 1000.0,
-        _ => 0.0,
-    };
-    let target = bank_deg.to_radians();
-    let response = h.rolls[rolls..]
-        .iter()
-        .find(|(_, r)| f64::from(*r) * target.signum() >= 0.63 * target.abs())
-        .map_or(f64::NAN, |(t, _)| f64::from(t.wrapping_sub(start)) / 1000.0);
     Ok(Step {
-        speed: mean(settled.iter().map(|f| f.speed).collect()),
-        airspeed: mean(
-            h.airspeeds[airspeeds..]
-                .iter()
-                .filter(|(t, _)| *t >= half)
-                .map(|(_, v)| f64::from(*v))
-                .collect(),
-        ),
-        rate: turned / span.max(1e-9),
+        speed,
+        airspeed: settled.iter().sum::<f64>() / settled.len().max(1) as f64,
+        rate,
         response,
     })
 }
@@ -141,12 +124,11 @@ pub fn measure(h: &mut Harness) -> Result<Flown, String> {
     let curvature = (right.rate / right.speed)
         .abs()
         .min((left.rate / left.speed).abs());
-    let coordinated = 9.80665 * MEASURED_BANK_DEG.to_radians().tan() / (level.speed * level.speed);
     Ok(Flown {
         speed: level.speed,
         airspeed: level.airspeed,
         curvature,
-        efficiency: curvature / coordinated,
+        efficiency: efficiency(curvature, MEASURED_BANK_DEG, level.speed),
         response: right.response,
     })
 }

@@ -4,6 +4,7 @@
 //! QEMU image or the companion binary; and what both autopilots' runs share: the starts, the
 //! law's limits from the measured vehicle, the unit's parameters, the report of a chase.
 
+pub mod aircraft;
 pub mod chase;
 pub mod field;
 pub mod harness;

@@ -8,6 +8,7 @@ use mavlink::dialects::common::{AttitudeTargetTypemask, SET_ATTITUDE_TARGET_DATA
 use twocars::mavlink::energy::{Energy, EnergyHold, Flight};
 
 use super::vehicle::{enter_offboard, prepare, stream, STREAMS, VFR_HUD};
+use crate::autopilot::aircraft::{efficiency, read_step, StepMarks};
 use crate::autopilot::harness::{Harness, AUTOPILOT};
 
 /// The airspeed held, m/s: the SIH airplane's throttle is 0.65 there, with room either way.
@@ -117,41 +118,19 @@ pub fn reenter_offboard(h: &mut Harness, hold: &mut EnergyHold) -> Result<(), St
 /// each, then level 6 s; each step's second half averaged.
 pub fn measure(h: &mut Harness, hold: &mut EnergyHold) -> Result<Flown, String> {
     let mut step = |h: &mut Harness, bank: f64, seconds: f64| {
-        let (fixes, rolls) = (h.fixes.len(), h.rolls.len());
-        let start = h.now_ms();
+        let marks = StepMarks::now(h);
         fly_level(h, hold, bank, seconds)?;
-        let half = start + (seconds * 500.0) as u32;
-        let settled: Vec<_> = h.fixes[fixes..]
-            .iter()
-            .filter(|f| f.time_ms >= half)
-            .copied()
-            .collect();
-        let turned: f64 = settled
-            .windows(2)
-            .map(|w| host_tests::kinematics::wrap_pi(w[1].state[2] - w[0].state[2]))
-            .sum();
-        let (first, last) = (settled.first(), settled.last());
-        let span = first
-            .zip(last)
-            .map_or(0.0, |(a, b)| f64::from(b.time_ms - a.time_ms) / 1000.0);
-        let speed = settled.iter().map(|f| f.speed).sum::<f64>() / settled.len().max(1) as f64;
-        let target = bank.to_radians();
-        let response = h.rolls[rolls..]
-            .iter()
-            .find(|(_, r)| f64::from(*r) * target.signum() >= 0.63 * target.abs())
-            .map_or(f64::NAN, |(t, _)| f64::from(t - start) / 1000.0);
-        Ok::<_, String>((speed, turned / span.max(1e-9), response))
+        Ok::<_, String>(read_step(h, marks, bank, seconds))
     };
     let (speed, _, _) = step(h, 0.0, 20.0)?;
     let (right_speed, right, response) = step(h, MEASURED_BANK_DEG, 12.0)?;
     let (left_speed, left, _) = step(h, -MEASURED_BANK_DEG, 12.0)?;
     step(h, 0.0, 6.0)?;
     let curvature = (right / right_speed).abs().min((left / left_speed).abs());
-    let coordinated = 9.80665 * MEASURED_BANK_DEG.to_radians().tan() / (speed * speed);
     Ok(Flown {
         speed,
         curvature,
-        efficiency: curvature / coordinated,
+        efficiency: efficiency(curvature, MEASURED_BANK_DEG, speed),
         response,
     })
 }
