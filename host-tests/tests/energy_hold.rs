@@ -127,3 +127,70 @@ fn non_finite_input_gives_level_pitch_and_keeps_the_memory() {
     assert_eq!(hold.command(flight, f32::NAN, 0.05).pitch, 0.0);
     assert!(first.throttle > 0.5, "slow: more than the starting trim");
 }
+
+/// Level at the reference airspeed: the first command's throttle is the trim the hold starts
+/// from, plus nothing.
+fn first_throttle(hold: &mut EnergyHold) -> f32 {
+    let on_trim = Flight {
+        height: 50.0,
+        climb: 0.0,
+        airspeed: 10.0,
+    };
+    hold.command(on_trim, 10.0, 0.05).throttle
+}
+
+#[test]
+fn taking_over_it_starts_from_the_autopilots_throttle_until_it_has_flown() {
+    let mut fresh = EnergyHold::new();
+    assert!((first_throttle(&mut fresh) - 0.5).abs() < 1e-6);
+    let mut seeded = EnergyHold::new();
+    seeded.seed_throttle(0.8);
+    assert!((first_throttle(&mut seeded) - 0.8).abs() < 1e-6);
+    // Once it has flown, the trim it learnt stays: a later seed moves nothing.
+    let before = seeded;
+    seeded.seed_throttle(0.1);
+    assert_eq!(seeded, before);
+    // Out of 0 to 1, or not a number: ignored.
+    let mut odd = EnergyHold::new();
+    for bad in [f32::NAN, -0.1, 1.5, f32::INFINITY] {
+        odd.seed_throttle(bad);
+    }
+    assert!((first_throttle(&mut odd) - 0.5).abs() < 1e-6);
+}
+
+#[test]
+fn a_seeded_takeover_of_the_trimmed_aircraft_loses_less_airspeed() {
+    // The point mass on trim at 10 m/s needs 0.6 throttle; the fresh hold starts at 0.5.
+    let worst = |seed: Option<f32>| {
+        let mut hold = EnergyHold::new();
+        if let Some(t) = seed {
+            hold.seed_throttle(t);
+        }
+        let mut plane = Aircraft {
+            height: 100.0,
+            speed: 10.0,
+            path: 0.0,
+            pitch: 0.05,
+        };
+        let mut worst = 0.0f64;
+        let mut command = (0.0, 0.0);
+        for i in 0..1600 {
+            if i % 10 == 0 {
+                let flight = Flight {
+                    height: plane.height as f32,
+                    climb: (plane.speed * plane.path.sin()) as f32,
+                    airspeed: plane.speed as f32,
+                };
+                let e = hold.command(flight, 10.0, 0.05);
+                command = (f64::from(e.pitch), f64::from(e.throttle));
+            }
+            plane.step(command.0, command.1, 0.0, 0.005);
+            worst = worst.max((plane.speed - 10.0).abs());
+        }
+        worst
+    };
+    // What is left seeded is the pitch trim's, which starts level while the aircraft flies
+    // 0.05 rad nose up: 0.10 m/s at worst, against 0.17 m/s fresh.
+    let (fresh, seeded) = (worst(None), worst(Some(0.6)));
+    assert!(seeded < fresh, "seeded {seeded} m/s, fresh {fresh} m/s");
+}

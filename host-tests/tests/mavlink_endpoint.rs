@@ -521,6 +521,30 @@ fn an_energy_holding_fixed_wing_pitches_for_height_and_throttles_for_airspeed() 
     assert!(slow > at_speed + 0.4, "{slow} vs {at_speed}");
 }
 
+/// TC_VEHICLE 4 takes over at the autopilot's throttle: VFR_HUD's throttle before the first
+/// engagement is where the energy hold's trim starts, so on the airspeed and height held the
+/// first setpoint's thrust is that throttle (not the hold's own start at half).
+#[test]
+fn an_energy_holding_fixed_wing_takes_over_at_the_autopilots_throttle() {
+    for (percent, want) in [(80u16, 0.8f32), (30, 0.3)] {
+        let mut link = Link::new();
+        link.scale_tenfold();
+        link.set("TC_VEHICLE", 4.0);
+        let (pursuer, evader) = CASE1;
+        let mut hud = vfr_hud_payload(20.0);
+        hud[18..20].copy_from_slice(&percent.to_le_bytes());
+        link.send(OWN, VFR_HUD, &hud);
+        let (lat, lon) = link.plane.fix(pursuer[0], pursuer[1]);
+        let (vx, vy) = velocity_cm_s(20.0, pursuer[2]);
+        link.position(TARGET, 0, evader, 10.0);
+        let payload =
+            position_payload_in_air(0, [lat, lon], [vx, vy, 0], hdg_cdeg(pursuer[2]), 100_000);
+        let sent = link.send(OWN, GLOBAL_POSITION_INT, &payload);
+        let thrust = attitude(of(&sent, SET_ATTITUDE_TARGET)[0]).4;
+        assert!((thrust - want).abs() < 1e-3, "{percent} %: thrust {thrust}");
+    }
+}
+
 /// TC_VEHICLE 2 (a PX4 rover, which takes no yaw rate): a velocity setpoint in the local NED
 /// frame, at v_pm, its course the heading advanced by the law's turn over the guidance's period
 /// (TC_PERIOD 0.2 s), at most a quarter turn.

@@ -554,6 +554,8 @@ impl Session {
             Message::VfrHud(m) => {
                 if frame.system == self.sysid() && frame.component == AUTOPILOT_COMPONENT {
                     self.airspeed = Some((m.airspeed, now_ms));
+                    // Percent; the energy hold takes over at it (until it has flown).
+                    self.energy.seed_throttle(f32::from(m.throttle) / 100.0);
                 }
             }
             Message::Heartbeat(_) => {}

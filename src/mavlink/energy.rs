@@ -9,6 +9,9 @@
 //! - airspeed: throttle = throttle trim + 2 (v_ref - v) / v_ref + gamma_d, within 0 to 1.
 //!
 //! The height held is the one the engagement starts at; `reset` forgets it (the trims stay).
+//! Until the hold has flown, its throttle trim starts where the autopilot's throttle is
+//! (`seed_throttle`, from VFR_HUD): taking over from another controller keeps the throttle the
+//! aircraft was trimmed at instead of dropping to half.
 //! How PX4 SITL's SIH airplane flies under it is in docs/px4.md.
 
 /// How fast a height error is flown off, s.
@@ -50,12 +53,13 @@ pub struct Energy {
     pub throttle: f32,
 }
 
-/// The loops' memory: the height held and the two trims.
+/// The loops' memory: the height held, the two trims, and whether it has flown yet.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnergyHold {
     height: Option<f32>,
     pitch_trim: f32,
     throttle_trim: f32,
+    flown: bool,
 }
 
 impl Default for EnergyHold {
@@ -71,6 +75,16 @@ impl EnergyHold {
             height: None,
             pitch_trim: 0.0,
             throttle_trim: THROTTLE_START,
+            flown: false,
+        }
+    }
+
+    /// Starts the throttle trim at `throttle` (0 to 1: the autopilot's throttle now) while the
+    /// hold has not flown; after its first command the trim it learns stays. A value outside
+    /// 0 to 1 (NaN included) is ignored.
+    pub fn seed_throttle(&mut self, throttle: f32) {
+        if !self.flown && (0.0..=1.0).contains(&throttle) {
+            self.throttle_trim = throttle;
         }
     }
 
@@ -102,6 +116,7 @@ impl EnergyHold {
                 throttle: self.throttle_trim,
             };
         }
+        self.flown = true;
         let held = *self.height.get_or_insert(height);
         let speed = airspeed.max(MIN_SPEED);
         let demand = clamp((held - height) / (HEIGHT_TIME_S * speed), MAX_PATH_ANGLE);

@@ -38,7 +38,7 @@ pub struct Flown {
     pub speed: f64,
     /// VFR_HUD airspeed straight and level, m/s.
     pub airspeed: f64,
-    /// The steady turn's curvature at [`MEASURED_BANK_DEG`], the smaller side's, 1/m.
+    /// The steady turn's curvature at the bank measured, the smaller side's, 1/m.
     pub curvature: f64,
     /// The share of a coordinated turn's rate that curvature is: k in omega = k g tan(phi) / v.
     pub efficiency: f64,
@@ -46,10 +46,25 @@ pub struct Flown {
     pub response: f64,
 }
 
+impl Flown {
+    /// The aircraft as measured at `bank_deg`, in a line.
+    pub fn line(&self, bank_deg: f64) -> String {
+        format!(
+        "{:.2} m/s ground speed level, airspeed {:.2} m/s; at {bank_deg} deg of bank curvature {:.5} 1/m (radius {:.1} m), {:.0} % of a coordinated turn's; roll response {:.2} s",
+            self.speed,
+            self.airspeed,
+            self.curvature,
+        1.0 / self.curvature,
+        100.0 * self.efficiency,
+            self.response
+        )
+    }
+}
+
 /// Waits for the heartbeat, raises the streams, waits for the EKF to use GPS (120 s), takes off
-/// in TAKEOFF mode to [`HEIGHT`] (120 s), then switches to GUIDED; the wall-clock seconds it
-/// took.
-pub fn make_ready(h: &mut Harness) -> Result<f64, String> {
+/// in TAKEOFF mode to `height` (m above home; 120 s), then switches to GUIDED; the wall-clock
+/// seconds it took.
+pub fn make_ready(h: &mut Harness, height: f32) -> Result<f64, String> {
     let start = Instant::now();
     if !h.pump_until(&mut NoTarget, Duration::from_secs(20), &mut |h| {
         h.mode.is_some()
@@ -61,7 +76,7 @@ pub fn make_ready(h: &mut Harness) -> Result<f64, String> {
         h.router
             .send_to_autopilot(&command(MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, params))?;
     }
-    set_autopilot_param(h, "TKOFF_ALT", HEIGHT)?;
+    set_autopilot_param(h, "TKOFF_ALT", height)?;
     let using_gps = |h: &Harness| h.text_since(0, Source::Autopilot, "is using GPS").is_some();
     if !h.pump_until(&mut NoTarget, Duration::from_secs(120), &mut |h| {
         using_gps(h)
@@ -69,9 +84,9 @@ pub fn make_ready(h: &mut Harness) -> Result<f64, String> {
         return Err("ArduPlane's EKF never used GPS (120 s)".to_string());
     }
     switch_mode(h, TAKEOFF, true, Duration::from_secs(60))?;
-    let high = |h: &Harness| h.rover.is_some_and(|r| r.height > 0.9 * f64::from(HEIGHT));
+    let high = |h: &Harness| h.rover.is_some_and(|r| r.height > 0.9 * f64::from(height));
     if !h.pump_until(&mut NoTarget, Duration::from_secs(120), &mut |h| high(h))? {
-        return Err(format!("ArduPlane never climbed to {HEIGHT} m (120 s)"));
+        return Err(format!("ArduPlane never climbed to {height} m (120 s)"));
     }
     switch_mode(h, GUIDED, false, Duration::from_secs(20))?;
     Ok(start.elapsed().as_secs_f64())
@@ -86,16 +101,22 @@ struct Step {
     response: f64,
 }
 
-/// The roll setpoint `bank_deg` at 20 Hz for `seconds` of the aircraft's time.
-fn roll(h: &mut Harness, bank_deg: f64, seconds: f64) -> Result<Step, String> {
-    let half_angle = bank_deg.to_radians() as f32 / 2.0;
-    let setpoint = SET_ATTITUDE_TARGET_DATA {
+/// GUIDED's roll-only setpoint (type_mask [`ROLL_ONLY`]) for a bank of `bank` (rad, right
+/// wing down positive).
+pub fn roll_setpoint(bank: f64) -> SET_ATTITUDE_TARGET_DATA {
+    let half_angle = bank as f32 / 2.0;
+    SET_ATTITUDE_TARGET_DATA {
         q: [half_angle.cos(), half_angle.sin(), 0.0, 0.0],
         target_system: AUTOPILOT.0,
         target_component: AUTOPILOT.1,
         type_mask: AttitudeTargetTypemask::from_bits_truncate(ROLL_ONLY),
         ..Default::default()
-    };
+    }
+}
+
+/// The roll setpoint `bank_deg` at 20 Hz for `seconds` of the aircraft's time.
+fn roll(h: &mut Harness, bank_deg: f64, seconds: f64) -> Result<Step, String> {
+    let setpoint = roll_setpoint(bank_deg.to_radians());
     let marks = StepMarks::now(h);
     let end = h.now_ms() + (seconds * 1000.0) as u32;
     let half = h.now_ms() + (seconds * 500.0) as u32;
@@ -115,11 +136,11 @@ fn roll(h: &mut Harness, bank_deg: f64, seconds: f64) -> Result<Step, String> {
     })
 }
 
-/// Level for 12 s, then [`MEASURED_BANK_DEG`] right and left, 12 s each, then level again.
-pub fn measure(h: &mut Harness) -> Result<Flown, String> {
+/// Level for 12 s, then `bank_deg` right and left, 12 s each, then level again.
+pub fn measure(h: &mut Harness, bank_deg: f64) -> Result<Flown, String> {
     let level = roll(h, 0.0, 12.0)?;
-    let right = roll(h, MEASURED_BANK_DEG, 12.0)?;
-    let left = roll(h, -MEASURED_BANK_DEG, 12.0)?;
+    let right = roll(h, bank_deg, 12.0)?;
+    let left = roll(h, -bank_deg, 12.0)?;
     roll(h, 0.0, 6.0)?;
     let curvature = (right.rate / right.speed)
         .abs()
@@ -128,7 +149,7 @@ pub fn measure(h: &mut Harness) -> Result<Flown, String> {
         speed: level.speed,
         airspeed: level.airspeed,
         curvature,
-        efficiency: efficiency(curvature, MEASURED_BANK_DEG, level.speed),
+        efficiency: efficiency(curvature, bank_deg, level.speed),
         response: right.response,
     })
 }

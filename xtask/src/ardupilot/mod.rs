@@ -3,9 +3,10 @@
 //! the ground station, the router between them and the target: an evader of the adversary suite
 //! simulated as a Dubins car and reported as system 2's GLOBAL_POSITION_INT (docs/ardupilot.md).
 
-mod aircraft;
+pub mod aircraft;
 pub mod plane;
-mod rover_evader;
+pub mod plane_evader;
+pub mod rover_evader;
 mod sitl;
 mod telemetry;
 mod vehicle;
@@ -18,6 +19,7 @@ use std::time::Duration;
 use host_tests::autopilot::HOME;
 
 use crate::autopilot::chase::{self, Outcome};
+use crate::autopilot::evader::Terms;
 use crate::autopilot::harness::{Harness, NoTarget};
 use crate::autopilot::router::{Router, Source};
 use crate::autopilot::{
@@ -67,6 +69,12 @@ fn configure_field(h: &mut Harness) -> Result<(), String> {
         field::SIGMA_HEADING
     );
     Ok(())
+}
+
+/// The ArduPilot Rover SITL binary: `explicit`, else `TWOCARS_ARDUROVER`, else
+/// `../shared/ardupilot/ardurover`.
+pub fn find_rover(explicit: Option<&std::path::Path>) -> Option<PathBuf> {
+    sitl::find(Frame::Rover, explicit)
 }
 
 /// The unit (the QEMU image or the companion), SITL instance 0 of `frame` at home running
@@ -197,12 +205,15 @@ fn fly_against_rover(
         let seed = 7 + i as u64;
         let (outcome, [peak, mean]) = rover_evader::fly(
             h,
+            &mut rover_evader::pump,
             binary,
             start,
             limits,
-            CAPTURE_RADIUS,
-            seed,
-            options.field,
+            Terms {
+                eps: CAPTURE_RADIUS,
+                seed,
+                field: options.field,
+            },
         )?;
         println!(
             "{}\n  the evader's rover: speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s)",

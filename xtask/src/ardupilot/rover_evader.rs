@@ -8,17 +8,14 @@
 use std::path::Path;
 use std::time::Duration;
 
-use host_tests::adversary::{Adversary, Opponent};
 use host_tests::autopilot::{Plane, HOME};
-use host_tests::kinematics::distance;
-use mavlink::dialects::common::{
-    AttitudeTargetTypemask, GLOBAL_POSITION_INT_DATA, SET_ATTITUDE_TARGET_DATA,
-};
+use mavlink::dialects::common::{AttitudeTargetTypemask, SET_ATTITUDE_TARGET_DATA};
 
 use super::sitl::{Frame, Launch, Sitl};
 use super::vehicle::{make_ready, YAW_RATE_AND_THRUST};
-use crate::autopilot::chase::{chase_params, place, pursue, Began, Outcome, Start};
-use crate::autopilot::harness::{Harness, Injector, NoTarget, RoverFix, AUTOPILOT};
+use crate::autopilot::chase::{place, Outcome, Start};
+use crate::autopilot::evader::{self, Steer, Terms};
+use crate::autopilot::harness::{Harness, NoTarget, AUTOPILOT};
 use crate::autopilot::router::Router;
 
 /// The evader's SITL instance (TCP 5770): the pursuer is instance 0.
@@ -35,10 +32,12 @@ pub struct EvaderRover {
 
 /// Starts the evader's instance at `state` (north, east, heading clockwise from north, in the
 /// plane about home), its speed at thrust 1 `wp_speed` (m/s), and makes it ready; while it
-/// starts, `pursuer` keeps forwarding (so no link's buffer fills).
+/// starts, `keep` holds the pursuer (reading its link, so that no buffer fills; streaming
+/// what its mode needs).
 pub fn launch(
     binary: &Path,
     pursuer: &mut Harness,
+    keep: &mut dyn FnMut(&mut Harness) -> Result<(), String>,
     state: [f64; 3],
     wp_speed: f32,
 ) -> Result<EvaderRover, String> {
@@ -63,35 +62,23 @@ pub fn launch(
         })
     });
     while !starting.is_finished() {
-        pursuer.pump_until(&mut NoTarget, Duration::from_millis(200), &mut |_| false)?;
+        keep(pursuer)?;
     }
     starting
         .join()
         .map_err(|_| "the evader's start panicked".to_string())?
 }
 
-/// The evader's rover as the unit's target: on each of the pursuer's fixes the evader's link
-/// is read, capture judged on both rovers' fixes, and on each new evader fix its strategy's
-/// command sent and the fix handed on.
-struct RoverTarget<'a> {
-    evader: &'a mut Harness,
-    adversary: Adversary,
+/// The evader's rover told its strategy's turn as a GUIDED yaw rate and thrust.
+struct RoverSteer {
     /// The evader's speed at thrust 1, m/s.
     wp_speed: f64,
-    start_ms: u32,
-    eps: f64,
-    t_max: f64,
-    last_fix_ms: Option<u32>,
-    captured_ms: Option<u32>,
-    on: bool,
 }
 
-impl RoverTarget<'_> {
-    /// The evader's yaw rate (rad/s, clockwise) and thrust for its strategy's curvature `w`
-    /// (1/m, clockwise in the plane) at `speed` (m/s), the rover going at `measured` (m/s).
-    /// The thrust corrects the speed by [`SPEED_GAIN`]: WP_SPEED alone sets the rover's cruise,
-    /// and it overshoots it by a quarter after each start and turn.
-    fn steer(&mut self, w: f64, speed: f64, measured: f64) -> Result<(), String> {
+impl Steer for RoverSteer {
+    /// The thrust corrects the speed by [`SPEED_GAIN`]: WP_SPEED alone sets the rover's
+    /// cruise, and it overshoots it by a quarter after each start and turn.
+    fn steer(&mut self, h: &mut Harness, w: f64, speed: f64, measured: f64) -> Result<(), String> {
         let asked = if speed > 0.0 {
             speed + SPEED_GAIN * (speed - measured)
         } else {
@@ -108,99 +95,30 @@ impl RoverTarget<'_> {
             target_component: AUTOPILOT.1,
             type_mask: AttitudeTargetTypemask::from_bits_truncate(YAW_RATE_AND_THRUST),
         };
-        self.evader.router.send_to_autopilot(&setpoint)
-    }
-
-    fn step(&mut self, rover: &RoverFix) -> Result<Option<GLOBAL_POSITION_INT_DATA>, String> {
-        self.evader
-            .pump_until(&mut NoTarget, Duration::from_millis(1), &mut |_| false)?;
-        let Some(fix) = self.evader.rover else {
-            return Ok(None);
-        };
-        let t = f64::from(rover.time_ms.wrapping_sub(self.start_ms)) / 1000.0;
-        if distance(rover.state, fix.state) <= self.eps || t > self.t_max {
-            if t <= self.t_max {
-                self.captured_ms = Some(rover.time_ms);
-            }
-            self.on = false;
-            self.steer(0.0, 0.0, fix.speed)?;
-            return Ok(None);
-        }
-        if self.last_fix_ms == Some(fix.time_ms) {
-            return Ok(None);
-        }
-        self.last_fix_ms = Some(fix.time_ms);
-        let (w, speed) = self.adversary.command(t, rover.state, fix.state);
-        self.steer(w, speed, fix.speed)?;
-        Ok(self.evader.position.clone())
+        h.router.send_to_autopilot(&setpoint)
     }
 }
 
-impl Injector for RoverTarget<'_> {
-    fn before(&mut self, rover: &RoverFix) -> Option<GLOBAL_POSITION_INT_DATA> {
-        if !self.on {
-            return None;
-        }
-        self.step(rover).unwrap_or_else(|e| {
-            eprintln!("xtask: the evader's rover: {e}");
-            self.on = false;
-            None
-        })
-    }
-
-    fn on(&self) -> bool {
-        self.on
-    }
-
-    fn captured_ms(&self) -> Option<u32> {
-        self.captured_ms
-    }
+/// Reads the pursuer's link for 200 ms: what an ArduPilot rover standing in GUIDED needs.
+pub fn pump(h: &mut Harness) -> Result<(), String> {
+    h.pump_until(&mut NoTarget, Duration::from_millis(200), &mut |_| false)
+        .map(|_| ())
 }
 
-/// Flies `start` with the evader a rover of its own: launched at the start, at rest, driven by
-/// `start.evader` within `limits`; the evader's peak and mean speed over the chase (m/s)
-/// beside the outcome.
+/// Flies `start` with the evader a rover of its own: launched at the start, at rest (the
+/// pursuer held by `keep` meanwhile), driven by `start.evader` within `limits`; the evader's
+/// peak and mean speed over the chase (m/s) beside the outcome.
 pub fn fly(
     h: &mut Harness,
+    keep: &mut dyn FnMut(&mut Harness) -> Result<(), String>,
     binary: &Path,
     start: Start,
     limits: [f64; 4],
-    eps: f64,
-    seed: u64,
-    field: bool,
+    terms: Terms,
 ) -> Result<(Outcome, [f64; 2]), String> {
     let placed = place(h.rover.ok_or("no fix from the rover")?.state, &start);
     let wp_speed = limits[2];
-    let mut evader = launch(binary, h, placed, wp_speed as f32)?;
-    // Both at rest, where they stand now.
-    let rover = h.rover.ok_or("no fix from the rover")?;
-    let evader0 = evader
-        .harness
-        .rover
-        .ok_or("no fix from the evader's rover")?
-        .state;
-    let params = chase_params(limits, rover.state, evader0, eps, h.chase_limit_s);
-    let adversary = Adversary::new(Opponent::Evader(start.evader), limits, params.dt, eps, seed)
-        .ok_or("the adversary's limits are invalid")?;
-    let fixes_before = evader.harness.fixes.len();
-    let target = RoverTarget {
-        evader: &mut evader.harness,
-        adversary,
-        wp_speed,
-        start_ms: rover.time_ms,
-        eps,
-        t_max: params.t_max,
-        last_fix_ms: None,
-        captured_ms: None,
-        on: true,
-    };
-    let began = Began::new(start, rover, &params, seed);
-    let outcome = pursue(h, target, &began, seed, field)?;
-    let speeds: Vec<f64> = evader.harness.fixes[fixes_before..]
-        .iter()
-        .map(|f| f.speed)
-        .collect();
-    let peak = speeds.iter().copied().fold(0.0, f64::max);
-    let mean = speeds.iter().sum::<f64>() / speeds.len().max(1) as f64;
-    Ok((outcome, [peak, mean]))
+    let mut evader = launch(binary, h, keep, placed, wp_speed as f32)?;
+    let mut steer = RoverSteer { wp_speed };
+    evader::chase(h, &mut evader.harness, &mut steer, start, limits, terms)
 }

@@ -6,6 +6,7 @@
 
 pub mod aircraft;
 pub mod chase;
+pub mod evader;
 pub mod field;
 pub mod harness;
 pub mod router;

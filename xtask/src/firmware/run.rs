@@ -84,8 +84,8 @@ pub struct RunArgs {
     /// side with it (pymavlink; ArduPilot, given the key with SETUP_SIGNING).
     #[arg(long)]
     signing_key: Option<std::path::PathBuf>,
-    /// With `--link ardupilot`: the `ardurover` SITL binary (default: TWOCARS_ARDUROVER, then
-    /// ../shared/ardupilot/ardurover).
+    /// With `--link ardupilot`, or `px4 --rover-evader`: the `ardurover` SITL binary
+    /// (default: TWOCARS_ARDUROVER, then ../shared/ardupilot/ardurover).
     #[arg(long)]
     ardurover: Option<std::path::PathBuf>,
     /// With `--link mavlink`: the target's fixes 200 ms late, 5 a second, with GPS noise of
@@ -93,8 +93,9 @@ pub struct RunArgs {
     /// second, 1 m and 5 degrees, wind and GPS noise on the rover (docs/field.md).
     #[arg(long)]
     field: bool,
-    /// With `--link ardupilot`: the evader a second ArduPilot Rover SITL driven by the suite's
-    /// evaders, its own GLOBAL_POSITION_INT the unit's target (docs/ardupilot.md).
+    /// With `--link ardupilot` or `px4` (rovers): the evader a second ArduPilot Rover SITL
+    /// driven by the suite's evaders, its own GLOBAL_POSITION_INT the unit's target
+    /// (docs/ardupilot.md, docs/px4.md).
     #[arg(long)]
     rover_evader: bool,
     /// With `--link ardupilot` or `px4`: the unit the `twocars-companion` binary on the host
@@ -105,8 +106,13 @@ pub struct RunArgs {
     /// under roll setpoints; PX4's SIH airplane in OFFBOARD under the unit's energy hold).
     #[arg(long, value_enum, default_value = "rover")]
     vehicle: RunVehicle,
-    /// With `--link ardupilot --vehicle plane`: the `arduplane` SITL binary (default:
-    /// TWOCARS_ARDUPLANE, then ../shared/ardupilot/arduplane).
+    /// With `--vehicle plane` (`--link ardupilot` or `px4`): the evader an ArduPlane SITL
+    /// (slower, banking less) driven by the suite's evaders, its own GLOBAL_POSITION_INT the
+    /// unit's target (docs/ardupilot.md, docs/px4.md).
+    #[arg(long)]
+    plane_evader: bool,
+    /// With `--link ardupilot --vehicle plane`, or `px4 --plane-evader`: the `arduplane` SITL
+    /// binary (default: TWOCARS_ARDUPLANE, then ../shared/ardupilot/arduplane).
     #[arg(long)]
     arduplane: Option<std::path::PathBuf>,
     /// With `--vehicle plane`: SITL's speed-up over the wall clock.
@@ -341,6 +347,8 @@ pub fn run(args: &RunArgs) -> i32 {
             px4: args.px4.clone(),
             short: false,
             companion: args.companion,
+            plane_evader: args.plane_evader,
+            arduplane: args.arduplane.clone(),
         });
     }
     if args.link == RunLink::Px4 {
@@ -348,6 +356,8 @@ pub fn run(args: &RunArgs) -> i32 {
             px4: args.px4.clone(),
             short: false,
             companion: args.companion,
+            rover_evader: args.rover_evader,
+            ardurover: args.ardurover.clone(),
         });
     }
     if args.link == RunLink::Ardupilot {
@@ -360,6 +370,7 @@ pub fn run(args: &RunArgs) -> i32 {
                 short: false,
                 companion: args.companion,
                 speedup: args.speedup,
+                plane_evader: args.plane_evader,
             });
         }
         let options = crate::ardupilot::Options {

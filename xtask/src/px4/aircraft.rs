@@ -11,8 +11,24 @@ use super::vehicle::{enter_offboard, prepare, stream, STREAMS, VFR_HUD};
 use crate::autopilot::aircraft::{efficiency, read_step, StepMarks};
 use crate::autopilot::harness::{Harness, AUTOPILOT};
 
-/// The airspeed held, m/s: the SIH airplane's throttle is 0.65 there, with room either way.
+/// The airspeed held against the simulated evader, m/s: the SIH airplane's throttle is 0.65
+/// there, with room either way.
 pub const AIRSPEED: f32 = 10.0;
+
+/// The ground station's energy hold and the airspeed it keeps (m/s).
+pub struct Held {
+    pub hold: EnergyHold,
+    pub airspeed: f32,
+}
+
+impl Held {
+    pub fn new(airspeed: f32) -> Held {
+        Held {
+            hold: EnergyHold::new(),
+            airspeed,
+        }
+    }
+}
 /// The height the climb ends at, m above home.
 const CLIMB_TO_M: f64 = 40.0;
 /// The bank the turn is measured at, deg (PX4's FW_R_LIM is 50).
@@ -23,7 +39,7 @@ const ATTITUDE_AND_THRUST: u8 = 1 | 2 | 4;
 /// The aircraft as flown.
 #[derive(Clone, Copy, Debug)]
 pub struct Flown {
-    /// Ground speed level at [`AIRSPEED`], m/s.
+    /// Ground speed level at the airspeed held, m/s.
     pub speed: f64,
     /// Curvature at [`MEASURED_BANK_DEG`], the smaller side's, 1/m.
     pub curvature: f64,
@@ -56,7 +72,7 @@ fn attitude(h: &Harness, roll: f64, pitch: f64, thrust: f32) -> SET_ATTITUDE_TAR
 }
 
 /// The energy hold's command on the aircraft's last fix and airspeed.
-fn hold_energy(h: &Harness, hold: &mut EnergyHold) -> Energy {
+fn hold_energy(h: &Harness, held: &mut Held) -> Energy {
     let Some(p) = h.position.as_ref() else {
         return Energy {
             pitch: 0.0,
@@ -69,20 +85,23 @@ fn hold_energy(h: &Harness, hold: &mut EnergyHold) -> Energy {
         climb: -f32::from(p.vz) / 100.0,
         airspeed: h.airspeeds.last().map_or(ground, |(_, v)| *v),
     };
-    hold.command(flight, AIRSPEED, 0.05)
+    held.hold.command(flight, held.airspeed, 0.05)
 }
 
-/// Flies `bank_deg` for `seconds` of the aircraft's time, pitch and throttle from `hold`.
+/// Flies `bank_deg` for `seconds` of the aircraft's time, pitch and throttle from `held`.
 pub fn fly_level(
     h: &mut Harness,
-    hold: &mut EnergyHold,
+    held: &mut Held,
     bank_deg: f64,
     seconds: f64,
 ) -> Result<(), String> {
-    stream(h, seconds, &mut |h| {
-        let e = hold_energy(h, hold);
-        attitude(h, bank_deg.to_radians(), f64::from(e.pitch), e.throttle)
-    })
+    stream(h, seconds, &mut |h| banked(h, held, bank_deg.to_radians()))
+}
+
+/// The attitude setpoint for `bank` (rad), pitch and throttle from `held`.
+pub fn banked(h: &Harness, held: &mut Held, bank: f64) -> SET_ATTITUDE_TARGET_DATA {
+    let e = hold_energy(h, held);
+    attitude(h, bank, f64::from(e.pitch), e.throttle)
 }
 
 /// Streams, a position, then OFFBOARD and armed behind a climb-out (pitch 12 degrees,
@@ -109,17 +128,17 @@ pub fn make_ready(h: &mut Harness) -> Result<f64, String> {
     Ok(start.elapsed().as_secs_f64())
 }
 
-/// Back in OFFBOARD (after a failsafe) behind level flight under `hold`.
-pub fn reenter_offboard(h: &mut Harness, hold: &mut EnergyHold) -> Result<(), String> {
-    enter_offboard(h, &mut |h, s| fly_level(h, hold, 0.0, s))
+/// Back in OFFBOARD (after a failsafe) behind level flight under `held`.
+pub fn reenter_offboard(h: &mut Harness, held: &mut Held) -> Result<(), String> {
+    enter_offboard(h, &mut |h, s| fly_level(h, held, 0.0, s))
 }
 
 /// Level for 20 s (the climb-out settles), then [`MEASURED_BANK_DEG`] right and left, 12 s
 /// each, then level 6 s; each step's second half averaged.
-pub fn measure(h: &mut Harness, hold: &mut EnergyHold) -> Result<Flown, String> {
+pub fn measure(h: &mut Harness, held: &mut Held) -> Result<Flown, String> {
     let mut step = |h: &mut Harness, bank: f64, seconds: f64| {
         let marks = StepMarks::now(h);
-        fly_level(h, hold, bank, seconds)?;
+        fly_level(h, held, bank, seconds)?;
         Ok::<_, String>(read_step(h, marks, bank, seconds))
     };
     let (speed, _, _) = step(h, 0.0, 20.0)?;
