@@ -4,6 +4,12 @@
 //! with `tables-in-flash` names the value-table sets the image includes.
 use std::path::PathBuf;
 
+/// The core's key-file reading, the one the crate and its tools use.
+#[path = "src/mavlink/key_file.rs"]
+#[allow(dead_code)]
+mod key_file;
+use key_file::parse_key;
+
 fn main() {
     let target = std::env::var("TARGET").unwrap_or_default();
     let feature = |name: &str| std::env::var_os(format!("CARGO_FEATURE_{name}")).is_some();
@@ -120,20 +126,4 @@ fn mavlink_key() {
     if let Err(e) = std::fs::write(out.join("mavlink_key.rs"), code) {
         panic!("writing mavlink_key.rs: {e}");
     }
-}
-
-/// A key file's 32 bytes: raw, or as 64 hexadecimal digits (surrounding whitespace ignored).
-fn parse_key(bytes: &[u8]) -> Option<[u8; 32]> {
-    if let Ok(raw) = <[u8; 32]>::try_from(bytes) {
-        return Some(raw);
-    }
-    let text = std::str::from_utf8(bytes).ok()?.trim();
-    if text.len() != 64 {
-        return None;
-    }
-    let mut key = [0u8; 32];
-    for (i, k) in key.iter_mut().enumerate() {
-        *k = u8::from_str_radix(text.get(2 * i..2 * i + 2)?, 16).ok()?;
-    }
-    Some(key)
 }

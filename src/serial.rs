@@ -373,9 +373,8 @@ pub fn serve<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mut 
 }
 
 /// [`serve`], then waits (asleep) until the ShutdownAck has left the transmit queue: a board's
-/// `main` can stop once this returns. Inlined into the board's `main`, where the loop was
-/// before: out of line, the law and the encoder were no longer inlined into it and the QEMU
-/// image grew by 152 B.
+/// `main` can stop once this returns. Inlined into the board's `main`: out of line, the law and
+/// the encoder are not inlined into it and the QEMU image grows by 152 B.
 #[inline(always)]
 pub fn serve_to_shutdown<B: Board, S: Scalar>(
     line: &mut LoopEnd<'_>,

@@ -235,12 +235,13 @@ def refusals(peer, name, value, kept):
         signing.timestamp = now + 1
 
     def truncated():
-        # Six bytes short: the next frame's first six complete its signature, which fails;
-        # the rest of that frame is noise to the unit.
+        # Six bytes short: the line's next six complete its signature, which fails. They are
+        # zeros, not the start of a frame: a frame's rest would be noise to the unit, and a
+        # 0xFD among its random signature bytes reads as a frame start and counts a second
+        # bad frame.
         frame = param_set.pack(peer.conn.mav)
-        filler = mavlink.MAVLink_heartbeat_message(
-            mavlink.MAV_TYPE_GCS, mavlink.MAV_AUTOPILOT_INVALID, 0, 0, 0, 3)
-        peer.raw(frame[:-6] + filler.pack(peer.conn.mav))
+        peer.raw(frame[:-6])
+        peer.raw(bytes(6))
 
     counts = signature_counters(peer)
     cases = []

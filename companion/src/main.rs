@@ -16,7 +16,7 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use clap::Parser;
 use twocars::mavlink::params::index;
-use twocars::mavlink::signing::{parse_key, LINK_ID};
+use twocars::mavlink::signing::{parse_key, timestamp_from_unix_us, LINK_ID};
 use twocars::mavlink::Endpoint;
 
 use link::Link;
@@ -59,11 +59,10 @@ fn parse_param(text: &str) -> Result<(String, f32), String> {
 
 /// The signing clock now: 10 us since 2015-01-01 UTC (MAVLink 2's signing epoch).
 fn signing_clock_now() -> u64 {
-    const EPOCH_2015_S: u64 = 1_420_070_400;
     let since_unix = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .unwrap_or_default();
-    (since_unix.as_micros() as u64 / 10).saturating_sub(EPOCH_2015_S * 100_000)
+    timestamp_from_unix_us(since_unix.as_micros() as u64)
 }
 
 /// The endpoint the arguments ask for: signing, then the parameters in order.

@@ -7,7 +7,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use twocars::num::fixed::wire::{self, Reciprocal};
+use twocars::num::convert::{self, Reciprocal};
 use twocars::num::fixed::Fixed;
 use twocars::Scalar;
 
@@ -43,7 +43,7 @@ fuzz_target!(|data: &[u8]| {
     );
     // Headings.
     if a.is_finite() && a.abs() <= 1.0e4 {
-        let h = i64::from(wire::heading(a).raw());
+        let h = i64::from(convert::heading(a));
         let pi = i64::from(Fixed::pi().raw());
         assert!((-pi..=pi).contains(&h));
         let tau = 2.0 * std::f64::consts::PI;
@@ -54,13 +54,13 @@ fuzz_target!(|data: &[u8]| {
     // Offsets in a unit of length c.
     let envelope = |v: f32| v.is_finite() && v.abs() <= 1.0e6;
     if envelope(a) && envelope(b) && c.is_normal() && c > 1.0e-4 && c < 1.0e4 {
-        let got = wire::offset(a, b, &Reciprocal::of(c));
+        let got = convert::offset(a, b, &Reciprocal::of(c));
         let exact = (f64::from(b) - f64::from(a)) / f64::from(c) * 16384.0;
         if exact.abs() < 2f64.powi(31) - 2.0 {
             let quantum = 2f64.powi(-40) / f64::from(c) * 16384.0;
             let bound = 0.5 + 3.0 * exact.abs() / 2f64.powi(32) + quantum;
             assert!(
-                (f64::from(got.raw()) - exact).abs() <= bound,
+                (f64::from(got) - exact).abs() <= bound,
                 "{a:e} {b:e} / {c:e}"
             );
         }

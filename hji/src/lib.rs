@@ -403,10 +403,9 @@ impl Scheme {
     /// `tau`: one step of [`NEAR_STEPS`] times `tau`, with its looks. A pass that skims the
     /// edge slowly can still be within two cells of the disc after one step of tau, where V
     /// jumps within a cell (a traced run passed at 1.018 r_p, and one step of
-    /// tau from 1.056 r_p landed still in that band).
-    /// On seeds kept aside (130,000 to 139,000) every run past 10 % of `cargo xtask hj --play`
-    /// was 1 to 8 points earlier than with one step of tau, and no other worst run rose by
-    /// more than 0.1 point.
+    /// tau from 1.056 r_p landed still in that band). On seeds 130,000 to 139,000, every run
+    /// past 10 % of `cargo xtask hj --play` ends 1 to 8 points earlier than with one step of
+    /// tau, and no other worst run rises by more than 0.1 point.
     pub fn near(game: Game, grid: Grid, tau: f64) -> Self {
         Scheme::new(game, grid, NEAR_STEPS * tau)
     }

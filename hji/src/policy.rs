@@ -1,8 +1,8 @@
 //! The players that play the Hamilton-Jacobi-Isaacs value tables ([`crate`]) on the host:
 //! inside the theorem's threshold, in a table's box and outside its capture disc, the pursuer
 //! takes the turn that makes V least against the evader's best reply one solver step ahead;
-//! elsewhere the flight policy, the paper's law beyond the threshold (`Policy::Table`, as a
-//! host experiment; the firmware does not play a table yet).
+//! elsewhere the flight policy, the paper's law beyond the threshold (`Policy::Table`). This is
+//! the f64 reference of the player the core's `value_tables` module plays in f32 on the unit.
 //!
 //! The tables are nested: a list, finest first, each solved with the next one's values where
 //! its steps leave its box (`cargo xtask hj`'s near field). A state is read from the finest

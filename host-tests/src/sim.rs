@@ -201,8 +201,9 @@ pub fn valid_params(params: &SimParams) -> bool {
 /// headings unchanged), as an autopilot's local navigation frame would give them: the game is
 /// the same under translation, and the f32 the law reads then resolves the players' relative
 /// geometry to 1e-7 of their distance, not of their distance from the origin (after a chase
-/// of 700 m, f32 absolute positions are 6e-5 m apart: a slow chase then dithered in its last
-/// centimetres, 1,141 sign flips where the local frame gives 1; docs/closed-loop.md).
+/// of 700 m, f32 absolute positions are 6e-5 m apart: a slow chase in absolute positions
+/// dithers in its last centimetres, 1,141 sign flips where the local frame gives 1;
+/// docs/closed-loop.md).
 pub fn closed_loop<E>(
     params: &SimParams,
     record: bool,

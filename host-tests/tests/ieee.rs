@@ -1,9 +1,9 @@
 //! The integer IEEE 754 conversions of the fixed-point backend (src/num/ieee.rs,
-//! src/num/fixed/wire.rs) against exact f64 references: every exponent field, both signs,
+//! src/num/convert.rs) against exact f64 references: every exponent field, both signs,
 //! subnormals, NaN and the infinities.
 
 use host_tests::rng::Rng;
-use twocars::num::fixed::wire::{self, Reciprocal};
+use twocars::num::convert::{self, Reciprocal};
 use twocars::num::fixed::Fixed;
 use twocars::{Limits, Scalar};
 
@@ -108,7 +108,7 @@ fn headings_reduce_to_the_nearest_q14_radian_in_minus_pi_to_pi() {
         if !(theta.is_finite() && theta.abs() <= 1.0e4) {
             continue;
         }
-        let got = wire::heading(theta).raw();
+        let got = convert::heading(theta);
         assert!((-pi_q14..=pi_q14).contains(&got), "{theta:e}: {got}");
         // f64 reduction: within 2e-12 rad for |theta| <= 1e4, far below half a raw unit.
         let tau = 2.0 * std::f64::consts::PI;
@@ -124,7 +124,7 @@ fn headings_reduce_to_the_nearest_q14_radian_in_minus_pi_to_pi() {
     assert!(compared > 15_000, "{compared}");
     assert!(worst <= 1, "worst {worst} raw units");
     assert_eq!(
-        wire::heading(10.0).raw(),
+        convert::heading(10.0),
         ((10.0 - 4.0 * std::f64::consts::PI) * 16384.0).round() as i32
     );
 }
@@ -141,12 +141,12 @@ fn offsets_in_units_of_length_match_the_exact_quotient_to_a_raw_unit() {
             * f64::from(metres)
             * 10f64.powf(rng.uniform(-7.0, 0.0))) as f32;
         let to = (base + offset).clamp(-1e6, 1e6);
-        let got = wire::offset(base, to, &per_metre);
+        let got = convert::offset(base, to, &per_metre);
         let exact = (f64::from(to) - f64::from(base)) / f64::from(metres) * 16384.0;
         if exact.abs() >= 2f64.powi(31) - 1.0 {
             continue;
         }
-        worst = worst.max((i64::from(got.raw()) - exact.round() as i64).abs());
+        worst = worst.max((i64::from(got) - exact.round() as i64).abs());
     }
     assert!(worst <= 1, "worst {worst} raw units");
 }
@@ -167,7 +167,7 @@ fn offsets_at_the_range_edge_stay_within_the_relative_bound() {
         if to.abs() > 1e6 {
             continue;
         }
-        let got = f64::from(wire::offset(base, to, &per_metre).raw());
+        let got = f64::from(convert::offset(base, to, &per_metre));
         let exact = (f64::from(to) - f64::from(base)) / f64::from(metres) * 16384.0;
         if exact.abs() >= 2f64.powi(31) - 2.0 {
             continue;
@@ -177,7 +177,7 @@ fn offsets_at_the_range_edge_stay_within_the_relative_bound() {
     }
     assert!(worst_excess <= 0.0, "past the bound by {worst_excess}");
     let (base, to, metres) = (5.136_999_4e5_f32, 1.108_832_8e1_f32, 3.958_547_8_f32);
-    let got = f64::from(wire::offset(base, to, &Reciprocal::of(metres)).raw());
+    let got = f64::from(convert::offset(base, to, &Reciprocal::of(metres)));
     let exact = (f64::from(to) - f64::from(base)) / f64::from(metres) * 16384.0;
     assert_eq!((got - exact.round()).abs(), 2.0, "{got} against {exact}");
     assert!((got - exact).abs() <= 0.5 + 3.0 * exact.abs() / 2f64.powi(32));

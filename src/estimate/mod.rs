@@ -30,7 +30,7 @@ pub use track::{Fix, FixNoise, Refused, Track};
 
 use crate::error::Error;
 use crate::law::geometry::{f32_envelope, Units};
-use crate::num::fixed::wire::Reciprocal;
+use crate::num::convert::Reciprocal;
 use crate::num::Scalar;
 
 /// What an [`Estimator`] is told of the field: the fixes' noise and lag, the own vehicle's

@@ -4,7 +4,7 @@
 //! Frames: metres, radians anticlockwise from +x. Curvature `w` in 1/m (theta_dot = v w).
 
 use crate::error::Error;
-use crate::num::fixed::wire::Reciprocal;
+use crate::num::convert::Reciprocal;
 use crate::num::{ieee, Scalar};
 
 /// Turning direction of a minimum-radius circle. As a number (`as usize`), its index in Table 1's

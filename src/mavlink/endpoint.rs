@@ -332,7 +332,7 @@ impl Endpoint {
     }
 
     /// What the frame reader counted.
-    pub fn frame_counters(&self) -> super::FrameCounters {
+    pub fn frame_counters(&self) -> super::frame::FrameCounters {
         self.reader.counters
     }
 

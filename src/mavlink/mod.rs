@@ -8,6 +8,7 @@ pub mod endpoint;
 pub mod energy;
 #[doc(hidden)]
 pub mod frame;
+mod key_file;
 #[doc(hidden)]
 pub mod messages;
 #[doc(hidden)]

@@ -12,6 +12,8 @@
 
 use sha2::{Digest, Sha256};
 
+pub use super::key_file::{parse_key, timestamp_from_unix_us, KEY_LEN};
+
 /// The key and signing-clock start the image was built with (`TWOCARS_MAVLINK_KEY`, see
 /// build.rs and docs/mavlink.md), or `None`.
 mod provisioned {
@@ -22,8 +24,6 @@ pub use provisioned::PROVISIONED;
 /// Our link id on the autopilot's link.
 pub const LINK_ID: u8 = 0;
 
-/// The secret key's length, bytes.
-pub const KEY_LEN: usize = 32;
 /// The signature block's length: link id, timestamp, signature.
 pub const SIGNATURE_LEN: usize = 13;
 /// How far behind the newest accepted timestamp a new stream may start: one minute, in 10 us.
@@ -43,23 +43,6 @@ pub enum SignatureRefusal {
     /// The timestamp is not newer than the stream's last (a replay, or a clock gone back), or
     /// a new stream starts more than a minute behind.
     Stale,
-}
-
-/// A key as a key file holds it: 32 bytes as they are, or 64 hexadecimal digits (surrounding
-/// whitespace ignored); `None` otherwise.
-pub fn parse_key(file: &[u8]) -> Option<[u8; KEY_LEN]> {
-    if let Ok(raw) = <[u8; KEY_LEN]>::try_from(file) {
-        return Some(raw);
-    }
-    let text = core::str::from_utf8(file).ok()?.trim();
-    if text.len() != 2 * KEY_LEN {
-        return None;
-    }
-    let mut key = [0u8; KEY_LEN];
-    for (i, k) in key.iter_mut().enumerate() {
-        *k = u8::from_str_radix(text.get(2 * i..2 * i + 2)?, 16).ok()?;
-    }
-    Some(key)
 }
 
 /// The 48-bit signature of `signed` (header, payload and checksum of a frame whose

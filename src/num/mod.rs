@@ -9,6 +9,8 @@
 //! and, with the `micromath` feature, `micro::Micro` (micromath's approximations).
 
 #[doc(hidden)]
+pub mod convert;
+#[doc(hidden)]
 pub mod f32_math;
 pub mod fixed;
 #[doc(hidden)]
@@ -20,7 +22,7 @@ use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::error::Error;
-use fixed::wire::Reciprocal;
+use convert::Reciprocal;
 
 /// A real number as one numeric backend represents it.
 ///
@@ -87,7 +89,7 @@ pub trait Scalar:
     /// (pursuer, evader) in metres (finite, within the f32 envelope), in units of `metres`
     /// (`per_metre` its reciprocal); `OutOfRange` where the players are apart by more than
     /// `radius` units yet both offsets round to zero (the backend would read one point).
-    /// Fixed point converts with integers only ([`fixed::wire`]).
+    /// Fixed point converts with integers only ([`convert`]).
     fn relative_position(
         x: (f32, f32),
         y: (f32, f32),

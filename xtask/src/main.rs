@@ -4,6 +4,7 @@
 mod ardupilot;
 mod autopilot;
 mod bench;
+mod checks;
 mod firmware;
 mod fuzz;
 mod hj;
@@ -66,6 +67,8 @@ enum Cmd {
     /// SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatters,
     /// the field's figures.
     Plot(plot::PlotArgs),
+    /// Import cycles between the files of each of the workspace's crates, with what ties them.
+    Imports,
 }
 
 impl Cmd {
@@ -110,6 +113,7 @@ fn main() -> ExitCode {
         Cmd::Plot(args) => plot::command(args),
         Cmd::Profile => profile::command(),
         Cmd::Build(args) => firmware::build::build_command(args),
+        Cmd::Imports => i32::from(checks::import_cycles().1 > 0),
     };
     ExitCode::from(u8::try_from(code).unwrap_or(1))
 }

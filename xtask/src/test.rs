@@ -234,8 +234,13 @@ impl Step {
 }
 
 /// The suite, in order; the full run stops at the first step that fails.
-const STEPS: [Step; 16] = [
+const STEPS: [Step; 17] = [
     Step::quick("format", format),
+    Step::quick("imports", |suite| {
+        println!("== xtask test: no import cycle between the files of each crate");
+        let counts = timed("the import check", crate::checks::import_cycles);
+        suite.count(counts)
+    }),
     Step::quick("clippy-host", clippy_host),
     Step::full("clippy-core", clippy_core),
     Step::full("tables", |suite| suite.tables().is_some()),
@@ -417,11 +422,9 @@ fn clippy_bench(suite: &mut Suite) -> bool {
 
 fn images(_: &mut Suite) -> bool {
     let what = "firmware images build, vector tables at their boards' flash origins";
-    every_board(
-        what,
-        "the firmware images",
-        crate::firmware::build::build_checked,
-    )
+    every_board(what, "the firmware images", |board| {
+        crate::firmware::build::build_checked(board, None)
+    })
 }
 
 fn panic_free(_: &mut Suite) -> bool {

@@ -30,10 +30,7 @@
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-#[doc(hidden)]
-pub mod wire;
-
-use self::wire::Reciprocal;
+use super::convert::{self, Reciprocal};
 use super::{ieee, Scalar};
 use crate::error::Error;
 
@@ -424,11 +421,11 @@ impl Scalar for Fixed {
         Fixed(scaled as i32)
     }
     fn to_f32(self) -> f32 {
-        wire::scaled_to_f32(self, 1.0)
+        convert::scaled_to_f32(self.0, 1.0)
     }
     #[inline]
     fn to_f32_scaled(self, scale: f32) -> f32 {
-        wire::scaled_to_f32(self, scale)
+        convert::scaled_to_f32(self.0, scale)
     }
     fn relative_position(
         x: (f32, f32),
@@ -438,20 +435,20 @@ impl Scalar for Fixed {
         radius: f32,
     ) -> Result<(Self, Self), Error> {
         let (dx, dy) = (
-            wire::offset(x.0, x.1, per_metre),
-            wire::offset(y.0, y.1, per_metre),
+            Fixed(convert::offset(x.0, x.1, per_metre)),
+            Fixed(convert::offset(y.0, y.1, per_metre)),
         );
         if dx.is_invalid() || dy.is_invalid() {
             return Err(Error::OutOfRange);
         }
-        if dx.0 == 0 && dy.0 == 0 && wire::apart_beyond(x, y, per_metre, radius) {
+        if dx.0 == 0 && dy.0 == 0 && convert::apart_beyond(x, y, per_metre, radius) {
             return Err(Error::OutOfRange);
         }
         Ok((dx, dy))
     }
     #[inline]
     fn reduced_heading(theta: f32) -> Self {
-        wire::heading(theta)
+        Fixed(convert::heading(theta))
     }
     fn to_f64(self) -> f64 {
         if self.is_invalid() {

@@ -10,8 +10,8 @@ use mavlink::dialects::common::{AttitudeTargetTypemask, MavCmd, SET_ATTITUDE_TAR
 use super::vehicle::{send_until, set_autopilot_param, switch_mode, GUIDED};
 use crate::autopilot::aircraft::{efficiency, read_step, StepMarks};
 use crate::autopilot::harness::{Harness, NoTarget, AUTOPILOT};
+use crate::autopilot::message::{command, STREAM_INTERVAL_US};
 use crate::autopilot::router::Source;
-use crate::autopilot::{command, STREAM_INTERVAL_US};
 
 /// ArduPlane's TAKEOFF mode: climbs to TKOFF_ALT on its own, then loiters.
 const TAKEOFF: u32 = 13;

@@ -4,6 +4,7 @@
 //! simulated as a Dubins car and reported as system 2's GLOBAL_POSITION_INT (docs/ardupilot.md).
 
 pub mod aircraft;
+mod link;
 pub mod plane;
 pub mod plane_evader;
 pub mod rover_evader;
@@ -11,7 +12,7 @@ mod sitl;
 mod telemetry;
 mod vehicle;
 
-use sitl::{Frame, Launch};
+use sitl::Frame;
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -21,11 +22,12 @@ use host_tests::autopilot::HOME;
 use crate::autopilot::chase::{self, Outcome};
 use crate::autopilot::evader::Terms;
 use crate::autopilot::harness::{Harness, NoTarget};
-use crate::autopilot::router::{Router, Source};
+use crate::autopilot::router::Source;
 use crate::autopilot::{
     configure_unit, field, law_limits, report, set_unit_params, starts, starts_against, threshold,
-    unit, Measured, CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
+    Measured, CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
 };
+use crate::firmware::signing::SigningKey;
 
 /// The pursuer's speed asked of the rover (WP_SPEED: the speed at thrust 1), m/s.
 const WP_SPEED: f32 = 3.0;
@@ -46,6 +48,8 @@ pub struct Options {
     pub rover_evader: bool,
     /// The unit the `twocars-companion` binary on the host, not the QEMU image.
     pub companion: bool,
+    /// The unit's link signed both ways with this key (ArduPilot given it with SETUP_SIGNING).
+    pub key: Option<SigningKey>,
 }
 
 /// The field: the unit told the target's lag and noise; wind and GPS noise on the rover
@@ -77,38 +81,6 @@ pub fn find_rover(explicit: Option<&std::path::Path>) -> Option<PathBuf> {
     sitl::find(Frame::Rover, explicit)
 }
 
-/// The unit (the QEMU image or the companion), SITL instance 0 of `frame` at home running
-/// `speedup` times the wall clock, and the router between them: signed where the unit's image
-/// has a key.
-fn connect(
-    binary: &std::path::Path,
-    frame: Frame,
-    speedup: u32,
-    companion: bool,
-) -> Result<(unit::Unit, sitl::Sitl, Router), String> {
-    let key = signing_key()?;
-    let (launched, unit) = unit::start(companion, key)?;
-    let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
-    let launch = Launch {
-        frame,
-        instance: 0,
-        home,
-        heading: 0.0,
-        speedup,
-    };
-    let (sitl, mut serial0) = sitl::Sitl::start(binary, launch)?;
-    let router = match key {
-        None => Router::new(serial0, unit)?,
-        Some(key) => {
-            // The key goes to ArduPilot on SERIAL0, as a ground station's USB link gives it;
-            // the unit flies on SERIAL1, where ArduPilot signs and checks.
-            sitl::setup_signing(&mut serial0, key)?;
-            Router::new(sitl::connect_serial1(0)?, unit)?.with_signing(key, serial0)?
-        }
-    };
-    Ok((launched, sitl, router))
-}
-
 /// Runs the chases; the outcomes, the measured limits, the law's and the harness (for the
 /// telemetry's figures).
 pub fn fly(options: &Options) -> Result<Flown, String> {
@@ -116,7 +88,9 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         "ArduPilot Rover SITL not found: give --ardurover PATH or set TWOCARS_ARDUROVER \
          (docs/ardupilot.md says how to build it)",
     )?;
-    let (launched, _sitl, router) = connect(&binary, Frame::Rover, 1, options.companion)?;
+    let key = options.key.as_ref();
+    let (launched, _sitl, router) =
+        link::connect(&binary, Frame::Rover, 1, options.companion, key)?;
     let mut h = Harness::new(router, HOME, TARGET_SYSTEM);
     println!("ArduPilot Rover SITL: {}", binary.display());
     let ready = vehicle::make_ready(&mut h, WP_SPEED)?;
@@ -223,18 +197,6 @@ fn fly_against_rover(
         outcomes.push(outcome);
     }
     Ok(outcomes)
-}
-
-/// The key the unit's image is built with (`TWOCARS_MAVLINK_KEY`), if any.
-fn signing_key() -> Result<Option<[u8; 32]>, String> {
-    let Some(hex) = crate::firmware::mavlink::signing_key()? else {
-        return Ok(None);
-    };
-    let mut key = [0u8; 32];
-    for (i, byte) in key.iter_mut().enumerate() {
-        *byte = u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).map_err(|e| e.to_string())?;
-    }
-    Ok(Some(key))
 }
 
 /// ArduPilot's check on the unit's link: whether an unsigned PARAM_REQUEST_READ of WP_SPEED
@@ -363,6 +325,7 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
         simulated: true,
         rover_evader: true,
         companion: false,
+        key: None,
     };
     let flown = fly(&options);
     record(
@@ -383,14 +346,12 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
             .map_err(Clone::clone)
             .and_then(check_telemetry),
     );
-    let signed = crate::firmware::tests::test_signing_key().and_then(|key| {
-        crate::firmware::run::set_signing_key(&key);
-        let flown = fly(&Options {
+    let signed = SigningKey::for_tests().and_then(|key| {
+        fly(&Options {
             rover_evader: false,
+            key: Some(key),
             ..options.clone()
-        });
-        crate::firmware::run::clear_signing_key();
-        flown
+        })
     });
     record(
         "ardupilot::signed_both_ways_the_rover_captures_and_nothing_is_refused",

@@ -45,6 +45,8 @@ pub struct Options {
     /// The evader a second ArduPlane SITL flown by the suite's evaders, in place of the
     /// simulated one.
     pub plane_evader: bool,
+    /// The unit's link signed both ways with this key.
+    pub key: Option<crate::firmware::signing::SigningKey>,
 }
 
 /// What `fly` flew.
@@ -64,8 +66,13 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         "ArduPlane SITL not found: give --arduplane PATH or set TWOCARS_ARDUPLANE \
          (docs/ardupilot.md says how to build it)",
     )?;
-    let (launched, _sitl, router) =
-        super::connect(&binary, Frame::Plane, options.speedup, options.companion)?;
+    let (launched, _sitl, router) = super::link::connect(
+        &binary,
+        Frame::Plane,
+        options.speedup,
+        options.companion,
+        options.key.as_ref(),
+    )?;
     let evader_start = options.plane_evader.then(|| {
         plane_evader::launch(
             binary.clone(),
@@ -209,6 +216,7 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
         companion: false,
         speedup: SPEEDUP,
         plane_evader: false,
+        key: None,
     });
     record(
         "ardupilot::arduplane_captures_under_roll_setpoints_holding_airspeed_and_height",
@@ -220,6 +228,7 @@ pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
         companion: false,
         speedup: SPEEDUP,
         plane_evader: true,
+        key: None,
     });
     record(
         "ardupilot::arduplane_catches_a_second_arduplane_below_the_threshold",

@@ -6,9 +6,11 @@ use std::time::{Duration, Instant};
 
 use mavlink::dialects::common::{MavCmd, SET_ATTITUDE_TARGET_DATA};
 
+use crate::autopilot::harness::wait_stopped;
 use crate::autopilot::harness::{Harness, NoTarget, AUTOPILOT};
+use crate::autopilot::message::{command, param_set, STREAM_INTERVAL_US};
 use crate::autopilot::router::Source;
-use crate::autopilot::{command, param_set, wait_stopped, Measured, STREAM_INTERVAL_US};
+use crate::autopilot::Measured;
 
 /// Rover's GUIDED mode number.
 pub const GUIDED: u32 = 15;

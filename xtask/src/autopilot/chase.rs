@@ -15,9 +15,9 @@ use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 use twocars::{Policy, Variant};
 
 use super::field::Delayed;
+use super::harness::wait_stopped;
 use super::harness::{Harness, Injector, Pursuer, RoverFix};
 use super::router::Source;
-use super::wait_stopped;
 
 /// A start: the evader's position and heading in the rover's frame at the start (metres ahead,
 /// metres to the right, heading relative to the rover's, rad), and its strategy.
@@ -228,7 +228,7 @@ pub fn chase_params(
         limits,
         pursuer,
         evader,
-        dt: f64::from(super::STREAM_INTERVAL_US) * 1e-6,
+        dt: f64::from(super::message::STREAM_INTERVAL_US) * 1e-6,
         t_max,
         eps,
     }

@@ -374,3 +374,20 @@ impl Harness {
             .map(|(time, _, _)| *time)
     }
 }
+
+/// Forwards until the rover's ground speed is under 0.1 m/s (`seconds` of wall clock at
+/// most); its time then.
+pub fn wait_stopped(
+    h: &mut Harness,
+    injector: &mut dyn Injector,
+    seconds: f64,
+) -> Result<u32, String> {
+    let stopped = |h: &Harness| h.rover.is_some_and(|r| r.speed < 0.1);
+    if h.pump_until(injector, Duration::from_secs_f64(seconds), &mut |h| {
+        stopped(h)
+    })? {
+        Ok(h.now_ms())
+    } else {
+        Err(format!("the rover did not stop within {seconds} s"))
+    }
+}

@@ -9,49 +9,18 @@ pub mod chase;
 pub mod evader;
 pub mod field;
 pub mod harness;
+pub mod message;
 pub mod router;
 pub mod unit;
 
 use std::time::Duration;
 
 use host_tests::adversary::EvaderKind;
-use mavlink::dialects::common::{MavCmd, MavParamType, COMMAND_LONG_DATA, PARAM_SET_DATA};
 
 use chase::{Outcome, Start};
-use harness::{Harness, Injector, NoTarget, AUTOPILOT, UNIT_COMPONENT};
+use harness::{Harness, NoTarget, UNIT_COMPONENT};
+use message::param_set;
 use router::Source;
-
-/// The position and attitude streams' interval, us (20 Hz: the unit's control period).
-pub const STREAM_INTERVAL_US: f32 = 50_000.0;
-
-/// COMMAND_LONG `command` with `params` to the autopilot.
-pub fn command(command: MavCmd, params: [f32; 7]) -> COMMAND_LONG_DATA {
-    let [param1, param2, param3, param4, param5, param6, param7] = params;
-    COMMAND_LONG_DATA {
-        param1,
-        param2,
-        param3,
-        param4,
-        param5,
-        param6,
-        param7,
-        command,
-        target_system: AUTOPILOT.0,
-        target_component: AUTOPILOT.1,
-        confirmation: 0,
-    }
-}
-
-/// PARAM_SET of `name` to `value` for (`system`, `component`).
-pub fn param_set(target: (u8, u8), name: &str, value: f32) -> PARAM_SET_DATA {
-    PARAM_SET_DATA {
-        param_value: value,
-        target_system: target.0,
-        target_component: target.1,
-        param_id: name.into(),
-        param_type: MavParamType::MAV_PARAM_TYPE_REAL32,
-    }
-}
 
 /// The rover's limits as driven: top speed at thrust 1, and the largest steady turn rate
 /// either way at that speed.
@@ -238,21 +207,4 @@ pub fn report(o: &Outcome, limits: [f64; 4]) -> String {
 
 pub fn seconds(s: Option<f64>) -> String {
     s.map_or("never".to_string(), |s| format!("{s:.2} s"))
-}
-
-/// Forwards until the rover's ground speed is under 0.1 m/s (`seconds` of wall clock at
-/// most); its time then.
-pub fn wait_stopped(
-    h: &mut Harness,
-    injector: &mut dyn Injector,
-    seconds: f64,
-) -> Result<u32, String> {
-    let stopped = |h: &Harness| h.rover.is_some_and(|r| r.speed < 0.1);
-    if h.pump_until(injector, Duration::from_secs_f64(seconds), &mut |h| {
-        stopped(h)
-    })? {
-        Ok(h.now_ms())
-    } else {
-        Err(format!("the rover did not stop within {seconds} s"))
-    }
 }

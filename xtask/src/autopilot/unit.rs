@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 
 use crate::firmware::build::{self, Board};
 use crate::firmware::emulator::{self, Launched};
+use crate::firmware::signing::SigningKey;
 
 /// The unit's process, stopped on drop: the emulator, or the companion.
 pub struct Unit {
@@ -24,11 +25,11 @@ impl Drop for Unit {
     }
 }
 
-/// Starts the unit and its link: the QEMU image (built with the signing key, if any), or the
-/// companion binary given `key` in a file.
-pub fn start(companion: bool, key: Option<[u8; 32]>) -> Result<(Unit, TcpStream), String> {
+/// Starts the unit and its link: the QEMU image, or the companion binary, each signing with
+/// `key` where given.
+pub fn start(companion: bool, key: Option<&SigningKey>) -> Result<(Unit, TcpStream), String> {
     if !companion {
-        let (elf, _) = build::build_checked(Board::QemuMavlink)?;
+        let (elf, _) = build::build_checked(Board::QemuMavlink, key)?;
         let launched = emulator::launch(&elf, Board::QemuMavlink, false)?;
         let link = emulator::connect(launched.port, "the unit")?;
         let unit = Unit {
@@ -46,11 +47,7 @@ pub fn start(companion: bool, key: Option<[u8; 32]>) -> Result<(Unit, TcpStream)
         .arg(format!("127.0.0.1:{port}"))
         .stdout(Stdio::null());
     if let Some(key) = key {
-        let file = crate::workspace::target_dir().join("autopilot/companion.key");
-        let hex: String = key.iter().map(|b| format!("{b:02x}")).collect();
-        std::fs::create_dir_all(file.parent().unwrap_or(&file)).map_err(|e| e.to_string())?;
-        std::fs::write(&file, hex).map_err(|e| format!("{}: {e}", file.display()))?;
-        command.arg("--signing-key").arg(file);
+        command.arg("--signing-key").arg(key.path());
     }
     let child = command
         .spawn()

@@ -115,7 +115,7 @@ fn firmware_sizes() -> String {
         "| firmware image | flash | of the board's flash | static RAM |\n|---|---|---|---|\n",
     );
     for board in Board::ALL {
-        match build::build_checked(board) {
+        match build::build_checked(board, None) {
             Ok((elf, size)) => {
                 let name = elf
                     .file_name()

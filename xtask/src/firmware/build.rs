@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
+use crate::firmware::signing::SigningKey;
 use crate::workspace::root;
 
 /// The boards the firmware builds for.
@@ -195,19 +196,26 @@ impl Board {
     }
 }
 
-/// Builds the release firmware for `board`; returns the ELF's path.
-pub fn build(board: Board) -> Result<PathBuf, String> {
-    build_with(board, board.feature())
+/// Builds the release firmware for `board`, a MAVLink image signing with `key` where given;
+/// returns the ELF's path.
+pub fn build(board: Board, key: Option<&SigningKey>) -> Result<PathBuf, String> {
+    build_with(board, board.feature(), key)
 }
 
 /// Builds the flight image of `board` with the link-time panic check: it links only if no
 /// panic path survives optimisation.
 pub fn prove_panic_free(board: Board) -> Result<PathBuf, String> {
-    build_with(board, board.flight_features())
+    build_with(board, board.flight_features(), None)
         .map_err(|e| format!("{e}: a panic path is reachable (see the undefined symbol above)"))
 }
 
-fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
+fn build_with(board: Board, features: &str, key: Option<&SigningKey>) -> Result<PathBuf, String> {
+    let key_env = key.map(SigningKey::build_env);
+    let key_env: Vec<(&str, &std::ffi::OsStr)> = key_env
+        .iter()
+        .flatten()
+        .map(|(name, value)| (*name, value.as_os_str()))
+        .collect();
     let sets = board.table_sets();
     if sets.is_empty() {
         return build_image(
@@ -216,7 +224,7 @@ fn build_with(board: Board, features: &str) -> Result<PathBuf, String> {
             features,
             board.bin(),
             Stdio::inherit(),
-            &[],
+            &key_env,
         )
         .map_err(|e| format!("firmware build for {board:?} failed ({e})"));
     }
@@ -258,6 +266,9 @@ pub fn build_image(
         .args(["build", "--package", package, "--release"])
         .args(["--target", target, "--features", features, "--bin", bin])
         .env("DEFMT_LOG", "info")
+        // The image's key is what `env` says, not what the shell has.
+        .env_remove("TWOCARS_MAVLINK_KEY")
+        .env_remove("TWOCARS_MAVLINK_KEY_TIME")
         .envs(env.iter().copied())
         .stdout(stdout)
         .status()
@@ -273,8 +284,11 @@ pub fn build_image(
 
 /// Builds `board`'s image and checks its vector table sits at the board's flash origin (a
 /// wrong memory map links silently otherwise).
-pub fn build_checked(board: Board) -> Result<(PathBuf, crate::firmware::size::ImageSize), String> {
-    let elf = build(board)?;
+pub fn build_checked(
+    board: Board,
+    key: Option<&SigningKey>,
+) -> Result<(PathBuf, crate::firmware::size::ImageSize), String> {
+    let elf = build(board, key)?;
     let size = crate::firmware::size::of(&elf)?;
     // The RP2040's boot ROM runs the 256 bytes at the start of flash: boot2 must be there.
     if board == Board::Rp2040 && size.boot2 != Some(0x1000_0000) {
@@ -322,7 +336,7 @@ pub struct BuildArgs {
     #[arg(long, value_enum, default_value = "all")]
     board: BoardArg,
     /// Build the MAVLink images with this signing key (a file of 32 bytes or 64 hexadecimal
-    /// digits; as `TWOCARS_MAVLINK_KEY`).
+    /// digits).
     #[arg(long)]
     signing_key: Option<std::path::PathBuf>,
 }
@@ -330,9 +344,9 @@ pub struct BuildArgs {
 /// `cargo xtask build [--board qemu|stm32f405|microbit|rp2040|qemu-tables|stm32f405-tables|all]`: builds each image, checks its memory map
 /// and prints its size.
 pub fn build_command(args: &BuildArgs) -> i32 {
-    if let Some(key) = &args.signing_key {
-        crate::firmware::run::set_signing_key(key);
-    }
+    let Ok(key) = SigningKey::given(args.signing_key.as_deref(), "xtask build") else {
+        return 2;
+    };
     let boards: Vec<Board> = match args.board {
         BoardArg::Qemu => vec![Board::Qemu, Board::QemuMavlink],
         BoardArg::Stm32f405 => vec![Board::Stm32f405, Board::Stm32f405Mavlink],
@@ -344,7 +358,7 @@ pub fn build_command(args: &BuildArgs) -> i32 {
     };
     let mut rows = Vec::new();
     for board in boards {
-        match build_checked(board) {
+        match build_checked(board, key.as_ref()) {
             Ok((elf, s)) => rows.push(format!(
                 "| {} | {} | {} | {:#010x} | {} B ({} + {} + {}) | {} B ({} + {}) |",
                 board.name(),

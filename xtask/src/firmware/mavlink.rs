@@ -19,6 +19,7 @@ use twocars::{Guidance, Law, Limits, Policy, Variant};
 
 use crate::firmware::build::{self, Board};
 use crate::firmware::emulator;
+use crate::firmware::signing::SigningKey;
 
 /// pymavlink's version in the virtual environment.
 const PYMAVLINK: &str = "pymavlink==2.4.49";
@@ -78,7 +79,7 @@ fn peer_script() -> PathBuf {
 /// failed.
 pub fn scripted_session(board: Board) -> Result<(), String> {
     let python = python()?;
-    let (elf, _) = build::build_checked(board)?;
+    let (elf, _) = build::build_checked(board, None)?;
     let launched = emulator::launch(&elf, board, false)?;
     let status = Command::new(python)
         .arg(peer_script())
@@ -93,26 +94,6 @@ pub fn scripted_session(board: Board) -> Result<(), String> {
     }
 }
 
-/// The signing key the MAVLink images are built with (`TWOCARS_MAVLINK_KEY`, a file of 32
-/// bytes or 64 hexadecimal digits), as hexadecimal for the peer; `None` without one.
-pub fn signing_key() -> Result<Option<String>, String> {
-    let Some(path) = std::env::var_os("TWOCARS_MAVLINK_KEY") else {
-        return Ok(None);
-    };
-    let bytes = std::fs::read(&path).map_err(|e| format!("TWOCARS_MAVLINK_KEY: {e}"))?;
-    let hex = match <[u8; 32]>::try_from(bytes.as_slice()) {
-        Ok(raw) => raw.iter().map(|b| format!("{b:02x}")).collect(),
-        Err(_) => String::from_utf8_lossy(&bytes).trim().to_lowercase(),
-    };
-    if hex.len() != 64 || !hex.chars().all(|c| c.is_ascii_hexdigit()) {
-        return Err(
-            "TWOCARS_MAVLINK_KEY: the key file must hold 32 bytes or 64 hexadecimal digits"
-                .to_string(),
-        );
-    }
-    Ok(Some(hex))
-}
-
 /// The pymavlink peer in `serve` mode: one JSON request, one JSON answer.
 pub struct Peer {
     child: Child,
@@ -121,14 +102,14 @@ pub struct Peer {
 }
 
 impl Peer {
-    /// The peer against the unit on TCP `port`, signing where a key is set.
-    pub fn start(port: u16) -> Result<Peer, String> {
+    /// The peer against the unit on TCP `port`, signing with `key` where given.
+    pub fn start(port: u16, key: Option<&SigningKey>) -> Result<Peer, String> {
         let mut command = Command::new(python()?);
         command
             .arg(peer_script())
             .args(["serve", &port.to_string()]);
-        if let Some(key) = signing_key()? {
-            command.arg(key);
+        if let Some(key) = key {
+            command.arg(key.hex());
         }
         let mut child = command
             .stdin(Stdio::piped())
@@ -245,9 +226,9 @@ pub fn set_scaled_limits(peer: &mut Peer) -> Result<bool, String> {
 }
 
 /// `cargo xtask run --link mavlink`: the paper's cases at ten times their scale with `board`'s
-/// MAVLink image flying the pursuer; returns the exit code.
-pub fn run(board: Board) -> i32 {
-    match run_cases(board) {
+/// MAVLink image flying the pursuer, signed with `key` where given; returns the exit code.
+pub fn run(board: Board, key: Option<&SigningKey>) -> i32 {
+    match run_cases(board, key) {
         Ok(true) => 0,
         Ok(false) => 1,
         Err(e) => {
@@ -299,17 +280,18 @@ fn signature_refusals(peer: &mut Peer) -> Result<bool, String> {
         && bad == Some(0.0))
 }
 
-/// The closed loop of `run --link mavlink` on `board`'s image: whether every capture was on time.
-pub fn run_cases(board: Board) -> Result<bool, String> {
+/// The closed loop of `run --link mavlink` on `board`'s image, signed with `key` where given:
+/// whether every capture was on time.
+pub fn run_cases(board: Board, key: Option<&SigningKey>) -> Result<bool, String> {
     let scaled = scaled_limits();
-    let (elf, size) = build::build_checked(board)?;
+    let (elf, size) = build::build_checked(board, key)?;
     println!(
         "{}: {} B flash; pymavlink plays the autopilot (system 1) and the target (system 2)",
         board.bin(),
         size.flash()
     );
     let launched = emulator::launch(&elf, board, false)?;
-    let mut peer = Peer::start(launched.port)?;
+    let mut peer = Peer::start(launched.port, key)?;
     let heartbeat = peer.ask(r#"{"op": "heartbeat"}"#)?;
     println!("unit's heartbeat: {heartbeat}");
     let mut ok = heartbeat.contains("\"component\": 191") && heartbeat.contains("\"type\": 18");
@@ -318,13 +300,13 @@ pub fn run_cases(board: Board) -> Result<bool, String> {
         board.status_in_emulator() & twocars::protocol::message::BOARD_FALLBACK_CLOCK != 0;
     ok &= heartbeat.contains(twocars::mavlink::FALLBACK_CLOCK_TEXT) == fallback;
     // An image built without a key says so with its first heartbeat.
-    ok &= heartbeat.contains(twocars::mavlink::UNSIGNED_TEXT) == signing_key()?.is_none();
+    ok &= heartbeat.contains(twocars::mavlink::UNSIGNED_TEXT) == key.is_none();
     ok &= set_scaled_limits(&mut peer)?;
     // Every parameter listed: the list is paced to the transmit queue's room.
     let list = peer.ask(r#"{"op": "list"}"#)?;
     println!("PARAM_REQUEST_LIST: {list}");
     ok &= list.matches(r#"["TC_"#).count() == twocars::mavlink::SPECS.len();
-    if signing_key()?.is_some() {
+    if key.is_some() {
         ok &= signature_refusals(&mut peer)?;
     }
     let [v_pm, w_pm, v_em, w_em] = scaled;

@@ -20,6 +20,7 @@ use super::emulator;
 use super::mavlink::{
     field, report, scaled_case, scaled_limits, set_params, set_scaled_limits, Peer, DT,
 };
+use super::signing::SigningKey;
 
 /// The target fixes' lag (s), interval (s), position and heading noise (m at the scale, rad).
 const LAG: f64 = 0.2;
@@ -139,15 +140,15 @@ fn fly(
 }
 
 /// The field's chases on `board`'s MAVLink image: whether every chase was captured and the
-/// median of the sign flips is within [`MEDIAN_FLIPS`].
-pub fn run_field(board: Board) -> Result<bool, String> {
+/// median of the sign flips is within [`MEDIAN_FLIPS`]; signed with `key` where given.
+pub fn run_field(board: Board, key: Option<&SigningKey>) -> Result<bool, String> {
     let scaled = scaled_limits();
     let limits = scaled.map(f64::from);
     let r_p = 1.0 / limits[1];
     let turn = std::f32::consts::TAU / (scaled[0] * scaled[1]);
-    let (elf, _) = build::build_checked(board)?;
+    let (elf, _) = build::build_checked(board, key)?;
     let launched = emulator::launch(&elf, board, false)?;
-    let mut peer = Peer::start(launched.port)?;
+    let mut peer = Peer::start(launched.port, key)?;
     peer.ask(r#"{"op": "heartbeat"}"#)?;
     let sigma = model(limits, 0).position_sigma as f32;
     let mut ok = set_scaled_limits(&mut peer)?;

@@ -10,6 +10,7 @@ pub mod mavlink_field;
 pub mod qemu;
 pub mod rp2040js;
 pub mod run;
+pub mod signing;
 pub mod size;
 pub mod tables;
 pub mod tests;

@@ -12,6 +12,7 @@ use twocars::{evaluate_observation, Observation, Policy, Scalar};
 use crate::firmware::build::{self, Board};
 use crate::firmware::closed_loop;
 use crate::firmware::emulator::Emulator;
+use crate::firmware::signing::SigningKey;
 use crate::host::options::{with_numeric, LawArgs, Options};
 
 /// Capture distance, metres.
@@ -80,7 +81,7 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value = "cobs")]
     link: RunLink,
     /// With `--link mavlink` or `ardupilot`: build the MAVLink image with this signing key (a
-    /// file of 32 bytes or 64 hexadecimal digits; as `TWOCARS_MAVLINK_KEY`), and sign the other
+    /// file of 32 bytes or 64 hexadecimal digits), and sign the other
     /// side with it (pymavlink; ArduPilot, given the key with SETUP_SIGNING).
     #[arg(long)]
     signing_key: Option<std::path::PathBuf>,
@@ -360,10 +361,10 @@ pub fn run(args: &RunArgs) -> i32 {
             ardurover: args.ardurover.clone(),
         });
     }
+    let Ok(key) = SigningKey::given(args.signing_key.as_deref(), "xtask run") else {
+        return 2;
+    };
     if args.link == RunLink::Ardupilot {
-        if let Some(key) = &args.signing_key {
-            set_signing_key(key);
-        }
         if args.vehicle == RunVehicle::Plane {
             return crate::ardupilot::plane::run(&crate::ardupilot::plane::Options {
                 arduplane: args.arduplane.clone(),
@@ -371,6 +372,7 @@ pub fn run(args: &RunArgs) -> i32 {
                 companion: args.companion,
                 speedup: args.speedup,
                 plane_evader: args.plane_evader,
+                key,
             });
         }
         let options = crate::ardupilot::Options {
@@ -380,14 +382,12 @@ pub fn run(args: &RunArgs) -> i32 {
             simulated: !args.rover_evader,
             rover_evader: args.rover_evader,
             companion: args.companion,
+            key,
         };
         return crate::ardupilot::run(&options);
     }
-    if let Some(key) = &args.signing_key {
-        set_signing_key(key);
-    }
     if args.link == RunLink::Mavlink && args.field {
-        return match crate::firmware::mavlink_field::run_field(Board::QemuMavlink) {
+        return match crate::firmware::mavlink_field::run_field(Board::QemuMavlink, key.as_ref()) {
             Ok(true) => 0,
             Ok(false) => 1,
             Err(e) => {
@@ -398,8 +398,10 @@ pub fn run(args: &RunArgs) -> i32 {
     }
     if args.link == RunLink::Mavlink {
         return match args.board {
-            RunBoard::Qemu => crate::firmware::mavlink::run(Board::QemuMavlink),
-            RunBoard::Stm32f405 => crate::firmware::mavlink::run(Board::Stm32f405Mavlink),
+            RunBoard::Qemu => crate::firmware::mavlink::run(Board::QemuMavlink, key.as_ref()),
+            RunBoard::Stm32f405 => {
+                crate::firmware::mavlink::run(Board::Stm32f405Mavlink, key.as_ref())
+            }
             other => {
                 eprintln!("xtask run: no MAVLink image for {other:?}");
                 2
@@ -425,7 +427,7 @@ pub fn run(args: &RunArgs) -> i32 {
     );
     let mut session = None;
     if !o.host_only {
-        match build::build_checked(board)
+        match build::build_checked(board, None)
             .and_then(|(elf, _)| Emulator::start(&elf, board, board.logs_with_defmt()))
         {
             Ok(q) => session = Some(q),
@@ -604,31 +606,4 @@ fn finish(mut q: Emulator, sequence: &mut u16) -> Result<bool, String> {
         println!("firmware acknowledged Shutdown (a flight image serves on; its emulator stopped)");
     }
     Ok(code == 0)
-}
-
-/// Builds the MAVLink images of this process with `key` (`TWOCARS_MAVLINK_KEY`, which the
-/// crate's build script reads and the pymavlink peer takes too), their signing clock starting
-/// now (`TWOCARS_MAVLINK_KEY_TIME`: a peer refuses a new stream more than a minute behind its
-/// own clock, and the unit has no real-time clock of its own).
-pub fn set_signing_key(key: &std::path::Path) {
-    let key = std::fs::canonicalize(key).unwrap_or_else(|_| key.to_path_buf());
-    // Set before any thread starts (xtask's commands run on the main thread).
-    std::env::set_var("TWOCARS_MAVLINK_KEY", key);
-    std::env::set_var("TWOCARS_MAVLINK_KEY_TIME", signing_clock_now().to_string());
-}
-
-/// Builds the MAVLink images of this process without a key again.
-pub fn clear_signing_key() {
-    std::env::remove_var("TWOCARS_MAVLINK_KEY");
-    std::env::remove_var("TWOCARS_MAVLINK_KEY_TIME");
-}
-
-/// The wall clock on MAVLink's signing scale: 10 us since 2015-01-01T00:00:00Z.
-pub fn signing_clock_now() -> u64 {
-    /// 2015-01-01T00:00:00Z in Unix seconds.
-    const EPOCH_2015: u64 = 1_420_070_400;
-    let now = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_micros() as u64 / 10);
-    now.saturating_sub(EPOCH_2015 * 100_000)
 }

@@ -244,7 +244,7 @@ fn run_picks_the_set_of_the_limits_ratios() -> Result<String, String> {
 /// Runs the tables image's tests with `record`.
 pub fn run(record: &mut impl FnMut(&str, Result<String, String>)) {
     println!("== xtask test: the value tables in flash, in QEMU (mps2-an386)");
-    let elf = match build::build_checked(Board::QemuTables) {
+    let elf = match build::build_checked(Board::QemuTables, None) {
         Ok((elf, _)) => elf,
         Err(e) => {
             record("qemu::tables_image_builds", Err(e));

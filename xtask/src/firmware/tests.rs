@@ -470,7 +470,7 @@ fn run_images(record: &mut impl FnMut(&str, Outcome)) {
             Some(build::Machine::Rp2040js) => crate::firmware::rp2040js::installed().map(|_| ()),
             _ => Ok(()),
         };
-        let elf = match ready.and_then(|()| build::build_checked(image.board)) {
+        let elf = match ready.and_then(|()| build::build_checked(image.board, None)) {
             Ok((elf, _)) => elf,
             Err(e) => {
                 record(image.failed_build, Err(e));
@@ -486,7 +486,7 @@ fn run_images(record: &mut impl FnMut(&str, Outcome)) {
 /// Runs the QEMU tests; returns (passed, failed).
 pub fn run() -> (u64, u64) {
     println!("== xtask test: firmware in QEMU (mps2-an386)");
-    let elf = match qemu::qemu_binary().and_then(|_| build::build_checked(Board::Qemu)) {
+    let elf = match qemu::qemu_binary().and_then(|_| build::build_checked(Board::Qemu, None)) {
         Ok((elf, _)) => elf,
         Err(e) => {
             eprintln!("== xtask test: {e}");
@@ -549,7 +549,7 @@ pub fn run() -> (u64, u64) {
     ] {
         record(
             &format!("qemu::{name}_closed_loop_captures_the_paper_cases_on_time"),
-            crate::firmware::mavlink::run_cases(board).and_then(|on_time| {
+            crate::firmware::mavlink::run_cases(board, None).and_then(|on_time| {
                 if on_time {
                     Ok("four captures within 5 control periods".to_string())
                 } else {
@@ -560,7 +560,7 @@ pub fn run() -> (u64, u64) {
     }
     record(
         "qemu::mavlink_late_sparse_noisy_target_is_captured_without_chatter",
-        crate::firmware::mavlink_field::run_field(Board::QemuMavlink).and_then(|ok| {
+        crate::firmware::mavlink_field::run_field(Board::QemuMavlink, None).and_then(|ok| {
             if ok {
                 Ok("four captures, median sign flips within 5".to_string())
             } else {
@@ -577,26 +577,13 @@ pub fn run() -> (u64, u64) {
     (passed, failed)
 }
 
-/// The tests' signing key, written to `target/mavlink-test.key`: its path.
-pub fn test_signing_key() -> Result<std::path::PathBuf, String> {
-    let key = crate::workspace::target_dir().join("mavlink-test.key");
-    let hex: String = (0..32u8)
-        .map(|b| format!("{:02x}", b.wrapping_mul(37)))
-        .collect();
-    std::fs::write(&key, hex).map_err(|e| format!("{}: {e}", key.display()))?;
-    Ok(key)
-}
-
 /// The MAVLink image built with a signing key, pymavlink signing with it: the paper's cases
 /// captured on time; a PARAM_SET unsigned, wrongly keyed, replayed, with its timestamp gone back
 /// and with its signature cut short each refused and counted; the unit's frames well signed by
-/// pymavlink's check. The key is a
-/// fixed test key; the images after this one are built without it again.
+/// pymavlink's check. The key is a fixed test key.
 fn signed_closed_loop() -> Outcome {
-    crate::firmware::run::set_signing_key(&test_signing_key()?);
-    let outcome = crate::firmware::mavlink::run_cases(Board::QemuMavlink);
-    crate::firmware::run::clear_signing_key();
-    match outcome? {
+    let key = crate::firmware::signing::SigningKey::for_tests()?;
+    match crate::firmware::mavlink::run_cases(Board::QemuMavlink, Some(&key))? {
         true => Ok(
             "signed both ways: four captures within 5 control periods; five forged \
                     PARAM_SETs unanswered, each counted once; pymavlink took every frame"

@@ -17,7 +17,7 @@ use host_tests::autopilot::HOME;
 use crate::autopilot::chase::{self, Outcome};
 use crate::autopilot::evader::Terms;
 use crate::autopilot::harness::Harness;
-use crate::autopilot::router::{Router, Source};
+use crate::autopilot::router::Router;
 use crate::autopilot::{
     configure_unit, law_limits, report, set_unit_params, starts_against, threshold, unit, Measured,
     CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
@@ -32,8 +32,6 @@ const MODEL: &str = "sihsim_rover_ackermann";
 /// flips the turn up to 522 times a chase (docs/field.md); this rover's first chase flips on 2
 /// to 7 of its 110 to 130 setpoints, the course jittering about the heading as it settles.
 const FLIP_SHARE: usize = 10;
-/// What PX4 says when it leaves OFFBOARD for want of setpoints.
-const STOP_TEXT: &str = "ailsafe";
 
 /// `cargo xtask run --link px4`'s options.
 #[derive(Debug, Clone, Default)]
@@ -70,7 +68,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
     let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
     let (_px4, link) = sitl::Px4::start(&binary, MODEL, 0, home)?;
     let mut h = Harness::new(Router::new(link, unit)?, HOME, TARGET_SYSTEM);
-    h.stop_text = STOP_TEXT;
+    h.stop_text = vehicle::STOP_TEXT;
     println!("PX4 SITL ({MODEL}): {}", binary.display());
     let ready_s = vehicle::make_ready(&mut h)?;
     println!("ready: a position, OFFBOARD and armed after {ready_s:.1} s");
@@ -137,7 +135,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
             }
         };
         println!("{}", report(&outcome, limits));
-        failsafe_in_chase.push(left_offboard(&h, texts, modes, &outcome));
+        failsafe_in_chase.push(vehicle::left_offboard(&h, texts, modes, &outcome));
         outcomes.push(outcome);
     }
     drop(launched);
@@ -147,19 +145,6 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         limits,
         failsafe_in_chase,
     })
-}
-
-/// Whether PX4 left OFFBOARD, or said "failsafe", between the chase's start (records from
-/// `texts` and `modes` on) and its end.
-pub(super) fn left_offboard(h: &Harness, texts: usize, modes: usize, o: &Outcome) -> bool {
-    let end_ms = o.end_ms;
-    let said = h.texts[texts..]
-        .iter()
-        .any(|(t, s, text)| *t <= end_ms && *s == Source::Autopilot && text.contains(STOP_TEXT));
-    let left = h.modes[modes..]
-        .iter()
-        .any(|&(t, mode)| t <= end_ms && mode != vehicle::OFFBOARD);
-    said || left
 }
 
 /// The ArduPilot Rover SITL binary for the evader (`explicit`, else where `--link ardupilot`

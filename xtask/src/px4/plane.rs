@@ -144,7 +144,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
             report(&outcome, limits),
             energy_line(&outcome, limits)
         );
-        left_offboard.push(super::left_offboard(&h, texts, modes, &outcome));
+        left_offboard.push(super::vehicle::left_offboard(&h, texts, modes, &outcome));
         outcomes.push(outcome);
     }
     drop(launched);

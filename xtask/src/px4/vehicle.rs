@@ -10,8 +10,11 @@ use mavlink::dialects::common::{
 };
 use mavlink::MessageData;
 
+use crate::autopilot::chase::Outcome;
 use crate::autopilot::harness::{Harness, NoTarget, AUTOPILOT};
-use crate::autopilot::{command, Measured, STREAM_INTERVAL_US};
+use crate::autopilot::message::{command, STREAM_INTERVAL_US};
+use crate::autopilot::router::Source;
+use crate::autopilot::Measured;
 
 /// PX4's OFFBOARD in HEARTBEAT's custom_mode: main mode 6 in bits 16 to 23.
 pub const OFFBOARD: u32 = 6 << 16;
@@ -192,4 +195,20 @@ pub fn measure(h: &mut Harness, speed: f64) -> Result<Measured, String> {
         radius: speed_held / turn_rate,
         response,
     })
+}
+
+/// What PX4 says when it leaves OFFBOARD for want of setpoints.
+pub const STOP_TEXT: &str = "ailsafe";
+
+/// Whether PX4 left OFFBOARD, or said "failsafe", between the chase's start (records from
+/// `texts` and `modes` on) and its end.
+pub fn left_offboard(h: &Harness, texts: usize, modes: usize, o: &Outcome) -> bool {
+    let end_ms = o.end_ms;
+    let said = h.texts[texts..]
+        .iter()
+        .any(|(t, s, text)| *t <= end_ms && *s == Source::Autopilot && text.contains(STOP_TEXT));
+    let left = h.modes[modes..]
+        .iter()
+        .any(|&(t, mode)| t <= end_ms && mode != OFFBOARD);
+    said || left
 }

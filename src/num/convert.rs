@@ -1,6 +1,6 @@
-//! The wire's `f32` values into the fixed-point law's normalised units and back, with integer
-//! operations only ([`super::ieee`]): no soft-float call between a State frame and its Command
-//! on a core without an FPU.
+//! `f32` values (metres, radians) into the fixed-point law's normalised units, Q17.14 as raw
+//! integers, and back, with integer operations only ([`super::ieee`]): no soft-float call
+//! between a state's arrival and its command on a core without an FPU.
 //!
 //! - Positions: each coordinate exactly as an integer of 2^-40 m (|x| <= 1e6 m < 2^20 m), their
 //!   difference exact (its top 32 bits kept, to 2^-32 relative), times the reciprocal of the unit
@@ -11,8 +11,7 @@
 //!   `f32` by 2^32 / (2 pi) to 2^-38 relative), then to Q17.14 radians.
 //! - Back to `f32`: a Q17.14 value times an `f32` scale, the exact product rounded once.
 
-use super::Fixed;
-use crate::num::ieee::{f32_from_scaled, parts, shift_round, to_fixed};
+use super::ieee::{f32_from_scaled, parts, shift_round, to_fixed};
 
 /// The fractional bits of the position integers, metres.
 const POSITION_BITS: i32 = 40;
@@ -93,11 +92,11 @@ fn scaled_offset(
 }
 
 /// The offset `to - from` (metres, finite, within the f32 envelope) in the law's units of
-/// length, Q17.14; the invalid value where it does not fit in 2^17.
-pub fn offset(from: f32, to: f32, per_metre: &Reciprocal) -> Fixed {
+/// length, Q17.14 raw; `i32::MIN` (invalid) where it does not fit in 2^17.
+pub fn offset(from: f32, to: f32, per_metre: &Reciprocal) -> i32 {
     match scaled_offset(from, to, per_metre, 14, 31) {
-        Some(raw) => Fixed::from_raw(raw as i32),
-        None => Fixed::from_raw(i32::MIN),
+        Some(raw) => raw as i32,
+        None => i32::MIN,
     }
 }
 
@@ -113,10 +112,11 @@ pub fn apart_beyond(x: (f32, f32), y: (f32, f32), per_metre: &Reciprocal, radius
     }
 }
 
-/// A finite heading (radians) reduced to [-pi, pi], Q17.14.
-pub fn heading(theta: f32) -> Fixed {
+/// A finite heading (radians) reduced to [-pi, pi], Q17.14 raw; `i32::MIN` (invalid) for
+/// another.
+pub fn heading(theta: f32) -> i32 {
     let Some(p) = parts(theta.to_bits()) else {
-        return Fixed::from_raw(i32::MIN);
+        return i32::MIN;
     };
     // theta 2^32 / (2 pi) = mantissa C 2^(exponent - 8), C = 2^40 / (2 pi) (38 bits: the
     // product fits 64), modulo 2^32.
@@ -144,12 +144,11 @@ pub fn heading(theta: f32) -> Fixed {
     } else {
         (product + half) >> 46
     };
-    Fixed::from_raw(raw as i32)
+    raw as i32
 }
 
-/// `value * scale` as the `f32` nearest to the exact product (invalid: NaN).
-pub fn scaled_to_f32(value: Fixed, scale: f32) -> f32 {
-    let raw = value.raw();
+/// `raw / 2^14 * scale` as the `f32` nearest to the exact product (`i32::MIN`, invalid: NaN).
+pub fn scaled_to_f32(raw: i32, scale: f32) -> f32 {
     if raw == i32::MIN {
         return f32::NAN;
     }
