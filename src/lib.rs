@@ -66,6 +66,7 @@ pub mod estimate;
 pub mod geodetic;
 pub mod guidance;
 pub mod law;
+#[cfg(feature = "firmware")]
 mod log;
 #[cfg(feature = "mavlink")]
 pub mod mavlink;

@@ -315,7 +315,7 @@ pub fn service<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mu
     let mut pass = Pass::default();
     let now = board.now_ms();
     if let Some(reply) = unit.poll(now) {
-        crate::log_warn!("no valid State within the watchdog time: safe command");
+        crate::log::log_warn!("no valid State within the watchdog time: safe command");
         queue(&mut line.to_send, line.faults, reply.as_bytes());
         pass.replies += 1;
     }

@@ -73,7 +73,7 @@ impl Game {
     /// paper's law is optimal, and the value is the paper's upper value where it has a saddle.
     pub fn threshold(&self) -> f64 {
         let r_e = self.speed_ratio / self.evader_turn;
-        2.0 * r_e + std::f64::consts::TAU * r_e / self.speed_ratio
+        twocars::law::geometry::theorem_threshold(r_e, 1.0, self.speed_ratio)
     }
 
     /// The game of the limits v_pm, w_pm, v_em, w_em (m/s, 1/m) with capture radius `eps` in

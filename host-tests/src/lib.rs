@@ -12,4 +12,5 @@ pub mod rng;
 pub mod scenarios;
 pub mod session;
 pub mod sim;
+pub mod stats;
 pub mod uart_model;

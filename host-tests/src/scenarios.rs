@@ -4,6 +4,9 @@ use std::f64::consts::PI;
 
 /// The paper's limits: v_pm, w_pm, v_em, w_em (m/s, 1/m).
 pub const PAPER_LIMITS: [f64; 4] = [2.0, 2.0, 1.0, 1.0];
+/// The capture distance the closed-loop runs stop at, m: the paper's epsilon, which its cases'
+/// capture times are stated for.
+pub const EPS: f64 = 0.01;
 
 /// A named initial state: pursuer and evader (x, y, theta) in metres and radians.
 #[derive(Clone, Copy, Debug)]

@@ -126,8 +126,7 @@ pub fn capture_within(dt: f64, eps: f64, gap: impl Fn(f64) -> f64, d_min: &mut f
 /// (v_pm, w_pm, v_em, w_em).
 pub fn theorem_threshold(limits: [f64; 4]) -> f64 {
     let [v_pm, _, v_em, w_em] = limits;
-    let r_e = 1.0 / w_em;
-    2.0 * r_e + std::f64::consts::TAU * r_e * v_pm / v_em
+    twocars::law::geometry::theorem_threshold(1.0 / w_em, v_pm, v_em)
 }
 
 /// Per-player sign-flip counter.

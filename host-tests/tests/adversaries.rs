@@ -6,13 +6,13 @@ mod common;
 
 use host_tests::adversary::{Adversary, EvaderKind, Opponent, PursuerKind};
 use host_tests::rng::Rng;
+use host_tests::scenarios::EPS;
 use host_tests::scenarios::PAPER_LIMITS;
 use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
 use std::f64::consts::PI;
 use twocars::{Policy, Variant};
 
 const DT: f64 = 0.01;
-const EPS: f64 = 0.01;
 /// The claim's tolerance: five control periods.
 const FEW_DT: f64 = 5.0 * DT;
 

@@ -5,6 +5,7 @@
 mod common;
 
 use common::{paper_scene, relative_error, scene, seeded_runner, Scene};
+use host_tests::stats::quantile_f64;
 use proptest::strategy::Strategy;
 use std::cell::RefCell;
 use twocars::num::fixed::Fixed;
@@ -158,17 +159,11 @@ fn fixed_point_budget(reference: &twocars::GameReport<f64>, s: &Scene) -> f64 {
     budget
 }
 
-fn quantile(v: &[f64], q: f64) -> f64 {
-    v.get(((v.len().saturating_sub(1)) as f64 * q) as usize)
-        .copied()
-        .unwrap_or(0.0)
-}
-
 fn report(name: &str, e: &Errors, clear_gap: f64) {
     let budget = if name.starts_with("fixed") {
         format!(
             " of fixed point's budget: max {:.2};",
-            quantile(&e.of_budget, 1.0)
+            quantile_f64(&e.of_budget, 1.0)
         )
     } else {
         String::new()
@@ -178,12 +173,12 @@ fn report(name: &str, e: &Errors, clear_gap: f64) {
          absolute median {:.1e} s, max {:.1e} s;{budget} \
          pursuer circle differs from f64 where rows are > {clear_gap} apart: {}",
         e.compared,
-        quantile(&e.values, 0.5),
-        quantile(&e.values, 0.9),
-        quantile(&e.values, 0.99),
-        quantile(&e.values, 1.0),
-        quantile(&e.seconds, 0.5),
-        quantile(&e.seconds, 1.0),
+        quantile_f64(&e.values, 0.5),
+        quantile_f64(&e.values, 0.9),
+        quantile_f64(&e.values, 0.99),
+        quantile_f64(&e.values, 1.0),
+        quantile_f64(&e.seconds, 0.5),
+        quantile_f64(&e.seconds, 1.0),
         e.disagreements_clear
     );
 }
@@ -193,7 +188,7 @@ fn f32_matches_f64_to_1e_4_and_chooses_the_same_circles() {
     // Tolerance: ten times the 1e-4 relative value bound.
     let e = measure::<f32>(scene(100.0), 1e-3, 1e-4, 0.0);
     report("f32", &e, 1e-3);
-    assert!(quantile(&e.values, 1.0) <= 1e-4);
+    assert!(quantile_f64(&e.values, 1.0) <= 1e-4);
     assert_eq!(e.disagreements_clear, 0);
 }
 
@@ -209,9 +204,9 @@ fn micromath_errors_are_measured_and_clear_choices_agree() {
     report("micromath", &e, 0.3);
     assert_eq!(e.disagreements_clear, 0);
     assert!(
-        quantile(&e.values, 0.5) < 0.05,
+        quantile_f64(&e.values, 0.5) < 0.05,
         "median {}",
-        quantile(&e.values, 0.5)
+        quantile_f64(&e.values, 0.5)
     );
 }
 
@@ -223,8 +218,8 @@ fn fixed_point_is_within_1e_2_s_at_the_paper_scale_and_chooses_the_same_circles(
     let e = measure::<Fixed>(paper_scene(40.0), 1e-3, 2e-3, 2.0);
     report("fixed (paper limits)", &e, 1e-3);
     assert!(e.compared > STATES as usize / 2, "{} compared", e.compared);
-    assert!(quantile(&e.seconds, 1.0) <= 1e-2);
-    assert!(quantile(&e.of_budget, 1.0) <= 1.0);
+    assert!(quantile_f64(&e.seconds, 1.0) <= 1e-2);
+    assert!(quantile_f64(&e.of_budget, 1.0) <= 1.0);
     assert_eq!(e.disagreements_clear, 0);
 }
 
@@ -239,6 +234,6 @@ fn fixed_point_at_random_limits_inside_its_envelope() {
     let e = measure::<Fixed>(scene(20.0), 1e-3, 2e-3, 2.0);
     report("fixed (random limits)", &e, 1e-3);
     assert!(e.compared > STATES as usize / 4, "{} compared", e.compared);
-    assert!(quantile(&e.of_budget, 1.0) <= 1.0);
+    assert!(quantile_f64(&e.of_budget, 1.0) <= 1.0);
     assert_eq!(e.disagreements_clear, 0);
 }

@@ -4,14 +4,15 @@
 mod common;
 
 use common::{paper_scene, scene, seeded_runner, Scene};
+use host_tests::scenarios::EPS;
 use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
 use host_tests::sim::{simulate, theorem_threshold, SimParams, SimResult, SimStatus};
+use host_tests::stats::quantile;
 use proptest::strategy::Strategy;
 use std::f64::consts::PI;
 use twocars::{Policy, Variant};
 
 const DT: f64 = 0.001;
-const EPS: f64 = 0.01;
 /// "Within a few dt": the sampled command reaches each tangent within a period of the ideal.
 const FEW_DT: f64 = 5.0 * DT;
 /// Chattering bound: sign flips per run in the single digits.
@@ -113,12 +114,7 @@ fn above_the_threshold_at_the_paper_limits_capture_matches_the_prediction() {
 
 fn quantiles(mut values: Vec<u64>) -> (u64, u64, u64) {
     values.sort_unstable();
-    let at = |q: f64| {
-        values
-            .get(((values.len().max(1) - 1) as f64 * q) as usize)
-            .copied()
-            .unwrap_or(0)
-    };
+    let at = |q: f64| quantile(&values, q).unwrap_or(0);
     (at(0.5), at(0.9), at(1.0))
 }
 

@@ -26,11 +26,13 @@ fn main() -> ! {
     if let Some(tables) = twocars::board::tables::take_value_tables() {
         unit.set_tables(tables);
     }
-    twocars::log_info!("twocars guidance unit up (mps2-an386, UART0, interrupt-driven)");
+    #[cfg(feature = "defmt")]
+    defmt::info!("twocars guidance unit up (mps2-an386, UART0, interrupt-driven)");
     serve_to_shutdown(&mut line, &board, &mut unit);
     let _c = unit.counters();
     let _f = line.faults();
-    twocars::log_info!(
+    #[cfg(feature = "defmt")]
+    defmt::info!(
         "shutdown: {=u32} messages accepted, {=u32} refused, {=u32} watchdog expiries, {=u32} overruns, {=u32} replies dropped",
         _c.accepted,
         _c.errors.iter().sum::<u32>(),

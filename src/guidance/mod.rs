@@ -38,6 +38,7 @@ pub const NOISE_CONE: f32 = core::f32::consts::FRAC_PI_4;
 /// [`Policy::Paper`] is the reference.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum Policy {
     /// The paper's law everywhere: the reference, which the theorem covers only from beyond
     /// its threshold.

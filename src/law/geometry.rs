@@ -453,12 +453,17 @@ impl<S: Scalar> Limits<S> {
         self.seconds_per_metre_closed
     }
 
-    /// The theorem's distance threshold 2 r_e + 2 pi r_e v_pm / v_em, metres: at or above it the
-    /// saddle-point strategies are circle-then-straight (Theorems 2 and 3).
+    /// The theorem's distance threshold ([`theorem_threshold`]) of these limits, metres.
     pub fn theorem_threshold(&self) -> S {
-        let r_e = self.evader.radius;
-        r_e + r_e + S::tau() * r_e * self.pursuer.v_max / self.evader.v_max
+        theorem_threshold(self.evader.radius, self.pursuer.v_max, self.evader.v_max)
     }
+}
+
+/// The theorem's distance threshold 2 r_e + 2 pi r_e v_pm / v_em, in the units of the evader's
+/// turning radius `r_e`: at or above it the saddle-point strategies are circle-then-straight
+/// (Theorems 2 and 3). The one formula the crate, its tables, its solver and its tools use.
+pub fn theorem_threshold<S: Scalar>(r_e: S, v_pm: S, v_em: S) -> S {
+    r_e + r_e + S::tau() * r_e * v_pm / v_em
 }
 
 /// The normalised backends' unit of length, metres: 1 / w_pm rounded up to an f32, so that one

@@ -235,9 +235,8 @@ pub struct Observation {
 }
 
 /// How the arcs to the tangent points are read and ties are broken.
-#[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sampling<S> {
+pub(crate) struct Sampling<S> {
     /// Largest arc (radians, 2 pi less a tolerance) the pursuer still turns through: beyond it,
     /// a hair short of a full turn, it counts as on its tangent ([`Direction::arc_to`]).
     pub pursuer_largest_arc: S,
@@ -319,7 +318,7 @@ impl<S: Scalar> Law<S> {
 
     /// Evaluates the law with a caller's arc tolerances and previous choice; the command is the
     /// instantaneous one ([`Law::instantaneous_command`]).
-    pub fn evaluate_sampled(
+    pub(crate) fn evaluate_sampled(
         &self,
         pursuer: &VehicleState<S>,
         evader: &VehicleState<S>,
@@ -353,7 +352,7 @@ impl<S: Scalar> Law<S> {
     /// choose the command from the status and the report (the instantaneous command is
     /// [`Law::instantaneous_command`]). A command outside the backend's range turns the
     /// evaluation into `OutOfRange` with the safe command.
-    pub fn evaluate_with(
+    pub(crate) fn evaluate_with(
         &self,
         pursuer: &VehicleState<S>,
         evader: &VehicleState<S>,
@@ -369,7 +368,7 @@ impl<S: Scalar> Law<S> {
     /// status is `Ok` or `NoValidTangent`): the status and the command (the safe command for
     /// every other status). A caller that does not keep the report (the firmware) does not copy
     /// its hundred-odd bytes.
-    pub fn decide_into(
+    pub(crate) fn decide_into(
         &self,
         pursuer: &VehicleState<S>,
         evader: &VehicleState<S>,

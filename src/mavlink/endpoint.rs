@@ -77,6 +77,7 @@ const FOLLOW_VELOCITY: u8 = 1 << 1;
 const FOLLOW_ATTITUDE: u8 = 1 << 3;
 /// Why no setpoint went out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Halt {
     /// The own fix is missing, zero or outside +-90 / +-180 degrees.
     OwnFix,
@@ -114,6 +115,7 @@ impl Halt {
 
 /// What the endpoint counted (wrapping).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct EndpointCounters {
     /// Setpoints sent.
     pub setpoints: u32,

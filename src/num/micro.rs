@@ -36,6 +36,8 @@ impl Neg for Micro {
     }
 }
 
+impl super::sealed::Sealed for Micro {}
+
 impl Scalar for Micro {
     const MAX_COORDINATE: f32 = 1.0e6;
     const MAX_HEADING: f32 = 1.0e4;

@@ -24,11 +24,21 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 use crate::error::Error;
 use convert::Reciprocal;
 
-/// A real number as one numeric backend represents it.
+/// The backends this crate implements; [`Scalar`] is sealed: its conversions rest on hidden
+/// parts of the crate ([`convert`]), so the backends are the crate's own.
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f32 {}
+    impl Sealed for f64 {}
+}
+
+/// A real number as one numeric backend represents it: `f32`, `f64`, [`fixed::Fixed`] and,
+/// with the `micromath` feature, `micro::Micro` (sealed: no other type implements it).
 ///
 /// Angles are in radians, anticlockwise from +x.
 pub trait Scalar:
-    Copy
+    sealed::Sealed
+    + Copy
     + Debug
     + PartialOrd
     + Add<Output = Self>
@@ -89,7 +99,9 @@ pub trait Scalar:
     /// (pursuer, evader) in metres (finite, within the f32 envelope), in units of `metres`
     /// (`per_metre` its reciprocal); `OutOfRange` where the players are apart by more than
     /// `radius` units yet both offsets round to zero (the backend would read one point).
-    /// Fixed point converts with integers only ([`convert`]).
+    /// Fixed point converts with integers only ([`convert`]). The law's own step, hidden:
+    /// `per_metre` is [`convert`]'s.
+    #[doc(hidden)]
     fn relative_position(
         x: (f32, f32),
         y: (f32, f32),

@@ -17,8 +17,8 @@ use crate::protocol::frame::{
     VERSION, VERSION_1,
 };
 use crate::protocol::message::{
-    kind, CommandMsg, Configure, Counters, ErrorMsg, LineCounts, StateMsg, NO_CIRCLE, ROLE_EVADER,
-    ROLE_PURSUER,
+    kind, policy_of_byte, CommandMsg, Configure, Counters, ErrorMsg, LineCounts, StateMsg,
+    NO_CIRCLE, ROLE_EVADER, ROLE_PURSUER,
 };
 use crate::status::Status;
 use crate::value_tables::ValueTables;
@@ -487,11 +487,8 @@ fn configure<S: Scalar>(
         1 => Variant::Clamped,
         _ => return Err(WireError::InvalidConfig),
     };
-    let policy = match message.policy {
-        0 => Policy::Paper,
-        1 => Policy::Flight,
-        2 => Policy::Table,
-        _ => return Err(WireError::InvalidConfig),
+    let Some(policy) = policy_of_byte(message.policy) else {
+        return Err(WireError::InvalidConfig);
     };
     let roles_valid = message.roles != 0 && message.roles & !(ROLE_PURSUER | ROLE_EVADER) == 0;
     let watchdog = message.watchdog;

@@ -1,6 +1,7 @@
 //! The messages of the wire protocol: their payloads as plain structs, with `parse` and `emit`.
 //! Byte-by-byte layout in `docs/protocol.md`. Turn rates on the wire are rad/s (= v w).
 
+use crate::guidance::Policy;
 use crate::protocol::frame::{Reader, WireError, Writer};
 
 /// Message type codes. Host to unit below 0x80, unit to host from 0x80.
@@ -34,6 +35,25 @@ pub mod kind {
 pub const ROLE_PURSUER: u8 = 0b01;
 /// Bit of [`Configure::roles`]: this unit computes the evader's command.
 pub const ROLE_EVADER: u8 = 0b10;
+
+/// A Configure's policy byte for `policy`: 0 paper, 1 flight, 2 value tables.
+pub const fn policy_byte(policy: Policy) -> u8 {
+    match policy {
+        Policy::Paper => 0,
+        Policy::Flight => 1,
+        Policy::Table => 2,
+    }
+}
+
+/// The policy a Configure's policy byte names, if any ([`policy_byte`]'s inverse).
+pub const fn policy_of_byte(byte: u8) -> Option<Policy> {
+    match byte {
+        0 => Some(Policy::Paper),
+        1 => Some(Policy::Flight),
+        2 => Some(Policy::Table),
+        _ => None,
+    }
+}
 
 /// Configure: both vehicles' limits (m/s, 1/m), control period and watchdog time (s), roles,
 /// Algorithm-2 variant (0 paper, 1 clamped) and policy (0 paper, 1 flight); from protocol

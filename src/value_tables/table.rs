@@ -23,6 +23,7 @@
 //! Reads are bounds-checked and allocation-free; a malformed table is refused by
 //! [`ValueTable::parse`], never read.
 
+use crate::law::geometry::theorem_threshold;
 use crate::num::f32_math::{sin_cos, wrap_signed};
 
 /// The table's magic bytes (format version 2: the rows y >= 0 only, the nodes in the capture
@@ -181,7 +182,7 @@ impl<'a> ValueTable<'a> {
         let steps = PURSUER_TURNS.map(|u| evader.map(|(a, w)| Step::new(a, tau, u, w)));
         let r_e = speed_ratio / evader_turn;
         Ok(ValueTable {
-            threshold: 2.0 * r_e + core::f32::consts::TAU * r_e / speed_ratio,
+            threshold: theorem_threshold(r_e, 1.0, speed_ratio),
             speed_ratio,
             evader_turn,
             eps,

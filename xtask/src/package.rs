@@ -164,9 +164,9 @@ const EXAMPLES: [(&str, &str, Option<&str>); 5] = [
 
 /// Packages the core (`cargo package`, not verified: the examples are what this checks), unpacks
 /// the .crate in the system's temporary directory and builds every example from it (into
-/// `target/package-check/`), each with its
-/// features, the Cortex-M ones with cortex-m-rt's linker script as a user's
-/// `.cargo/config.toml` gives it; (passed, failed).
+/// `target/package-check/`), each with its features, the Cortex-M ones with cortex-m-rt's
+/// linker script as a user's `.cargo/config.toml` gives it; then runs its doctests, README's
+/// blocks among them; (passed, failed).
 pub fn check_package() -> (u64, u64) {
     let dir = crate::workspace::target_dir().join("package-check");
     let _ = std::fs::remove_dir_all(&dir);
@@ -231,6 +231,23 @@ pub fn check_package() -> (u64, u64) {
             eprintln!("package: example {name} does not build from the published crate");
             failed += 1;
         }
+    }
+    // README's Rust blocks are the crate's doctests (`#[doc = include_str!("../README.md")]`).
+    let doctests = Command::new("cargo")
+        .args(["test", "--doc"])
+        .env("CARGO_TARGET_DIR", dir.join("build"))
+        .current_dir(&source)
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if doctests {
+        println!(
+            "package: README's blocks and the doc examples run from the published crate ... ok"
+        );
+        passed += 1;
+    } else {
+        eprintln!("package: README's blocks or a doc example fail from the published crate");
+        failed += 1;
     }
     let _ = std::fs::remove_dir_all(&unpacked);
     (passed, failed)

@@ -384,6 +384,8 @@ impl Fixed {
     }
 }
 
+impl super::sealed::Sealed for Fixed {}
+
 impl Scalar for Fixed {
     /// In units of the pursuer's turning radius, relative to the pursuer.
     const MAX_COORDINATE: f32 = 200.0;

@@ -24,10 +24,11 @@ use crate::autopilot::evader::Terms;
 use crate::autopilot::harness::{Harness, NoTarget};
 use crate::autopilot::router::Source;
 use crate::autopilot::{
-    configure_unit, field, law_limits, report, set_unit_params, starts, starts_against, threshold,
-    Measured, CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
+    configure_unit, field, law_limits, report, set_unit_params, starts, starts_against, Measured,
+    CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
 };
 use crate::firmware::signing::SigningKey;
+use host_tests::sim::theorem_threshold;
 
 /// The pursuer's speed asked of the rover (WP_SPEED: the speed at thrust 1), m/s.
 const WP_SPEED: f32 = 3.0;
@@ -115,7 +116,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         100.0 * limits[0] * limits[1] / measured.turn_rate,
         limits[2],
         limits[3],
-        threshold(limits),
+        theorem_threshold(limits),
         (measured.response * 100.0).round() / 100.0
     );
     // The law plans each turn over the rover's yaw-rate response: planned over the 50 ms

@@ -16,9 +16,9 @@ use crate::autopilot::chase::{self, Outcome};
 use crate::autopilot::evader::{self, Terms};
 use crate::autopilot::harness::{Harness, Pursuer};
 use crate::autopilot::{
-    aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, threshold,
-    TARGET_SYSTEM,
+    aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, TARGET_SYSTEM,
 };
+use host_tests::sim::theorem_threshold;
 
 /// Capture radius, m: the SITL plane's span (about 2 m) less nothing, plus three sigma of a
 /// GPS fix (1 m): two aircraft whose fixes are this close touch or nearly so.
@@ -113,7 +113,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         limits[1],
         limits[2],
         limits[3],
-        threshold(limits),
+        theorem_threshold(limits),
     );
     set_unit_params(&mut h, &[("TC_VEHICLE", 3.0), ("TC_BANK_EFF", efficiency)])?;
     configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;

@@ -21,6 +21,7 @@ use crate::autopilot::chase::Start;
 use crate::autopilot::evader::Steer;
 use crate::autopilot::harness::{Harness, NoTarget};
 use crate::autopilot::EVADERS;
+use host_tests::sim::theorem_threshold;
 
 /// How the evader's aircraft flies: its airspeed and the least it may fly at (m/s,
 /// AIRSPEED_CRUISE and AIRSPEED_MIN), its bank limit (deg: small enough that it turns wider
@@ -243,7 +244,7 @@ pub fn limits(pursuer: [f64; 4], evader: &aircraft::Flown) -> Result<[f64; 4], S
 /// half the threshold and at 1.1 times it, against each of the suite's evaders (the first
 /// alone with `short`).
 pub fn starts(limits: [f64; 4], short: bool) -> Vec<Start> {
-    let threshold = crate::autopilot::threshold(limits);
+    let threshold = theorem_threshold(limits);
     let mut out = Vec::new();
     for (name, apart) in [("below", 0.5 * threshold), ("beyond", 1.1 * threshold)] {
         for evader in EVADERS {

@@ -16,6 +16,7 @@ pub mod unit;
 use std::time::Duration;
 
 use host_tests::adversary::EvaderKind;
+use host_tests::sim::theorem_threshold;
 
 use chase::{Outcome, Start};
 use harness::{Harness, NoTarget, UNIT_COMPONENT};
@@ -77,12 +78,6 @@ pub fn energy_line(o: &Outcome, limits: [f64; 4]) -> String {
     )
 }
 
-/// The theorem's threshold 2 r_e + 2 pi r_e v_pm / v_em, m.
-pub fn threshold(limits: [f64; 4]) -> f64 {
-    let r_e = 1.0 / limits[3];
-    2.0 * r_e + std::f64::consts::TAU * r_e * limits[0] / limits[2]
-}
-
 /// The starts: below the threshold (the paper's case 1 at the rover's scale) and beyond it (1.1
 /// threshold ahead and to the right), each against the straight, the circling and the
 /// law-playing evader; `short`: the first only.
@@ -106,7 +101,7 @@ pub fn starts_against(limits: [f64; 4], short: bool, evaders: &[EvaderKind]) -> 
     // The paper's case 1 (the evader 6 m behind and 3 m to the right, same heading, with
     // r_p = 0.5 m), scaled by the law's r_p / 0.5 m.
     let scale = 2.0 / limits[1];
-    let beyond = 1.1 * threshold(limits);
+    let beyond = 1.1 * theorem_threshold(limits);
     let mut out = Vec::new();
     for &evader in evaders {
         out.push(Start {

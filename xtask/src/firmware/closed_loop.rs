@@ -133,11 +133,7 @@ pub fn run_against(
             Variant::Paper => 0,
             Variant::Clamped => 1,
         },
-        policy: match policy {
-            Policy::Paper => 0,
-            Policy::Flight => 1,
-            Policy::Table => 2,
-        },
+        policy: twocars::protocol::message::policy_byte(policy),
         field: FieldConfig::EXACT,
     };
     *sequence = sequence.wrapping_add(1);

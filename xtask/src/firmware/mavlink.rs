@@ -27,8 +27,8 @@ const PYMAVLINK: &str = "pymavlink==2.4.49";
 pub const SCALE: f64 = 10.0;
 /// Control period, s.
 pub const DT: f64 = 0.01;
-/// Capture distance at the scale, metres (`cargo xtask run`'s 0.01 m, scaled).
-const EPS: f64 = 0.01 * SCALE;
+/// Capture distance at the scale, metres (the paper's epsilon, scaled).
+const EPS: f64 = host_tests::scenarios::EPS * SCALE;
 /// A capture within this many periods of the reference counts as on time.
 const ON_TIME_PERIODS: f64 = 5.0;
 /// The paper's four cases' captures in `cargo xtask run` under the paper's law (plus

@@ -3,6 +3,7 @@
 //! State every control period; per case it prints the law's matrix at t = 0, the capture time in
 //! closed loop with the firmware, the host-only simulation of the same case, frames and counters.
 
+use host_tests::scenarios::EPS;
 use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use host_tests::sim::{SimParams, SimResult, SimStatus};
 use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
@@ -15,8 +16,6 @@ use crate::firmware::emulator::Emulator;
 use crate::firmware::signing::SigningKey;
 use crate::host::options::{with_numeric, LawArgs, Options};
 
-/// Capture distance, metres.
-const EPS: f64 = 0.01;
 /// Largest |firmware - host| capture-time difference accepted, in control periods.
 const AGREEMENT_PERIODS: f64 = 3.0;
 

@@ -19,6 +19,7 @@ use host_tests::rng::Rng;
 use host_tests::sim::{
     simulate_with_turns, theorem_threshold, Setup, SimParams, SimResult, SimStatus, Turn,
 };
+use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
 use twocars::value_tables::ValueTables;
 use twocars::{Policy, Variant};
@@ -156,12 +157,6 @@ fn play(
         .collect()
 }
 
-/// The p-quantile of `sorted`.
-fn quantile(sorted: &[f64], p: f64) -> f64 {
-    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
-    sorted.get(i).copied().unwrap_or(f64::NAN)
-}
-
 fn percent(v: f64) -> String {
     if v.is_finite() {
         format!("{:+.1} %", 100.0 * v)
@@ -199,9 +194,9 @@ impl Over {
         let (p10, p5) = (self.past(0.10), self.past(0.05));
         format!(
             "{}, {}, {} | {p10} ({:.2} %), {p5} | {never}",
-            percent(quantile(over, 0.5)),
-            percent(quantile(over, 0.9)),
-            percent(quantile(over, 0.99)),
+            percent(quantile_f64(over, 0.5)),
+            percent(quantile_f64(over, 0.9)),
+            percent(quantile_f64(over, 0.99)),
             share(p10),
         )
     }

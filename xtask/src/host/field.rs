@@ -12,6 +12,7 @@ use host_tests::adversary::EvaderKind;
 use host_tests::field::{chase, FieldModel, Receiver};
 use host_tests::rng::Rng;
 use host_tests::sim::{theorem_threshold, SimParams, SimResult, SimStatus};
+use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
 
 use crate::progress::Progress;
@@ -216,7 +217,7 @@ pub fn discretization(
                 })
                 .collect();
             excess.sort_by(f64::total_cmp);
-            quantile(&excess, 0.9)
+            quantile_f64(&excess, 0.9)
         })
         .collect()
 }
@@ -231,13 +232,6 @@ pub struct Figures {
     pub past_10: f64,
     /// Median of the pursuer's sign flips.
     pub flips_p50: f64,
-}
-
-fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
 impl Figures {
@@ -255,10 +249,10 @@ impl Figures {
                 .iter()
                 .filter(|c| pick(c).status != SimStatus::Captured)
                 .count(),
-            p90: quantile(&excess, 0.9),
+            p90: quantile_f64(&excess, 0.9),
             past_10: excess.iter().filter(|e| **e > 0.10).count() as f64
                 / chases.len().max(1) as f64,
-            flips_p50: quantile(&flips, 0.5),
+            flips_p50: quantile_f64(&flips, 0.5),
         }
     }
 

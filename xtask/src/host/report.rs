@@ -4,15 +4,15 @@
 
 use host_tests::adversary::{EvaderKind, Opponent, PursuerKind};
 use host_tests::rng::Rng;
+use host_tests::scenarios::EPS;
 use host_tests::scenarios::PAPER_LIMITS;
 use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
+use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
 use twocars::{Policy, Variant};
 
 use crate::progress::Progress;
 
-/// Capture distance, metres.
-const EPS: f64 = 0.01;
 /// "Equals the prediction" within this many control periods.
 const TOLERANCE_PERIODS: f64 = 5.0;
 
@@ -167,13 +167,6 @@ pub fn monte_carlo(
         .collect()
 }
 
-fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
-}
-
 fn sorted(mut v: Vec<f64>) -> Vec<f64> {
     v.sort_by(f64::total_cmp);
     v
@@ -243,12 +236,12 @@ fn print_row(label: &str, s: &Summary) {
         s.captured,
         s.runs - s.captured,
         s.late,
-        quantile(&s.lateness, 0.5),
-        quantile(&s.lateness, 0.9),
-        quantile(&s.lateness, 0.99),
-        quantile(&s.lateness, 1.0),
-        quantile(&s.flips, 0.9),
-        quantile(&s.flips, 1.0),
+        quantile_f64(&s.lateness, 0.5),
+        quantile_f64(&s.lateness, 0.9),
+        quantile_f64(&s.lateness, 0.99),
+        quantile_f64(&s.lateness, 1.0),
+        quantile_f64(&s.flips, 0.9),
+        quantile_f64(&s.flips, 1.0),
     );
 }
 
@@ -315,7 +308,7 @@ fn print_pursuer(name: &str, limit_set: LimitSet, runs: &[Run]) {
                 s.runs,
                 s.captured,
                 s.early,
-                quantile(&margins, 0.0),
+                quantile_f64(&margins, 0.0),
             );
         }
     }

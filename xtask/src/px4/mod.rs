@@ -19,9 +19,10 @@ use crate::autopilot::evader::Terms;
 use crate::autopilot::harness::Harness;
 use crate::autopilot::router::Router;
 use crate::autopilot::{
-    configure_unit, law_limits, report, set_unit_params, starts_against, threshold, unit, Measured,
+    configure_unit, law_limits, report, set_unit_params, starts_against, unit, Measured,
     CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
 };
+use host_tests::sim::theorem_threshold;
 
 /// The speed asked of the rover, m/s: under the SIH rover's 3 m/s limit, with room for its
 /// speed controller.
@@ -85,7 +86,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         limits[1],
         limits[2],
         limits[3],
-        threshold(limits),
+        theorem_threshold(limits),
     );
     set_unit_params(&mut h, &[("TC_VEHICLE", 2.0)])?;
     configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;

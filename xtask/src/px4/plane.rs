@@ -14,10 +14,11 @@ use crate::autopilot::evader::{self, Terms};
 use crate::autopilot::harness::{Harness, Pursuer};
 use crate::autopilot::router::Router;
 use crate::autopilot::{
-    aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, threshold, unit,
+    aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, unit,
     TARGET_SYSTEM,
 };
 use host_tests::autopilot::HOME;
+use host_tests::sim::theorem_threshold;
 
 /// The SIH vehicle.
 const MODEL: &str = "sihsim_airplane";
@@ -119,7 +120,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         limits[1],
         limits[2],
         limits[3],
-        threshold(limits),
+        theorem_threshold(limits),
     );
     set_unit_params(&mut h, &[("TC_VEHICLE", 4.0), ("TC_BANK_EFF", efficiency)])?;
     configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;
