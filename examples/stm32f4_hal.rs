@@ -15,7 +15,7 @@ use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::Config;
 use stm32f4xx_hal::{pac, serial::Serial};
 use twocars::board::stm32f405::{Stm32f405, SYSCLK_HZ};
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::serial::Board;
 
 #[cortex_m_rt::entry]
@@ -32,7 +32,7 @@ fn main() -> ! {
     };
     let board = Stm32f405::start(cp.SYST, SYSCLK_HZ);
     // The guidance unit: configured by the first Configure frame, as over any link.
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     loop {
         // A port fault (overrun, framing) loses a byte; the frame's CRC refuses what it broke,
         // so serving goes on. After a Shutdown a flight unit keeps serving too.

@@ -9,7 +9,7 @@
 //! use embedded_hal_nb::nb;
 //! use embedded_hal_nb::serial::{ErrorKind, ErrorType, Read, Write};
 //! use twocars::polled::serve_pass;
-//! use twocars::protocol::endpoint::Unit;
+//! use twocars::protocol::endpoint::Endpoint;
 //!
 //! /// A port with nothing to read that takes every byte (a HAL's `Serial` in firmware).
 //! struct Quiet;
@@ -30,7 +30,7 @@
 //!     }
 //! }
 //!
-//! let mut unit = Unit::<f32>::new();
+//! let mut unit = Endpoint::<f32>::new();
 //! // Each pass of the firmware's loop, with its millisecond clock.
 //! let pass = serve_pass(&mut Quiet, &mut unit, 0).expect("the port does not fail");
 //! assert_eq!((pass.bytes, pass.replies, pass.shutdown), (0, 0, false));
@@ -40,7 +40,7 @@ use embedded_hal_nb::nb;
 use embedded_hal_nb::serial::{Read, Write};
 
 use crate::num::Scalar;
-use crate::protocol::endpoint::Unit;
+use crate::protocol::endpoint::Endpoint;
 
 /// Most bytes one pass reads, so that a port that never runs dry still lets the loop run.
 pub const MAX_PASS_BYTES: usize = 256;
@@ -64,7 +64,7 @@ pub struct PolledPass {
 /// the caller decides (a line fault is usually counted and the loop goes on).
 pub fn serve_pass<P, S>(
     port: &mut P,
-    unit: &mut Unit<S>,
+    unit: &mut Endpoint<S>,
     now_ms: u32,
 ) -> Result<PolledPass, P::Error>
 where
@@ -102,7 +102,7 @@ where
 /// The port's first error; the caller may serve again with the same unit.
 pub fn serve<P, S>(
     port: &mut P,
-    unit: &mut Unit<S>,
+    unit: &mut Endpoint<S>,
     mut now_ms: impl FnMut() -> u32,
 ) -> Result<(), P::Error>
 where

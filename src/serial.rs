@@ -1,7 +1,7 @@
 //! Interrupt-driven serial I/O, the same on every board: the UART's interrupt moves bytes between
 //! its data registers and two `heapless` single-producer, single-consumer queues; the guidance
-//! loop drains the receive queue into the [`Unit`] and queues its replies, and never waits on the
-//! line. Line faults (overrun, framing, noise, parity, a full queue) are counted, never fatal.
+//! loop drains the receive queue into the [`Endpoint`] and queues its replies, and never waits
+//! on the line. Line faults (overrun, framing, noise, parity, a full queue) are counted, never fatal.
 //!
 //! A board supplies [`UartRegisters`] (its data and status registers, for the interrupt) and
 //! [`Board`] (clock, sleep, and the transmitter's start, for the loop); the rest is here and runs
@@ -12,7 +12,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use heapless::spsc::{Consumer, Producer, Queue};
 
 use crate::num::Scalar;
-use crate::protocol::endpoint::Unit;
+use crate::protocol::endpoint::Endpoint;
 use crate::protocol::message::LineCounts;
 
 /// Receive queue slots (it holds one byte fewer): 14 State frames, 5.5 ms of input at 921600
@@ -311,7 +311,11 @@ fn queue(to_send: &mut Producer<'_, u8, TX_CAPACITY>, faults: &LineFaults, bytes
 
 /// One pass of the loop: the watchdog, then every byte received so far, replies queued and the
 /// transmitter started.
-pub fn service<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit<S>) -> Pass {
+pub fn service<B: Board, S: Scalar>(
+    line: &mut LoopEnd<'_>,
+    board: &B,
+    unit: &mut Endpoint<S>,
+) -> Pass {
     let mut pass = Pass::default();
     let now = board.now_ms();
     if let Some(reply) = unit.poll(now) {
@@ -320,7 +324,7 @@ pub fn service<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mu
         pass.replies += 1;
     }
     unit.record_line(line.faults());
-    unit.record_board(board.status_flags());
+    unit.set_board_status(board.status_flags());
     loop {
         let LoopEnd {
             received,
@@ -363,7 +367,7 @@ pub fn service<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mu
 
 /// Serves the line until Shutdown (acknowledged and queued; the caller waits for
 /// [`LoopEnd::all_sent`] before it stops the board). Sleeps while nothing was received.
-pub fn serve<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Unit<S>) {
+pub fn serve<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mut Endpoint<S>) {
     loop {
         if service(line, board, unit).shutdown {
             return;
@@ -379,7 +383,7 @@ pub fn serve<B: Board, S: Scalar>(line: &mut LoopEnd<'_>, board: &B, unit: &mut 
 pub fn serve_to_shutdown<B: Board, S: Scalar>(
     line: &mut LoopEnd<'_>,
     board: &B,
-    unit: &mut Unit<S>,
+    unit: &mut Endpoint<S>,
 ) {
     serve(line, board, unit);
     while !line.all_sent() {

@@ -14,7 +14,7 @@
 //! points where the bench reads them ([`TABLE_POINTS`], the pursuer at the origin heading +x).
 
 use twocars::num::Scalar;
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::protocol::frame::{
     cobs_encode, encode_frame_as, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME, VERSION_1,
 };
@@ -258,7 +258,7 @@ pub fn serve_script_on<S: Scalar>(
 ) -> Outcome {
     let (mut interrupt, mut main) = line.split();
     let mut uart = ScriptedUart::new(script);
-    let mut unit = Unit::<S>::new();
+    let mut unit = Endpoint::<S>::new();
     unit.set_tables(tables);
     let mut shutdown = false;
     while !shutdown {

@@ -6,7 +6,7 @@
 
 use libfuzzer_sys::fuzz_target;
 use twocars::num::fixed::Fixed;
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::protocol::frame::{encode_frame, Deframer, Feed, Frame, MAX_ENCODED, MAX_FRAME};
 use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, FieldConfig};
 use twocars::Scalar;
@@ -60,7 +60,7 @@ fuzz_target!(|data: &[u8]| {
 });
 
 fn session<S: Scalar>(data: &[u8]) {
-    let mut unit = Unit::<S>::new();
+    let mut unit = Endpoint::<S>::new();
     let mut now = 0u32;
     if data.first().is_some_and(|b| b & 1 == 1) {
         let c = Configure {

@@ -1,6 +1,6 @@
 //! A scripted session for the guidance unit: every kind of bad input, then valid states. The host
-//! tests run it through `twocars::protocol::endpoint::Unit`; `cargo xtask test` runs it through the firmware in
-//! QEMU and compares the replies byte for byte.
+//! tests run it through `twocars::protocol::endpoint::Endpoint`; `cargo xtask test` runs it
+//! through the firmware in QEMU and compares the replies byte for byte.
 
 use crate::link;
 use twocars::protocol::frame::{cobs_encode, crc16, WireError};

@@ -12,7 +12,7 @@
 use std::cell::RefCell;
 use std::collections::VecDeque;
 
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::serial::{service, Board, Line, RxFlags, UartRegisters};
 
 /// A byte the peer puts on the line.
@@ -205,7 +205,7 @@ pub fn run_interrupt_driven(uart: UartModel, cpu: Cpu) -> Served {
     let uart = RefCell::new(uart);
     let mut line = Line::new();
     let (mut interrupt, mut main) = line.split();
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let board = ModelBoard(&uart);
     loop {
         let pass = service(&mut main, &board, &mut unit);
@@ -240,7 +240,7 @@ pub fn run_interrupt_driven(uart: UartModel, cpu: Cpu) -> Served {
 /// meanwhile), and on a line fault reset (the unit restarts unconfigured), over `uart`.
 pub fn run_polled(uart: UartModel, cpu: Cpu) -> Served {
     let mut uart = uart;
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let mut resets = 0;
     loop {
         let now_ms = (uart.now_ns / 1_000_000) as u32;
@@ -252,7 +252,7 @@ pub fn run_polled(uart: UartModel, cpu: Cpu) -> Served {
             Some((byte, flags)) if flags == RxFlags::default() => byte,
             Some(_) => {
                 resets += 1;
-                unit = Unit::<f32>::new();
+                unit = Endpoint::<f32>::new();
                 None
             }
             None => None,

@@ -9,7 +9,7 @@ use embedded_hal_nb::serial::{ErrorKind, ErrorType, Read, Write};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::session::{paper_configure, paper_state, script, Expect};
 use twocars::polled::{serve, serve_pass, MAX_PASS_BYTES};
-use twocars::protocol::endpoint::{Unit, STATUS_STALE_INPUT};
+use twocars::protocol::endpoint::{Endpoint, STATUS_STALE_INPUT};
 use twocars::protocol::frame::WireError;
 
 /// An in-memory port: bytes to read, bytes written, and a fault to raise on the next read.
@@ -57,7 +57,7 @@ impl Port {
 
 #[test]
 fn the_scripted_session_is_answered_over_the_port_as_the_unit_answers_it() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let mut port = Port::default();
     for step in script() {
         port.input.extend(&step.bytes);
@@ -83,7 +83,7 @@ fn the_scripted_session_is_answered_over_the_port_as_the_unit_answers_it() {
 
 #[test]
 fn a_silent_sender_gets_the_safe_command_once_the_watchdog_expires() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let mut port = Port::default();
     port.input.extend(link::configure(1, &paper_configure()));
     port.input.extend(link::state(2, &paper_state(0, 0)));
@@ -107,7 +107,7 @@ fn a_silent_sender_gets_the_safe_command_once_the_watchdog_expires() {
 
 #[test]
 fn serving_stops_at_shutdown_and_a_pass_reads_a_bounded_number_of_bytes() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let mut port = Port::default();
     port.input.extend(link::shutdown(9));
     port.input.extend([0u8; 10]);
@@ -125,13 +125,13 @@ fn serving_stops_at_shutdown_and_a_pass_reads_a_bounded_number_of_bytes() {
     noisy
         .input
         .extend(std::iter::repeat_n(0x55, 3 * MAX_PASS_BYTES));
-    let pass = serve_pass(&mut noisy, &mut Unit::<f32>::new(), 0).expect("no fault");
+    let pass = serve_pass(&mut noisy, &mut Endpoint::<f32>::new(), 0).expect("no fault");
     assert_eq!(pass.bytes, MAX_PASS_BYTES);
 }
 
 #[test]
 fn a_port_fault_is_handed_back_and_the_unit_serves_on() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let mut port = Port::default();
     port.input.extend(link::configure(1, &paper_configure()));
     port.fault = Some(ErrorKind::Overrun);

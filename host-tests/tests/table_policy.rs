@@ -194,12 +194,12 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
 fn configure_selects_the_tables_of_its_ratios_and_says_so() {
     use host_tests::link::{self, Reply, ReplyDecoder};
     use host_tests::session::paper_configure;
-    use twocars::protocol::endpoint::Unit;
+    use twocars::protocol::endpoint::Endpoint;
     use twocars::protocol::message::{Configure, StateMsg};
 
     let (_, set) = tables();
     let set: &'static ValueTables<'static> = set;
-    let ack = |unit: &mut Unit, configure: &Configure| -> Option<u8> {
+    let ack = |unit: &mut Endpoint, configure: &Configure| -> Option<u8> {
         let mut decoder = ReplyDecoder::default();
         let mut out = None;
         for &b in &link::configure(7, configure) {
@@ -213,7 +213,7 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
         }
     };
     // A State 1.2 m apart, the evader behind on the pursuer's left: the pursuer's rate.
-    let rate = |unit: &mut Unit| -> f32 {
+    let rate = |unit: &mut Endpoint| -> f32 {
         let state = StateMsg::exact(10, [0.0, 0.0, 0.0], [-0.9, 0.8, 2.0]);
         let mut decoder = ReplyDecoder::default();
         let mut command = None;
@@ -241,8 +241,8 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
         limits: [2.0, 2.0, 1.2, 1.0],
         ..paper
     };
-    assert_eq!(ack(&mut Unit::new(), &paper), Some(1));
-    let mut unit = Unit::new();
+    assert_eq!(ack(&mut Endpoint::new(), &paper), Some(1));
+    let mut unit = Endpoint::new();
     unit.set_tables(std::slice::from_ref(set));
     assert_eq!(ack(&mut unit, &faster_evader), Some(1));
     for policy in [0, 1] {
@@ -254,7 +254,7 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
     let other: &'static ValueTables<'static> =
         Box::leak(Box::new(tables_of([2.0, 2.0, 1.2, 1.0]).1));
     let both: &'static [ValueTables<'static>] = Box::leak(Box::new([*other, *set]));
-    let mut two = Unit::new();
+    let mut two = Endpoint::new();
     two.set_tables(both);
     for (configure, set) in [(&faster_evader, other), (&paper, set)] {
         assert_eq!(ack(&mut two, configure), Some(2));
@@ -269,7 +269,7 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
 #[test]
 fn the_bench_session_with_the_tables_commands_their_turns() {
     use host_tests::link::{Reply, ReplyDecoder};
-    use twocars::protocol::endpoint::Unit;
+    use twocars::protocol::endpoint::Endpoint;
     use twocars_bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
     use twocars_bench::TABLE_POINTS;
 
@@ -278,7 +278,7 @@ fn the_bench_session_with_the_tables_commands_their_turns() {
         Box::leak(Box::new([ValueTables::parse(bytes).unwrap()]));
     let mut out = [0u8; SCRIPT_CAPACITY];
     let n = script(true, true, &mut out).expect("the script fits");
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     unit.set_tables(set);
     let mut written = Vec::new();
     for &b in &out[..n] {

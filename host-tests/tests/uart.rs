@@ -9,7 +9,7 @@ use std::collections::{BTreeSet, VecDeque};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::session::{paper_configure, paper_state};
 use host_tests::uart_model::{run_interrupt_driven, run_polled, LineByte, UartModel, STM32F405};
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::serial::{service, Board, Line, RxFlags, UartRegisters};
 
 /// States sent, over 2 s.
@@ -186,7 +186,7 @@ fn every_line_fault_costs_only_the_frame_it_lands_in() {
     let state = |s| link::state(s, &paper_state(0, 0));
     let mut line = Line::new();
     let (mut interrupt, mut main) = line.split();
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let mut uart = FakeUart::default();
     let replies = |uart: &mut FakeUart| {
         let bytes = std::mem::take(&mut uart.sent);

@@ -4,12 +4,12 @@
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::session::{paper_configure, paper_state, script, Expect};
 use twocars::num::fixed::Fixed;
-use twocars::protocol::endpoint::{Unit, STATUS_STALE_INPUT};
+use twocars::protocol::endpoint::{Endpoint, STATUS_STALE_INPUT};
 use twocars::protocol::frame::WireError;
 use twocars::protocol::message::ROLE_PURSUER;
 use twocars::{Guidance, Law, Limits, Scalar, Variant, VehicleState};
 
-fn send<S: Scalar>(unit: &mut Unit<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
+fn send<S: Scalar>(unit: &mut Endpoint<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
     let mut decoder = ReplyDecoder::default();
     let mut replies = Vec::new();
     for &b in bytes {
@@ -27,7 +27,7 @@ fn send<S: Scalar>(unit: &mut Unit<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> 
 
 #[test]
 fn the_scripted_session_gets_the_documented_replies_and_the_loop_survives() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     for step in script() {
         let replies = send(&mut unit, &step.bytes, 0);
         assert_eq!(replies.len(), 1, "{}: {replies:?}", step.name);
@@ -65,7 +65,7 @@ fn commands_equal_the_host_law_bit_for_bit() {
     // Protocol version 1 steers on the states as they are; version 2 through the estimator,
     // which carries exact, instant fixes unchanged.
     for version in [1, 2] {
-        let mut unit = Unit::<f32>::new();
+        let mut unit = Endpoint::<f32>::new();
         let configure = if version == 1 {
             link::configure_v1
         } else {
@@ -76,7 +76,7 @@ fn commands_equal_the_host_law_bit_for_bit() {
     }
 }
 
-fn each_paper_case_as_the_host_law(unit: &mut Unit<f32>, version: u8) {
+fn each_paper_case_as_the_host_law(unit: &mut Endpoint<f32>, version: u8) {
     let limits = Limits::<f32>::new(2.0, 2.0, 1.0, 1.0).unwrap();
     let mut guidance = Guidance::new(
         Law::new(limits, Variant::Paper),
@@ -110,7 +110,7 @@ fn each_paper_case_as_the_host_law(unit: &mut Unit<f32>, version: u8) {
 
 #[test]
 fn the_fixed_point_unit_answers_with_the_fixed_point_law_in_wire_units() {
-    let mut unit = Unit::<Fixed>::new();
+    let mut unit = Endpoint::<Fixed>::new();
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
     let limits = Limits::<Fixed>::new(2.0, 2.0, 1.0, 1.0).unwrap();
     let mut guidance = Guidance::new(
@@ -119,7 +119,7 @@ fn the_fixed_point_unit_answers_with_the_fixed_point_law_in_wire_units() {
         twocars::Policy::Paper,
     )
     .unwrap();
-    let mut float = Unit::<f32>::new();
+    let mut float = Endpoint::<f32>::new();
     send(&mut float, &link::configure(1, &paper_configure()), 0);
     for case in 0..4 {
         let t_ms = 10 * case as u32;
@@ -151,7 +151,7 @@ fn the_fixed_point_unit_answers_with_the_fixed_point_law_in_wire_units() {
 
 #[test]
 fn a_role_not_computed_gets_zero_rate() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let config = twocars::protocol::message::Configure {
         roles: ROLE_PURSUER,
         ..paper_configure()
@@ -174,7 +174,7 @@ fn command(replies: &[Reply]) -> twocars::protocol::message::CommandMsg {
 
 #[test]
 fn the_watchdog_sends_the_safe_command_once_after_silence_and_stays_latched() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     assert!(unit.poll(10_000).is_none(), "unconfigured: silent");
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
     assert!(
@@ -219,7 +219,7 @@ fn the_watchdog_sends_the_safe_command_once_after_silence_and_stays_latched() {
 
 #[test]
 fn a_gap_in_the_senders_timestamps_latches_even_when_frames_keep_arriving() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     send(&mut unit, &link::configure(1, &paper_configure()), 0);
     assert_eq!(
         command(&send(&mut unit, &link::state(2, &paper_state(0, 100)), 0)).status,
@@ -273,7 +273,7 @@ fn the_configure_message_selects_the_policy() {
         .expect("a state where the policies differ");
     let (p, e) = si_states(state.pursuer, state.evader);
     for (byte, policy) in [(0, twocars::Policy::Paper), (1, twocars::Policy::Flight)] {
-        let mut unit = Unit::<f32>::new();
+        let mut unit = Endpoint::<f32>::new();
         let config = twocars::protocol::message::Configure {
             policy: byte,
             ..paper_configure()
@@ -286,7 +286,7 @@ fn the_configure_message_selects_the_policy() {
     }
     // Policy 2 (the value tables) on a unit without tables: the flight policy, said in the ack
     // (tests/table_policy.rs has a unit with tables).
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let config = twocars::protocol::message::Configure {
         policy: 2,
         ..paper_configure()
@@ -296,7 +296,7 @@ fn the_configure_message_selects_the_policy() {
         matches!(replies[..], [Reply::ConfigureAck(1, Some(1))]),
         "{replies:?}"
     );
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let config = twocars::protocol::message::Configure {
         policy: 3,
         ..paper_configure()
@@ -319,7 +319,7 @@ fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
         let mut bytes = [0u8; SCRIPT_CAPACITY];
         let n = script(with_states, false, &mut bytes).expect("the script fits its capacity");
         let script = &bytes[..n];
-        let mut unit = Unit::<f32>::new();
+        let mut unit = Endpoint::<f32>::new();
         let mut written = Vec::new();
         for &b in script {
             if let Some(r) = unit.receive(b, 0) {
@@ -378,7 +378,7 @@ fn the_main_loop_bench_session_is_served_as_the_unit_answers_it() {
 }
 
 /// The raw bytes (COBS-framed) of the last reply `unit` wrote while fed `bytes` at `now_ms`.
-fn last_reply_bytes(unit: &mut Unit, bytes: &[u8], now_ms: u32) -> Option<Vec<u8>> {
+fn last_reply_bytes(unit: &mut Endpoint, bytes: &[u8], now_ms: u32) -> Option<Vec<u8>> {
     let mut reply = None;
     for &b in bytes {
         if let Some(r) = unit.receive(b, now_ms) {
@@ -401,7 +401,7 @@ fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
     let n = twocars::protocol::frame::cobs_encode(&body, &mut encoded).expect("fits");
     let mut frame = encoded[..n].to_vec();
     frame.push(0);
-    let reply = last_reply_bytes(&mut Unit::<f32>::new(), &frame, 0);
+    let reply = last_reply_bytes(&mut Endpoint::<f32>::new(), &frame, 0);
     assert_eq!(
         reply.as_deref(),
         Some(&[0x09, 0x02, 0x8f, 0x78, 0x02, 0x06, 0x01, 0x28, 0xd1, 0x00][..])
@@ -415,7 +415,7 @@ fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
 /// first.
 #[test]
 fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_state() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let acks = send(&mut unit, &link::configure(1, &paper_configure()), 0);
     assert_eq!(acks.len(), 1);
     let mut state = paper_state(0, 10);
@@ -434,7 +434,7 @@ fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_stat
 /// limits, every status-5 Command's bytes agree with the signs of its rates.
 #[test]
 fn fallback_commands_name_the_circle_actually_turned() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     assert_eq!(
         send(&mut unit, &link::configure(1, &paper_configure()), 0).len(),
         1

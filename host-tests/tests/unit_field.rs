@@ -6,12 +6,12 @@ use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::session::{paper_configure, paper_state};
 use twocars::estimate::{Estimator, FieldSettings, Fix, FixNoise};
 use twocars::num::fixed::Fixed;
-use twocars::protocol::endpoint::{Unit, STATUS_STALE_INPUT};
+use twocars::protocol::endpoint::{Endpoint, STATUS_STALE_INPUT};
 use twocars::protocol::frame::WireError;
 use twocars::protocol::message::{Configure, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 use twocars::{Guidance, Law, Limits, Policy, Scalar, Variant};
 
-fn send<S: Scalar>(unit: &mut Unit<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
+fn send<S: Scalar>(unit: &mut Endpoint<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
     let mut decoder = ReplyDecoder::default();
     let mut replies = Vec::new();
     for &b in bytes {
@@ -59,7 +59,7 @@ fn states() -> impl Iterator<Item = StateMsg> {
 /// fixes by the Rust API, bit for bit: the fix time, the lag and the lead reach it unchanged.
 #[test]
 fn late_noisy_fixes_are_steered_on_as_the_estimator_carries_them() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     send(&mut unit, &link::configure(1, &field_configure()), 0);
     let settings = FieldSettings {
         target_noise: FixNoise {
@@ -123,7 +123,7 @@ fn late_noisy_fixes_are_steered_on_as_the_estimator_carries_them() {
 /// than the watchdog time gets the safe command, latched as a gap in the States is.
 #[test]
 fn refused_and_stale_target_fixes_are_counted_and_get_the_safe_command() {
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     send(&mut unit, &link::configure(1, &field_configure()), 0);
     let first = paper_state(1, 1_000);
     let command = |replies: Vec<Reply>| match replies[..] {
@@ -220,7 +220,7 @@ fn impossible_field_settings_are_refused() {
         },
     ];
     for (i, field) in bad.into_iter().enumerate() {
-        let mut unit = Unit::<f32>::new();
+        let mut unit = Endpoint::<f32>::new();
         let config = Configure {
             field,
             ..field_configure()
@@ -238,7 +238,7 @@ fn impossible_field_settings_are_refused() {
 #[test]
 fn version_1_frames_are_answered_in_version_1() {
     let version_of = |bytes: &[u8]| link::deframe(bytes, None)[0].as_ref().unwrap()[0];
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     let ack = unit_reply(&mut unit, &link::configure_v1(1, &field_configure()), 0);
     assert_eq!(version_of(&ack), 1);
     let reply = unit_reply(&mut unit, &link::state_v1(2, &paper_state(0, 10)), 10);
@@ -254,7 +254,7 @@ fn version_1_frames_are_answered_in_version_1() {
     assert_eq!(counters.coasted, 0);
 }
 
-fn unit_reply<S: Scalar>(unit: &mut Unit<S>, bytes: &[u8], now_ms: u32) -> Vec<u8> {
+fn unit_reply<S: Scalar>(unit: &mut Endpoint<S>, bytes: &[u8], now_ms: u32) -> Vec<u8> {
     let mut out = Vec::new();
     for &b in bytes {
         if let Some(r) = unit.receive(b, now_ms) {
@@ -268,8 +268,8 @@ fn unit_reply<S: Scalar>(unit: &mut Unit<S>, bytes: &[u8], now_ms: u32) -> Vec<u
 /// unit's do on the chase, and its predicted times agree within the fixed-point law's error.
 #[test]
 fn the_fixed_point_unit_steers_through_the_estimator_as_the_f32_one() {
-    let mut float = Unit::<f32>::new();
-    let mut fixed = Unit::<Fixed>::new();
+    let mut float = Endpoint::<f32>::new();
+    let mut fixed = Endpoint::<Fixed>::new();
     let config = Configure {
         roles: ROLE_PURSUER | ROLE_EVADER,
         ..field_configure()

@@ -9,7 +9,7 @@ use cortex_m_semihosting::debug::{EXIT_FAILURE, EXIT_SUCCESS};
 use twocars::board::exit_qemu as halt;
 use twocars::board::microbit::{take_uart, Microbit};
 use twocars::num::fixed::Fixed;
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::serial::serve_to_shutdown;
 
 #[cortex_m_rt::entry]
@@ -21,7 +21,7 @@ fn main() -> ! {
     let Some(mut line) = take_uart() else {
         halt(EXIT_FAILURE)
     };
-    let mut unit = Unit::<Fixed>::new();
+    let mut unit = Endpoint::<Fixed>::new();
     serve_to_shutdown(&mut line, &board, &mut unit);
     halt(EXIT_SUCCESS)
 }

@@ -9,7 +9,7 @@ use cortex_m_semihosting::debug::{EXIT_FAILURE, EXIT_SUCCESS};
 use defmt_semihosting as _;
 use twocars::board::exit_qemu as halt;
 use twocars::board::qemu_mps2::{take_uart, Mps2};
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::serial::serve_to_shutdown;
 
 #[cortex_m_rt::entry]
@@ -21,7 +21,7 @@ fn main() -> ! {
     let Some(mut line) = take_uart() else {
         halt(EXIT_FAILURE)
     };
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     #[cfg(feature = "tables-in-flash")]
     if let Some(tables) = twocars::board::tables::take_value_tables() {
         unit.set_tables(tables);

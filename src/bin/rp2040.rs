@@ -7,7 +7,7 @@
 
 use twocars::board::rp2040::Pico;
 use twocars::num::fixed::Fixed;
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::serial::serve_to_shutdown;
 
 /// The second-stage bootloader for the Pico's W25Q080 flash, first in flash (src/board/rp2040.x).
@@ -23,7 +23,7 @@ fn main() -> ! {
     let Some((board, mut line)) = Pico::start(peripherals) else {
         halt()
     };
-    let mut unit = Unit::<Fixed>::new();
+    let mut unit = Endpoint::<Fixed>::new();
     serve_to_shutdown(&mut line, &board, &mut unit);
     halt()
 }

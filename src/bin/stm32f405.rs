@@ -5,7 +5,7 @@
 #![no_main]
 
 use twocars::board::stm32f405::bring_up;
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::serial::serve;
 
 #[cortex_m_rt::entry]
@@ -13,7 +13,7 @@ fn main() -> ! {
     let Some((board, _serial, mut line)) = bring_up() else {
         cortex_m::peripheral::SCB::sys_reset()
     };
-    let mut unit = Unit::<f32>::new();
+    let mut unit = Endpoint::<f32>::new();
     #[cfg(feature = "tables-in-flash")]
     if let Some(tables) = twocars::board::tables::take_value_tables() {
         unit.set_tables(tables);

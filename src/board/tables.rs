@@ -10,8 +10,9 @@ use crate::value_tables::ValueTables;
 include!(concat!(env!("OUT_DIR"), "/value_table_sets.rs"));
 
 /// The image's sets, parsed once into a static and lent for the program's life (for
-/// [`crate::protocol::endpoint::Unit::set_tables`]); a set that does not parse is left out, so the unit
-/// serves without it (its Configure then says policy 1). `None` on a second call.
+/// [`crate::protocol::endpoint::Endpoint::set_tables`]); a set that does not parse is left
+/// out, so the unit serves without it (its Configure then says policy 1). `None` on a second
+/// call.
 pub fn take_value_tables() -> Option<&'static [ValueTables<'static>]> {
     let mut sets: Vec<ValueTables<'static>, SET_COUNT> = Vec::new();
     for bytes in SETS {

@@ -46,7 +46,7 @@
 //! v_pm - v_em): a law that promises more than that is far from the game's value there. With a
 //! capture radius ([`crate::Guidance::with_capture_radius`]; 0, point capture, by default) the
 //! pursuer also leaves the law, on any period, where homing to the radius is sooner than the
-//! law's promise (`NearFieldTerms::outrun`): the law plays for the evader's position.
+//! law's promise (`HomingTerms::outrun`): the law plays for the evader's position.
 //!
 //! Units: metres, seconds, radians anticlockwise from +x; curvature in 1/m.
 
@@ -61,7 +61,7 @@ const TAIL_CHASE_RATE_FRACTION: f32 = 0.5;
 /// What the near field compares and scales by, fixed by the limits and dt (computed once by
 /// [`crate::Guidance::new`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct NearFieldTerms<S> {
+pub(crate) struct HomingTerms<S> {
     /// The theorem's distance threshold, metres ([`crate::Limits::theorem_threshold`]).
     pub threshold: S,
     /// Four periods' travel of the pursuer, 4 v_pm dt, metres: closer, a heading error is a
@@ -102,16 +102,16 @@ pub(crate) struct NearFieldTerms<S> {
     pub capture: S,
 }
 
-impl<S: Scalar> NearFieldTerms<S> {
+impl<S: Scalar> HomingTerms<S> {
     /// What homing would take from here, seconds: the turn onto the line of sight `to_go`
     /// (radians) at the full rate, then `gap` (metres) closed at v_pm - v_em.
-    fn homing_time(&self, to_go: S, gap: S) -> S {
+    fn time_by_homing(&self, to_go: S, gap: S) -> S {
         to_go.abs() / self.turn_rate + gap / self.closing_speed
     }
 
     /// Whether, with a capture radius, homing reaches it sooner than the law promises: the
     /// law plays for the evader's position (point capture), and its upper value less the
-    /// radius's share, capture / (v_pm - v_em), is then compared with [`Self::homing_time`]
+    /// radius's share, capture / (v_pm - v_em), is then compared with [`Self::time_by_homing`]
     /// to the radius.
     /// Never without a capture radius: there the law's path is the quick one more often than
     /// this estimate says (measured on seeded starts against the law's evader).
@@ -119,7 +119,7 @@ impl<S: Scalar> NearFieldTerms<S> {
         match report.solution.upper {
             Some(upper) if self.capture > S::zero() => {
                 let gap = (distance - self.capture).max(S::zero());
-                upper - self.capture / self.closing_speed > self.homing_time(to_go, gap)
+                upper - self.capture / self.closing_speed > self.time_by_homing(to_go, gap)
             }
             _ => false,
         }
@@ -129,7 +129,7 @@ impl<S: Scalar> NearFieldTerms<S> {
     /// `tie_floor` (seconds) and the pursuer's `per_radian`, 1 / (v_pm dt).
     pub fn new(limits: &Limits<S>, dt: S, tie_floor: S, per_radian: S) -> Self {
         let p = &limits.pursuer;
-        NearFieldTerms {
+        HomingTerms {
             threshold: limits.theorem_threshold(),
             close: S::from_f32(4.0) * p.v_max() * dt,
             tail_chase_rate: S::from_f32(TAIL_CHASE_RATE_FRACTION) * p.max_turn_rate(),
@@ -168,16 +168,16 @@ pub(crate) struct Situation<'a, S> {
     pub law: S,
 }
 
-/// What the near field remembers: the law's last upper value (seconds), whether the pursuer
+/// What homing remembers: the law's last upper value (seconds), whether the pursuer
 /// has left the law for pursuit, the evader's last heading (radians), the time of pure
 /// pursuit since navigation or the terminal arc last steered (seconds), and the curvature of a
 /// break-away turn (1/m) while it lasts.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct NearFieldMemory<S> {
+pub(crate) struct HomingMemory<S> {
     last_upper: Option<S>,
     pursuing: bool,
     last_evader_heading: Option<S>,
-    homing_time: Option<S>,
+    time_homing: Option<S>,
     breaking: Option<S>,
     lead: LeadTurn,
 }
@@ -192,20 +192,20 @@ enum LeadTurn {
     Done,
 }
 
-impl<S: Scalar> NearFieldMemory<S> {
+impl<S: Scalar> HomingMemory<S> {
     /// Nothing remembered: the law is followed.
-    pub const FRESH: Self = NearFieldMemory {
+    pub const FRESH: Self = HomingMemory {
         last_upper: None,
         pursuing: false,
         last_evader_heading: None,
-        homing_time: None,
+        time_homing: None,
         breaking: None,
         lead: LeadTurn::Pending(None),
     };
 
     /// The pursuer's curvature (1/m) below the threshold: the law's sampled command or
     /// homing (module docs).
-    pub fn pursuer_command(&mut self, now: &Situation<'_, S>, terms: &NearFieldTerms<S>) -> S {
+    pub fn pursuer_command(&mut self, now: &Situation<'_, S>, terms: &HomingTerms<S>) -> S {
         let Situation {
             report,
             pursuer,
@@ -261,8 +261,8 @@ impl<S: Scalar> NearFieldMemory<S> {
         // turn's time (module docs). The time saturates there (fixed point's range).
         // A bearing below the arc resolution is on course, as the law reads a tangent's arc.
         let on_course = to_go.abs() <= S::from_f32(S::ARC_RESOLUTION);
-        let homed = (self.homing_time.unwrap_or(S::zero()) + dt).min(terms.turn_time);
-        self.homing_time = Some(homed);
+        let homed = (self.time_homing.unwrap_or(S::zero()) + dt).min(terms.turn_time);
+        self.time_homing = Some(homed);
         if sight.ahead > S::zero() {
             self.breaking = None;
         }
@@ -275,7 +275,7 @@ impl<S: Scalar> NearFieldMemory<S> {
                 S::zero() - S::one()
             };
             self.breaking = Some(full_turn(away, limits));
-            self.homing_time = None;
+            self.time_homing = None;
         }
         if let Some(w) = self.breaking {
             w
@@ -298,7 +298,7 @@ impl<S: Scalar> NearFieldMemory<S> {
         sight: &Sight<S>,
         pursuer: &VehicleState<S>,
         limits: &VehicleLimits<S>,
-        terms: &NearFieldTerms<S>,
+        terms: &HomingTerms<S>,
         per_radian: S,
         law: S,
     ) -> Option<S> {
@@ -326,7 +326,7 @@ impl<S: Scalar> NearFieldMemory<S> {
 
     /// Navigation or the terminal arc steers: pure pursuit's timer and break-away end.
     fn end_pure_pursuit(&mut self) {
-        self.homing_time = None;
+        self.time_homing = None;
         self.breaking = None;
     }
 
@@ -334,7 +334,7 @@ impl<S: Scalar> NearFieldMemory<S> {
     /// its heading's change within +-v_em w_em dt, over dt; 0 on the first near-field period.
     /// A state feedback cannot tell which way a circling evader turns; over two periods the
     /// pursuer sees it. Records the heading.
-    fn evader_turn_rate(&mut self, evader: &VehicleState<S>, terms: &NearFieldTerms<S>) -> S {
+    fn evader_turn_rate(&mut self, evader: &VehicleState<S>, terms: &HomingTerms<S>) -> S {
         let turn = match self.last_evader_heading {
             Some(last) => (evader.theta - last)
                 .wrap_signed()
@@ -355,7 +355,7 @@ impl<S: Scalar> NearFieldMemory<S> {
         &mut self,
         report: &GameReport<S>,
         distance: S,
-        terms: &NearFieldTerms<S>,
+        terms: &HomingTerms<S>,
         dt: S,
         tie_floor: S,
         to_go: S,
@@ -365,7 +365,7 @@ impl<S: Scalar> NearFieldMemory<S> {
             (_, None) => distance >= terms.close,
             (None, Some(now)) => {
                 let saddle = report.solution.saddle_within(tie_floor);
-                !(report.trusted() && (saddle || now <= terms.homing_time(to_go, distance)))
+                !(report.trusted() && (saddle || now <= terms.time_by_homing(to_go, distance)))
             }
             (Some(last), Some(now)) => now > last - dt + tie_floor,
         };
@@ -411,7 +411,7 @@ impl<S: Scalar> Sight<S> {
     /// pursuer's beam and running away from it, with the line of sight turning at most
     /// `terms.tail_chase_rate`, v_em |sin beta| / d (rad/s), compared as
     /// v_em |cross| <= rate d^2 with cross = d sin beta.
-    fn tail_chase(&self, terms: &NearFieldTerms<S>) -> bool {
+    fn tail_chase(&self, terms: &HomingTerms<S>) -> bool {
         let (sin, cos) = self.evader;
         let away = self.rx * cos + self.ry * sin;
         let cross = (self.rx * sin - self.ry * cos).abs();
@@ -437,7 +437,7 @@ impl<S: Scalar> Sight<S> {
     /// |r| / (1 - v_em / v_pm) (the fixed-point backend's range):
     /// T = d (c + sqrt(c^2 + v_pm^2 - v_em^2)) / (v_pm^2 - v_em^2) with c = (r . u) / d, and
     /// sin b = (h x aim) / L.
-    fn terminal(&self, limits: &VehicleLimits<S>, terms: &NearFieldTerms<S>, tail: bool) -> S {
+    fn terminal(&self, limits: &VehicleLimits<S>, terms: &HomingTerms<S>, tail: bool) -> S {
         if self.distance <= S::zero() {
             return S::zero();
         }
@@ -460,7 +460,7 @@ impl<S: Scalar> Sight<S> {
 
     /// The collision time T of the straight-line triangle |r + u T| = v_pm T (u the evader's
     /// velocity), seconds, for a distance > 0 (see [`Self::terminal`] for its range).
-    fn collision_time(&self, terms: &NearFieldTerms<S>) -> S {
+    fn collision_time(&self, terms: &HomingTerms<S>) -> S {
         let (sin_e, cos_e) = self.evader;
         let c = terms.evader_speed * (self.rx * cos_e + self.ry * sin_e) / self.distance;
         let a = terms.closing_squares;
@@ -469,7 +469,7 @@ impl<S: Scalar> Sight<S> {
 
     /// The lead turn's aim relative to the pursuer (metres): where the evader will be at the
     /// collision time, on the arc of its observed turn.
-    fn lead(&self, terms: &NearFieldTerms<S>) -> (S, S) {
+    fn lead(&self, terms: &HomingTerms<S>) -> (S, S) {
         self.evader_after(self.collision_time(terms), terms)
     }
 
@@ -477,7 +477,7 @@ impl<S: Scalar> Sight<S> {
     /// the arc of its observed turn rate at v_em, no more than half a turn of it. The chord of
     /// an arc turned by phi has length v_em T sin(phi / 2) / (phi / 2) and heading
     /// theta_e + phi / 2.
-    fn evader_after(&self, time: S, terms: &NearFieldTerms<S>) -> (S, S) {
+    fn evader_after(&self, time: S, terms: &HomingTerms<S>) -> (S, S) {
         let half_turn = S::pi() / S::from_f32(2.0);
         let half = (self.turn * time / S::from_f32(2.0))
             .max(S::zero() - half_turn)
@@ -504,7 +504,7 @@ impl<S: Scalar> Sight<S> {
     /// pursuit's turn rate grows without bound in the last metre of a crossing chase when
     /// v_pm < 2 v_em (the pursuer misses by centimetres and comes round again, for ever against
     /// a circling evader); navigation holds the line of sight still and leads the evader.
-    fn navigation(&self, limits: &VehicleLimits<S>, terms: &NearFieldTerms<S>) -> Option<S> {
+    fn navigation(&self, limits: &VehicleLimits<S>, terms: &HomingTerms<S>) -> Option<S> {
         let ((sin_p, cos_p), (sin_e, cos_e)) = (self.pursuer, self.evader);
         let (vx, vy) = (
             terms.evader_speed * cos_e - terms.pursuer_speed * cos_p,

@@ -23,7 +23,7 @@ use crate::num::f32_math::{sin_cos, wrap_signed};
 use crate::num::Scalar;
 use crate::status::Status;
 use crate::value_tables::ValueTables;
-use homing::{NearFieldMemory, NearFieldTerms, Situation};
+use homing::{HomingMemory, HomingTerms, Situation};
 
 /// How many of the estimates' uncertainties (metres) a choice of circles must be beaten by
 /// before the pursuer changes it ([`Guidance::decide_estimated`]).
@@ -64,8 +64,8 @@ pub struct Guidance<S> {
     period: Period<S>,
     /// Arc tolerances and tie floor, fixed by the limits and dt; `previous` is the last choice.
     sampling: Sampling<S>,
-    near_field: NearFieldMemory<S>,
-    near_field_terms: NearFieldTerms<S>,
+    homing: HomingMemory<S>,
+    homing_terms: HomingTerms<S>,
     /// The game's value tables of these limits' ratios, if any ([`Guidance::with_tables`]).
     tables: Option<&'static ValueTables<'static>>,
     /// This decision's hysteresis, seconds: the estimates' uncertainty as capture time
@@ -119,8 +119,8 @@ impl<S: Scalar> Guidance<S> {
                 previous: None,
                 tie_floor,
             },
-            near_field: NearFieldMemory::FRESH,
-            near_field_terms: NearFieldTerms::new(&law.limits, dt, tie_floor, period.pursuer),
+            homing: HomingMemory::FRESH,
+            homing_terms: HomingTerms::new(&law.limits, dt, tie_floor, period.pursuer),
             tables: None,
             margin: S::zero(),
             side: None,
@@ -172,7 +172,7 @@ impl<S: Scalar> Guidance<S> {
         if !(metres.is_finite() && metres >= 0.0 && radius.is_valid() && radius < bound) {
             return Err(Error::InvalidLimits);
         }
-        self.near_field_terms.capture = radius;
+        self.homing_terms.capture = radius;
         Ok(self)
     }
 
@@ -199,9 +199,9 @@ impl<S: Scalar> Guidance<S> {
     /// As [`Guidance::new`].
     pub fn with_period(&self, dt: f32) -> Result<Self, Error> {
         let mut next = Guidance::new(self.law, dt, self.policy)?;
-        next.near_field_terms.capture = self.near_field_terms.capture;
+        next.homing_terms.capture = self.homing_terms.capture;
         next.sampling.previous = self.sampling.previous;
-        next.near_field = self.near_field;
+        next.homing = self.homing;
         next.tables = self.tables;
         next.side = self.side;
         Ok(next)
@@ -228,7 +228,7 @@ impl<S: Scalar> Guidance<S> {
     pub fn reset(&mut self) {
         self.sampling.previous = None;
         self.side = None;
-        self.near_field = NearFieldMemory::FRESH;
+        self.homing = HomingMemory::FRESH;
     }
 
     /// Evaluates the law for this period and returns what a controller acts on: the status, the
@@ -337,7 +337,7 @@ impl<S: Scalar> Guidance<S> {
                 self.sampled_command(status, report, pursuer, evader)
             });
         if !status.has_game() {
-            self.near_field = NearFieldMemory::FRESH;
+            self.homing = HomingMemory::FRESH;
         }
         (status, command)
     }
@@ -380,13 +380,13 @@ impl<S: Scalar> Guidance<S> {
             _ => fallback_command(pursuer, evader, &limits, Some(&self.period)),
         };
         match self.policy {
-            Policy::Flight => self.near_field(report, pursuer, evader, &mut command),
+            Policy::Flight => self.homing(report, pursuer, evader, &mut command),
             Policy::Table => {
-                self.near_field(report, pursuer, evader, &mut command);
+                self.homing(report, pursuer, evader, &mut command);
                 #[cfg(feature = "value-tables")]
                 self.table_turns(pursuer, evader, &mut command);
             }
-            Policy::Paper => self.near_field = NearFieldMemory::FRESH,
+            Policy::Paper => self.homing = HomingMemory::FRESH,
         }
         command
     }
@@ -427,17 +427,17 @@ impl<S: Scalar> Guidance<S> {
     /// home on the evader ([`crate::guidance::homing`]); at or above it the memory is forgotten.
     /// Out of line: the paper policy never runs it.
     #[inline(never)]
-    fn near_field(
+    fn homing(
         &mut self,
         report: &GameReport<S>,
         pursuer: &VehicleState<S>,
         evader: &VehicleState<S>,
         command: &mut Command<S>,
     ) {
-        let terms = &self.near_field_terms;
+        let terms = &self.homing_terms;
         let distance = pursuer.position().distance(evader.position());
         if distance >= terms.threshold {
-            self.near_field = NearFieldMemory::FRESH;
+            self.homing = HomingMemory::FRESH;
             return;
         }
         let now = Situation {
@@ -448,6 +448,6 @@ impl<S: Scalar> Guidance<S> {
             limits: &self.law.limits.pursuer,
             law: command.pursuer,
         };
-        command.pursuer = self.near_field.pursuer_command(&now, terms);
+        command.pursuer = self.homing.pursuer_command(&now, terms);
     }
 }

@@ -1,6 +1,7 @@
-//! The guidance unit: bytes in, bytes out. It deframes the serial stream, answers Configure,
-//! State and ReadCounters, refuses every malformed input with an Error, counts each kind, and
-//! emits the safe command when no valid State arrived within the watchdog time.
+//! The guidance unit's serial-protocol endpoint: bytes in, bytes out. It deframes the serial
+//! stream, answers Configure, State and ReadCounters, refuses every malformed input with an
+//! Error, counts each kind, and emits the safe command when no valid State arrived within the
+//! watchdog time.
 //!
 //! Pure and allocation-free: the firmware feeds it UART bytes and its clock; the host tests and
 //! fuzzers feed it anything.
@@ -118,11 +119,13 @@ struct Configured<S> {
     time_scale: f32,
 }
 
-/// The unit's state: configuration, deframer, counters, watchdog, and its last reply. Generic
-/// over the law's numeric backend: `f32` on cores with an FPU, [`crate::num::fixed::Fixed`]
-/// (Q17.14) on those without, where the wire's `f32` values are converted with integers only.
+/// The guidance unit's door for our serial protocol (the MAVLink door is `mavlink::Endpoint`,
+/// with the `mavlink` feature): configuration, deframer, counters, watchdog, and its last
+/// reply. Generic over the law's numeric backend: `f32` on cores with an FPU,
+/// [`crate::num::fixed::Fixed`] (Q17.14) on those without, where the wire's `f32` values are
+/// converted with integers only.
 #[derive(Debug)]
-pub struct Unit<S = f32> {
+pub struct Endpoint<S = f32> {
     deframer: Deframer<MAX_FRAME>,
     session: Session<S>,
     /// Written in place and lent to the caller: a reply by value was copied (76 bytes) at each
@@ -135,7 +138,7 @@ pub struct Unit<S = f32> {
 #[derive(Debug)]
 struct Session<S> {
     configured: Option<Configured<S>>,
-    /// The value tables the image carries, one set per pair of ratios ([`Unit::set_tables`]).
+    /// The value tables the image carries, one set per pair of ratios ([`Endpoint::set_tables`]).
     tables: &'static [ValueTables<'static>],
     counters: Counters,
     watchdog: Watchdog,
@@ -162,16 +165,16 @@ enum Watchdog {
     Latched,
 }
 
-impl<S: Scalar> Default for Unit<S> {
+impl<S: Scalar> Default for Endpoint<S> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<S: Scalar> Unit<S> {
+impl<S: Scalar> Endpoint<S> {
     /// An unconfigured unit.
     pub const fn new() -> Self {
-        Unit {
+        Endpoint {
             deframer: Deframer::new(),
             session: Session {
                 configured: None,
@@ -219,9 +222,9 @@ impl<S: Scalar> Unit<S> {
         self.session.counters.line = line;
     }
 
-    /// Records the board's status flags ([`crate::protocol::message::BOARD_FALLBACK_CLOCK`]),
+    /// The board's status flags ([`crate::protocol::message::BOARD_FALLBACK_CLOCK`]),
     /// for the next Counters reply.
-    pub fn record_board(&mut self, flags: u32) {
+    pub fn set_board_status(&mut self, flags: u32) {
         self.session.counters.board = flags;
     }
 
@@ -234,7 +237,7 @@ impl<S: Scalar> Unit<S> {
     /// frame: how many it took, and the reply to send, if any. Feed the rest after sending it.
     /// (The firmware's loop: the deframer runs over the bytes without storing its state per byte.)
     pub fn receive_slice(&mut self, bytes: &[u8], now_ms: u32) -> (usize, Option<&Reply>) {
-        let Unit {
+        let Endpoint {
             deframer,
             session,
             reply,
@@ -283,7 +286,7 @@ impl<S: Scalar> Unit<S> {
 }
 
 impl<S: Scalar> Session<S> {
-    /// [`Unit::poll`]: whether the stale reply was written into `reply`.
+    /// [`Endpoint::poll`]: whether the stale reply was written into `reply`.
     fn poll(&mut self, now_ms: u32, reply: &mut Reply) -> bool {
         let Some(configured) = self.configured else {
             return false;

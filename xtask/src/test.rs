@@ -187,7 +187,7 @@ impl Suite {
         if self.tables.is_none() {
             println!("== xtask test: the value tables of the tables images");
             let sets = timed("the value tables", || {
-                crate::hj::solve::flash_sets(crate::firmware::build::Board::QemuTables.table_sets())
+                crate::hj::solve::flash_sets(crate::firmware::build::Image::QemuTables.table_sets())
             });
             match sets.map(|paths| std::env::join_paths(paths).map_err(|e| e.to_string())) {
                 Ok(Ok(joined)) => self.tables = Some(joined.to_string_lossy().into_owned()),
@@ -441,12 +441,12 @@ fn panic_free(_: &mut Suite) -> bool {
 fn every_board<T>(
     what: &str,
     title: &str,
-    check: fn(crate::firmware::build::Board) -> Result<T, String>,
+    check: fn(crate::firmware::build::Image) -> Result<T, String>,
 ) -> bool {
     println!("== xtask test: {what}");
     timed(title, || {
         let mut ok = true;
-        for board in crate::firmware::build::Board::ALL {
+        for board in crate::firmware::build::Image::ALL {
             if let Err(e) = check(board) {
                 eprintln!("== xtask test: {e}");
                 ok = false;

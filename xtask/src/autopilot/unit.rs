@@ -6,7 +6,7 @@ use std::net::{TcpListener, TcpStream};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::firmware::build::{self, Board};
+use crate::firmware::build::{self, Image};
 use crate::firmware::emulator::{self, Launched};
 use crate::firmware::signing::SigningKey;
 
@@ -29,8 +29,8 @@ impl Drop for Unit {
 /// `key` where given.
 pub fn start(companion: bool, key: Option<&SigningKey>) -> Result<(Unit, TcpStream), String> {
     if !companion {
-        let (elf, _) = build::build_checked(Board::QemuMavlink, key)?;
-        let launched = emulator::launch(&elf, Board::QemuMavlink, false)?;
+        let (elf, _) = build::build_checked(Image::QemuMavlink, key)?;
+        let launched = emulator::launch(&elf, Image::QemuMavlink, false)?;
         let link = emulator::connect(launched.port, "the unit")?;
         let unit = Unit {
             _emulator: Some(launched),

@@ -9,7 +9,7 @@ use twocars::{Law, Limits, Variant};
 use twocars_bench::{LIMITS, STATES};
 
 use crate::bench::serial::LoopImage;
-use crate::firmware::build::{self, Board};
+use crate::firmware::build::{self, Image};
 use crate::workspace::root;
 
 pub mod estimate;
@@ -114,7 +114,7 @@ fn firmware_sizes() -> String {
     let mut s = String::from(
         "| firmware image | flash | of the board's flash | static RAM |\n|---|---|---|---|\n",
     );
-    for board in Board::ALL {
+    for board in Image::ALL {
         match build::build_checked(board, None) {
             Ok((elf, size)) => {
                 let name = elf

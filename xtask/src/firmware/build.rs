@@ -8,9 +8,10 @@ use std::process::{Command, Stdio};
 use crate::firmware::signing::SigningKey;
 use crate::workspace::root;
 
-/// The boards the firmware builds for.
+/// The firmware images xtask builds: one binary each, for one board (a chip and its
+/// peripherals), one link (our serial protocol or MAVLink) and, for two, the value tables.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Board {
+pub enum Image {
     /// QEMU mps2-an386 (Cortex-M4F).
     Qemu,
     /// QEMU mps2-an386 speaking MAVLink 2 (the guidance endpoint, docs/mavlink.md).
@@ -29,7 +30,7 @@ pub enum Board {
     Stm32f405Tables,
 }
 
-/// An emulator of a board.
+/// The emulator an image runs in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Machine {
     /// `qemu-system-arm` with these machine options.
@@ -51,76 +52,76 @@ impl Machine {
     }
 }
 
-impl Board {
+impl Image {
     /// Every board.
-    pub const ALL: [Board; 8] = [
-        Board::Qemu,
-        Board::QemuMavlink,
-        Board::Stm32f405,
-        Board::Stm32f405Mavlink,
-        Board::Microbit,
-        Board::Rp2040,
-        Board::QemuTables,
-        Board::Stm32f405Tables,
+    pub const ALL: [Image; 8] = [
+        Image::Qemu,
+        Image::QemuMavlink,
+        Image::Stm32f405,
+        Image::Stm32f405Mavlink,
+        Image::Microbit,
+        Image::Rp2040,
+        Image::QemuTables,
+        Image::Stm32f405Tables,
     ];
 
     /// The Rust target of the board's core.
     pub fn target(self) -> &'static str {
         match self {
-            Board::Qemu
-            | Board::QemuMavlink
-            | Board::Stm32f405
-            | Board::Stm32f405Mavlink
-            | Board::QemuTables
-            | Board::Stm32f405Tables => "thumbv7em-none-eabihf",
-            Board::Microbit | Board::Rp2040 => "thumbv6m-none-eabi",
+            Image::Qemu
+            | Image::QemuMavlink
+            | Image::Stm32f405
+            | Image::Stm32f405Mavlink
+            | Image::QemuTables
+            | Image::Stm32f405Tables => "thumbv7em-none-eabihf",
+            Image::Microbit | Image::Rp2040 => "thumbv6m-none-eabi",
         }
     }
     pub(crate) fn bin(self) -> &'static str {
         match self {
-            Board::Qemu | Board::QemuTables => "twocars-qemu",
-            Board::QemuMavlink => "twocars-qemu-mavlink",
-            Board::Stm32f405 | Board::Stm32f405Tables => "twocars-stm32f405",
-            Board::Stm32f405Mavlink => "twocars-stm32f405-mavlink",
-            Board::Microbit => "twocars-microbit",
-            Board::Rp2040 => "twocars-rp2040",
+            Image::Qemu | Image::QemuTables => "twocars-qemu",
+            Image::QemuMavlink => "twocars-qemu-mavlink",
+            Image::Stm32f405 | Image::Stm32f405Tables => "twocars-stm32f405",
+            Image::Stm32f405Mavlink => "twocars-stm32f405-mavlink",
+            Image::Microbit => "twocars-microbit",
+            Image::Rp2040 => "twocars-rp2040",
         }
     }
     /// Features of the image `cargo xtask build` and `run` use.
     pub fn feature(self) -> &'static str {
         match self {
             // The QEMU image logs with defmt over semihosting.
-            Board::Qemu => "qemu-log",
-            Board::QemuMavlink => "board-qemu,mavlink",
-            Board::Stm32f405 => "board-stm32f405",
-            Board::Stm32f405Mavlink => "board-stm32f405,mavlink",
-            Board::Microbit => "board-microbit",
-            Board::Rp2040 => "board-rp2040",
-            Board::QemuTables => "qemu-log,tables-in-flash",
-            Board::Stm32f405Tables => "board-stm32f405,tables-in-flash",
+            Image::Qemu => "qemu-log",
+            Image::QemuMavlink => "board-qemu,mavlink",
+            Image::Stm32f405 => "board-stm32f405",
+            Image::Stm32f405Mavlink => "board-stm32f405,mavlink",
+            Image::Microbit => "board-microbit",
+            Image::Rp2040 => "board-rp2040",
+            Image::QemuTables => "qemu-log,tables-in-flash",
+            Image::Stm32f405Tables => "board-stm32f405,tables-in-flash",
         }
     }
     /// The value-table sets the image carries, one per pair of ratios (`crate::hj::solve::flash_sets`):
     /// both of [`crate::hj::sets::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
     pub fn table_sets(self) -> &'static [crate::hj::sets::FlashSet] {
         match self {
-            Board::QemuTables => &crate::hj::sets::FLASH_SETS,
-            Board::Stm32f405Tables => &crate::hj::sets::FLASH_SETS[..1],
+            Image::QemuTables => &crate::hj::sets::FLASH_SETS,
+            Image::Stm32f405Tables => &crate::hj::sets::FLASH_SETS[..1],
             _ => &[],
         }
     }
     /// The emulator that runs the board's images.
     pub(crate) fn machine(self) -> Option<Machine> {
         match self {
-            Board::Qemu | Board::QemuMavlink | Board::QemuTables => {
+            Image::Qemu | Image::QemuMavlink | Image::QemuTables => {
                 Some(Machine::Qemu(&["-M", "mps2-an386", "-cpu", "cortex-m4"]))
             }
-            Board::Microbit => Some(Machine::Qemu(&["-M", "microbit"])),
+            Image::Microbit => Some(Machine::Qemu(&["-M", "microbit"])),
             // An STM32F405 SoC: its USART1 is the first serial port.
-            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => {
+            Image::Stm32f405 | Image::Stm32f405Mavlink | Image::Stm32f405Tables => {
                 Some(Machine::Qemu(&["-M", "netduinoplus2"]))
             }
-            Board::Rp2040 => Some(Machine::Rp2040js),
+            Image::Rp2040 => Some(Machine::Rp2040js),
         }
     }
     /// Whether the image's UART drops what arrives during its start-up (the STM32's USART
@@ -128,14 +129,14 @@ impl Board {
     pub(crate) fn drops_bytes_at_start(self) -> bool {
         matches!(
             self,
-            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables
+            Image::Stm32f405 | Image::Stm32f405Mavlink | Image::Stm32f405Tables
         )
     }
     /// The board status flags (Counters' last field) its image reports in its emulator: QEMU
     /// models no crystal for the STM32F405, which then runs on its fallback clock.
     pub(crate) fn status_in_emulator(self) -> u32 {
         match self {
-            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => {
+            Image::Stm32f405 | Image::Stm32f405Mavlink | Image::Stm32f405Tables => {
                 twocars::protocol::message::BOARD_FALLBACK_CLOCK
             }
             _ => 0,
@@ -143,73 +144,73 @@ impl Board {
     }
     /// Whether the image logs with defmt over semihosting (`qemu-log`), for `defmt-print`.
     pub(crate) fn logs_with_defmt(self) -> bool {
-        matches!(self, Board::Qemu | Board::QemuTables)
+        matches!(self, Image::Qemu | Image::QemuTables)
     }
     /// Whether the image exits (over semihosting) once it has acknowledged a Shutdown; a
     /// flight image keeps serving instead.
     pub(crate) fn exits_on_shutdown(self) -> bool {
-        matches!(self, Board::Qemu | Board::QemuTables | Board::Microbit)
+        matches!(self, Image::Qemu | Image::QemuTables | Image::Microbit)
     }
     /// Features of the flight image: no logger, so panic freedom can be proven at link time.
     pub fn flight_features(self) -> &'static str {
         match self {
-            Board::Qemu => "board-qemu,panic-never",
-            Board::QemuMavlink => "board-qemu,mavlink,panic-never",
-            Board::Stm32f405 => "board-stm32f405,panic-never",
-            Board::Stm32f405Mavlink => "board-stm32f405,mavlink,panic-never",
-            Board::Microbit => "board-microbit,panic-never",
-            Board::Rp2040 => "board-rp2040,panic-never",
-            Board::QemuTables => "board-qemu,tables-in-flash,panic-never",
-            Board::Stm32f405Tables => "board-stm32f405,tables-in-flash,panic-never",
+            Image::Qemu => "board-qemu,panic-never",
+            Image::QemuMavlink => "board-qemu,mavlink,panic-never",
+            Image::Stm32f405 => "board-stm32f405,panic-never",
+            Image::Stm32f405Mavlink => "board-stm32f405,mavlink,panic-never",
+            Image::Microbit => "board-microbit,panic-never",
+            Image::Rp2040 => "board-rp2040,panic-never",
+            Image::QemuTables => "board-qemu,tables-in-flash,panic-never",
+            Image::Stm32f405Tables => "board-stm32f405,tables-in-flash,panic-never",
         }
     }
     /// Flash of the board's memory map (its `src/board/*.x`), bytes.
     pub fn flash_bytes(self) -> u64 {
         match self {
-            Board::Qemu | Board::QemuMavlink | Board::QemuTables => 4 << 20,
-            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => 1 << 20,
-            Board::Microbit => 256 << 10,
+            Image::Qemu | Image::QemuMavlink | Image::QemuTables => 4 << 20,
+            Image::Stm32f405 | Image::Stm32f405Mavlink | Image::Stm32f405Tables => 1 << 20,
+            Image::Microbit => 256 << 10,
             // Less the 256-byte second-stage bootloader.
-            Board::Rp2040 => (2 << 20) - 0x100,
+            Image::Rp2040 => (2 << 20) - 0x100,
         }
     }
     /// Flash origin of the board's memory map: where the vector table must be.
     pub fn flash_origin(self) -> u64 {
         match self {
-            Board::Qemu | Board::QemuMavlink | Board::Microbit | Board::QemuTables => 0x0000_0000,
-            Board::Stm32f405 | Board::Stm32f405Mavlink | Board::Stm32f405Tables => 0x0800_0000,
+            Image::Qemu | Image::QemuMavlink | Image::Microbit | Image::QemuTables => 0x0000_0000,
+            Image::Stm32f405 | Image::Stm32f405Mavlink | Image::Stm32f405Tables => 0x0800_0000,
             // After the 256-byte second-stage bootloader at the start of flash.
-            Board::Rp2040 => 0x1000_0100,
+            Image::Rp2040 => 0x1000_0100,
         }
     }
     pub(crate) fn name(self) -> &'static str {
         match self {
-            Board::Qemu => "qemu (mps2-an386)",
-            Board::QemuMavlink => "qemu (mps2-an386), MAVLink",
-            Board::Stm32f405 => "stm32f405",
-            Board::Stm32f405Mavlink => "stm32f405, MAVLink",
-            Board::Microbit => "microbit (nRF51822)",
-            Board::Rp2040 => "rp2040 (Raspberry Pi Pico)",
-            Board::QemuTables => "qemu (mps2-an386), value tables",
-            Board::Stm32f405Tables => "stm32f405, value tables",
+            Image::Qemu => "qemu (mps2-an386)",
+            Image::QemuMavlink => "qemu (mps2-an386), MAVLink",
+            Image::Stm32f405 => "stm32f405",
+            Image::Stm32f405Mavlink => "stm32f405, MAVLink",
+            Image::Microbit => "microbit (nRF51822)",
+            Image::Rp2040 => "rp2040 (Raspberry Pi Pico)",
+            Image::QemuTables => "qemu (mps2-an386), value tables",
+            Image::Stm32f405Tables => "stm32f405, value tables",
         }
     }
 }
 
 /// Builds the release firmware for `board`, a MAVLink image signing with `key` where given;
 /// returns the ELF's path.
-pub fn build(board: Board, key: Option<&SigningKey>) -> Result<PathBuf, String> {
+pub fn build(board: Image, key: Option<&SigningKey>) -> Result<PathBuf, String> {
     build_with(board, board.feature(), key)
 }
 
 /// Builds the flight image of `board` with the link-time panic check: it links only if no
 /// panic path survives optimisation.
-pub fn prove_panic_free(board: Board) -> Result<PathBuf, String> {
+pub fn prove_panic_free(board: Image) -> Result<PathBuf, String> {
     build_with(board, board.flight_features(), None)
         .map_err(|e| format!("{e}: a panic path is reachable (see the undefined symbol above)"))
 }
 
-fn build_with(board: Board, features: &str, key: Option<&SigningKey>) -> Result<PathBuf, String> {
+fn build_with(board: Image, features: &str, key: Option<&SigningKey>) -> Result<PathBuf, String> {
     let key_env = key.map(SigningKey::build_env);
     let key_env: Vec<(&str, &std::ffi::OsStr)> = key_env
         .iter()
@@ -285,13 +286,13 @@ pub fn build_image(
 /// Builds `board`'s image and checks its vector table sits at the board's flash origin (a
 /// wrong memory map links silently otherwise).
 pub fn build_checked(
-    board: Board,
+    board: Image,
     key: Option<&SigningKey>,
 ) -> Result<(PathBuf, crate::firmware::size::ImageSize), String> {
     let elf = build(board, key)?;
     let size = crate::firmware::size::of(&elf)?;
     // The RP2040's boot ROM runs the 256 bytes at the start of flash: boot2 must be there.
-    if board == Board::Rp2040 && size.boot2 != Some(0x1000_0000) {
+    if board == Image::Rp2040 && size.boot2 != Some(0x1000_0000) {
         return Err(format!(
             "{}: no second-stage bootloader at 0x10000000 ({:?})",
             board.name(),
@@ -347,14 +348,14 @@ pub fn build_command(args: &BuildArgs) -> i32 {
     let Ok(key) = SigningKey::given(args.signing_key.as_deref(), "xtask build") else {
         return 2;
     };
-    let boards: Vec<Board> = match args.board {
-        BoardArg::Qemu => vec![Board::Qemu, Board::QemuMavlink],
-        BoardArg::Stm32f405 => vec![Board::Stm32f405, Board::Stm32f405Mavlink],
-        BoardArg::Microbit => vec![Board::Microbit],
-        BoardArg::Rp2040 => vec![Board::Rp2040],
-        BoardArg::QemuTables => vec![Board::QemuTables],
-        BoardArg::Stm32f405Tables => vec![Board::Stm32f405Tables],
-        BoardArg::All => Board::ALL.to_vec(),
+    let boards: Vec<Image> = match args.board {
+        BoardArg::Qemu => vec![Image::Qemu, Image::QemuMavlink],
+        BoardArg::Stm32f405 => vec![Image::Stm32f405, Image::Stm32f405Mavlink],
+        BoardArg::Microbit => vec![Image::Microbit],
+        BoardArg::Rp2040 => vec![Image::Rp2040],
+        BoardArg::QemuTables => vec![Image::QemuTables],
+        BoardArg::Stm32f405Tables => vec![Image::Stm32f405Tables],
+        BoardArg::All => Image::ALL.to_vec(),
     };
     let mut rows = Vec::new();
     for board in boards {

@@ -7,7 +7,7 @@ use std::collections::VecDeque;
 use host_tests::adversary::{Adversary, EvaderKind, Opponent};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use host_tests::sim::{closed_loop, SimParams, SimResult, StepCommand};
-use twocars::protocol::endpoint::Unit;
+use twocars::protocol::endpoint::Endpoint;
 use twocars::protocol::message::{
     Configure, Counters, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER,
 };
@@ -37,7 +37,7 @@ impl Link for Emulator {
 /// The guidance unit on backend `S` in this process, fed the frames a firmware image would be:
 /// the host's twin of the image, for a bit-for-bit comparison (its clock stands still).
 pub struct HostUnit<S> {
-    unit: Unit<S>,
+    unit: Endpoint<S>,
     decoder: ReplyDecoder,
     pending: VecDeque<Reply>,
 }
@@ -46,7 +46,7 @@ impl<S: Scalar> HostUnit<S> {
     /// An unconfigured unit.
     pub fn new() -> Self {
         HostUnit {
-            unit: Unit::new(),
+            unit: Endpoint::new(),
             decoder: ReplyDecoder::default(),
             pending: VecDeque::new(),
         }

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use twocars::protocol::message::Counters;
 
-use crate::firmware::build::{Board, Machine};
+use crate::firmware::build::{Image, Machine};
 use crate::firmware::{qemu, rp2040js};
 
 fn free_port() -> Result<u16, String> {
@@ -48,7 +48,7 @@ impl Drop for Launched {
 
 /// Starts `board`'s emulator with its image `elf`; logs decoded to stdout when `show_logs` and
 /// the image logs with defmt (the mps2-an386 COBS image).
-pub fn launch(elf: &Path, board: Board, show_logs: bool) -> Result<Launched, String> {
+pub fn launch(elf: &Path, board: Image, show_logs: bool) -> Result<Launched, String> {
     let machine = board
         .machine()
         .ok_or_else(|| format!("{}: no emulator models this board", board.name()))?;
@@ -84,7 +84,7 @@ pub struct Emulator {
     stream: TcpStream,
     replies: ReplyDecoder,
     pending: std::collections::VecDeque<Reply>,
-    /// Whether the image exits after a Shutdown ([`Board::exits_on_shutdown`]).
+    /// Whether the image exits after a Shutdown ([`Image::exits_on_shutdown`]).
     exits_on_shutdown: bool,
     /// The counters the readiness probe found, where the image was probed.
     before_session: Option<Counters>,
@@ -96,7 +96,7 @@ pub struct Emulator {
 
 impl Emulator {
     /// Starts `board`'s emulator with its image `elf` ([`launch`]) and connects to its UART.
-    pub fn start(elf: &Path, board: Board, show_logs: bool) -> Result<Emulator, String> {
+    pub fn start(elf: &Path, board: Image, show_logs: bool) -> Result<Emulator, String> {
         let launched = launch(elf, board, show_logs)?;
         let port = launched.port;
         let stream = connect(port, "the emulator")?;

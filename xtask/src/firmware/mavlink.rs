@@ -17,7 +17,7 @@ use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
 use host_tests::sim::{advance, closed_loop, wrap_pi, SimParams, SimStatus, StepCommand};
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
-use crate::firmware::build::{self, Board};
+use crate::firmware::build::{self, Image};
 use crate::firmware::emulator;
 use crate::firmware::signing::SigningKey;
 
@@ -77,7 +77,7 @@ fn peer_script() -> PathBuf {
 
 /// `board`'s MAVLink image in QEMU and the scripted pymavlink session against it; Err with what
 /// failed.
-pub fn scripted_session(board: Board) -> Result<(), String> {
+pub fn scripted_session(board: Image) -> Result<(), String> {
     let python = python()?;
     let (elf, _) = build::build_checked(board, None)?;
     let launched = emulator::launch(&elf, board, false)?;
@@ -227,7 +227,7 @@ pub fn set_scaled_limits(peer: &mut Peer) -> Result<bool, String> {
 
 /// `cargo xtask run --link mavlink`: the paper's cases at ten times their scale with `board`'s
 /// MAVLink image flying the pursuer, signed with `key` where given; returns the exit code.
-pub fn run(board: Board, key: Option<&SigningKey>) -> i32 {
+pub fn run(board: Image, key: Option<&SigningKey>) -> i32 {
     match run_cases(board, key) {
         Ok(true) => 0,
         Ok(false) => 1,
@@ -282,7 +282,7 @@ fn signature_refusals(peer: &mut Peer) -> Result<bool, String> {
 
 /// The closed loop of `run --link mavlink` on `board`'s image, signed with `key` where given:
 /// whether every capture was on time.
-pub fn run_cases(board: Board, key: Option<&SigningKey>) -> Result<bool, String> {
+pub fn run_cases(board: Image, key: Option<&SigningKey>) -> Result<bool, String> {
     let scaled = scaled_limits();
     let (elf, size) = build::build_checked(board, key)?;
     println!(

@@ -15,7 +15,7 @@ use host_tests::field::{chase, FieldModel, Fixes, Receiver};
 use host_tests::scenarios::paper_cases;
 use host_tests::sim::{advance, capture_within, distance, wrap_pi, SimParams, SimStatus};
 
-use super::build::{self, Board};
+use super::build::{self, Image};
 use super::emulator;
 use super::mavlink::{
     field, report, scaled_case, scaled_limits, set_params, set_scaled_limits, Peer, DT,
@@ -141,7 +141,7 @@ fn fly(
 
 /// The field's chases on `board`'s MAVLink image: whether every chase was captured and the
 /// median of the sign flips is within [`MEDIAN_FLIPS`]; signed with `key` where given.
-pub fn run_field(board: Board, key: Option<&SigningKey>) -> Result<bool, String> {
+pub fn run_field(board: Image, key: Option<&SigningKey>) -> Result<bool, String> {
     let scaled = scaled_limits();
     let limits = scaled.map(f64::from);
     let r_p = 1.0 / limits[1];

@@ -10,7 +10,7 @@ use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::value_tables::ValueTables;
 use twocars::{evaluate_observation, Observation, Policy, Scalar};
 
-use crate::firmware::build::{self, Board};
+use crate::firmware::build::{self, Image};
 use crate::firmware::closed_loop;
 use crate::firmware::emulator::Emulator;
 use crate::firmware::signing::SigningKey;
@@ -386,7 +386,7 @@ pub fn run(args: &RunArgs) -> i32 {
         return crate::ardupilot::run(&options);
     }
     if args.link == RunLink::Mavlink && args.field {
-        return match crate::firmware::mavlink_field::run_field(Board::QemuMavlink, key.as_ref()) {
+        return match crate::firmware::mavlink_field::run_field(Image::QemuMavlink, key.as_ref()) {
             Ok(true) => 0,
             Ok(false) => 1,
             Err(e) => {
@@ -397,9 +397,9 @@ pub fn run(args: &RunArgs) -> i32 {
     }
     if args.link == RunLink::Mavlink {
         return match args.board {
-            RunBoard::Qemu => crate::firmware::mavlink::run(Board::QemuMavlink, key.as_ref()),
+            RunBoard::Qemu => crate::firmware::mavlink::run(Image::QemuMavlink, key.as_ref()),
             RunBoard::Stm32f405 => {
-                crate::firmware::mavlink::run(Board::Stm32f405Mavlink, key.as_ref())
+                crate::firmware::mavlink::run(Image::Stm32f405Mavlink, key.as_ref())
             }
             other => {
                 eprintln!("xtask run: no MAVLink image for {other:?}");
@@ -464,7 +464,7 @@ pub fn run(args: &RunArgs) -> i32 {
 
 /// The board `args` asks for, and the law's options there: the policy its image plays by
 /// default, and the numeric backend of its law, which the host simulates too.
-fn board_and_options(args: &RunArgs) -> (Board, Options) {
+fn board_and_options(args: &RunArgs) -> (Image, Options) {
     let tables_board = args.board == RunBoard::QemuTables;
     let mut options = args.law.options(if tables_board {
         Policy::Table
@@ -472,20 +472,20 @@ fn board_and_options(args: &RunArgs) -> (Board, Options) {
         Policy::Flight
     });
     let board = match args.board {
-        RunBoard::Qemu => Board::Qemu,
+        RunBoard::Qemu => Image::Qemu,
         RunBoard::Microbit => {
             options.numeric = crate::host::options::Numeric::Fixed;
-            Board::Microbit
+            Image::Microbit
         }
         RunBoard::QemuTables => {
             // The tables are read in f32.
             options.numeric = crate::host::options::Numeric::F32;
-            Board::QemuTables
+            Image::QemuTables
         }
-        RunBoard::Stm32f405 => Board::Stm32f405,
+        RunBoard::Stm32f405 => Image::Stm32f405,
         RunBoard::Rp2040 => {
             options.numeric = crate::host::options::Numeric::Fixed;
-            Board::Rp2040
+            Image::Rp2040
         }
     };
     (board, options)
@@ -548,7 +548,7 @@ fn firmware_case(
     q: &mut Emulator,
     sequence: &mut u16,
     (o, case, options): (&RunOptions, &Case, &Options),
-    board: Board,
+    board: Image,
     host: &SimResult,
 ) -> Result<bool, String> {
     let fw = closed_loop::run_case(
@@ -578,7 +578,7 @@ fn firmware_case(
     );
     let mut agree = r.status == host.status
         && (r.status != SimStatus::Captured || diff.abs() <= AGREEMENT_PERIODS * o.dt);
-    if matches!(board, Board::Microbit | Board::Rp2040) {
+    if matches!(board, Image::Microbit | Image::Rp2040) {
         agree &= twin_agrees(o, case, options, r);
     }
     Ok(agree)

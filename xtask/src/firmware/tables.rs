@@ -14,7 +14,7 @@ use twocars::protocol::message::{Configure, ROLE_EVADER, ROLE_PURSUER};
 use twocars::value_tables::ValueTables;
 use twocars::{Policy, Variant};
 
-use crate::firmware::build::{self, Board};
+use crate::firmware::build::{self, Image};
 use crate::firmware::closed_loop::{self, HostUnit};
 use crate::firmware::emulator::Emulator;
 
@@ -30,7 +30,7 @@ const BAR: (f64, f64) = (0.05, 0.10);
 /// The sets the image carries, read from the files it was built with.
 pub(crate) fn image_sets() -> Result<&'static [ValueTables<'static>], String> {
     let mut sets = Vec::new();
-    for path in crate::hj::solve::flash_sets(Board::QemuTables.table_sets())? {
+    for path in crate::hj::solve::flash_sets(Image::QemuTables.table_sets())? {
         let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
         sets.push(ValueTables::parse(bytes).map_err(|e| format!("{}: {e:?}", path.display()))?);
@@ -91,7 +91,7 @@ fn ack(
 /// Policy byte 2 selects the set of either pair of ratios (ack 2); limits of other ratios fall
 /// back to the flight policy (ack 1).
 fn configure_selects_each_set(elf: &std::path::Path) -> Result<String, String> {
-    let mut q = Emulator::start(elf, Board::QemuTables, false)?;
+    let mut q = Emulator::start(elf, Image::QemuTables, false)?;
     let mut got = Vec::new();
     let other = [2.0, 2.0, 1.2, 1.0];
     let cases = crate::hj::sets::FLASH_SETS
@@ -149,7 +149,7 @@ fn starts(limits: [f64; 4], set: &ValueTables<'_>, seed: u64) -> Vec<(SimParams,
 /// V(x0) within the bar.
 fn suite_below_the_threshold(elf: &std::path::Path) -> Result<String, String> {
     let sets = image_sets()?;
-    let mut q = Emulator::start(elf, Board::QemuTables, false)?;
+    let mut q = Emulator::start(elf, Image::QemuTables, false)?;
     let mut twin = HostUnit::<f32>::with_tables(sets);
     let (mut sequence, mut twin_sequence) = (0, 0);
     let mut over = Vec::new();
@@ -244,7 +244,7 @@ fn run_picks_the_set_of_the_limits_ratios() -> Result<String, String> {
 /// Runs the tables image's tests with `record`.
 pub fn run(record: &mut impl FnMut(&str, Result<String, String>)) {
     println!("== xtask test: the value tables in flash, in QEMU (mps2-an386)");
-    let elf = match build::build_checked(Board::QemuTables, None) {
+    let elf = match build::build_checked(Image::QemuTables, None) {
         Ok((elf, _)) => elf,
         Err(e) => {
             record("qemu::tables_image_builds", Err(e));

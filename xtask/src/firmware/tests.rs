@@ -9,12 +9,12 @@ use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use host_tests::session::{paper_configure, paper_state, script};
 use host_tests::sim::{simulate, SimParams};
 use twocars::num::fixed::Fixed;
-use twocars::protocol::endpoint::{Unit, STATUS_STALE_INPUT};
+use twocars::protocol::endpoint::{Endpoint, STATUS_STALE_INPUT};
 use twocars::protocol::message::{Counters, LineCounts};
 use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::{Policy, Scalar, Variant};
 
-use crate::firmware::build::{self, Board};
+use crate::firmware::build::{self, Image};
 use crate::firmware::closed_loop;
 use crate::firmware::emulator::Emulator;
 use crate::firmware::qemu;
@@ -22,7 +22,7 @@ use crate::firmware::qemu;
 type Outcome = Result<String, String>;
 type QemuTest = fn(&std::path::Path) -> Outcome;
 
-fn host_replies<S: Scalar>(bytes: &[u8], unit: &mut Unit<S>) -> Vec<Reply> {
+fn host_replies<S: Scalar>(bytes: &[u8], unit: &mut Endpoint<S>) -> Vec<Reply> {
     let mut decoder = ReplyDecoder::default();
     bytes
         .iter()
@@ -49,7 +49,7 @@ fn same(a: &Reply, b: &Reply) -> bool {
 }
 
 fn scripted_session(elf: &std::path::Path) -> Outcome {
-    scripted_session_on::<f32>(elf, Board::Qemu)
+    scripted_session_on::<f32>(elf, Image::Qemu)
 }
 
 /// `counters` less what the readiness probe counted before the session (`before`, and the
@@ -58,7 +58,7 @@ fn scripted_session(elf: &std::path::Path) -> Outcome {
 fn since_probe(
     counters: Counters,
     before: Option<Counters>,
-    board: Board,
+    board: Image,
 ) -> Result<Counters, String> {
     if counters.board != board.status_in_emulator() {
         return Err(format!(
@@ -95,9 +95,9 @@ fn since_probe(
 
 /// The scripted session on `board`'s image, each reply equal to the host unit's on backend `S`
 /// (counters taken from the readiness probe's, where the image was probed).
-fn scripted_session_on<S: Scalar>(elf: &std::path::Path, board: Board) -> Outcome {
+fn scripted_session_on<S: Scalar>(elf: &std::path::Path, board: Image) -> Outcome {
     let mut q = Emulator::start(elf, board, false)?;
-    let mut unit = Unit::<S>::new();
+    let mut unit = Endpoint::<S>::new();
     for step in script() {
         q.send(&step.bytes)?;
         let got = match q.reply().map_err(|e| format!("{}: {e}", step.name))? {
@@ -149,12 +149,12 @@ fn paper_case_params(case: &Case) -> SimParams {
 }
 
 fn closed_loop(elf: &std::path::Path) -> Outcome {
-    closed_loop_on(elf, Board::Qemu)
+    closed_loop_on(elf, Image::Qemu)
 }
 
 /// The paper's cases under both policies on `board`'s f32 image, each capture within a control
 /// period of the host simulation's.
-fn closed_loop_on(elf: &std::path::Path, board: Board) -> Outcome {
+fn closed_loop_on(elf: &std::path::Path, board: Image) -> Outcome {
     let mut q = Emulator::start(elf, board, false)?;
     let mut sequence = 0;
     let mut report = Vec::new();
@@ -189,12 +189,12 @@ fn closed_loop_on(elf: &std::path::Path, board: Board) -> Outcome {
 }
 
 fn watchdog(elf: &std::path::Path) -> Outcome {
-    watchdog_on(elf, Board::Qemu)
+    watchdog_on(elf, Image::Qemu)
 }
 
 /// Half a second of silence after a State on `board`'s image: the safe command, latched until
 /// Reset; the watchdog counted once.
-fn watchdog_on(elf: &std::path::Path, board: Board) -> Outcome {
+fn watchdog_on(elf: &std::path::Path, board: Image) -> Outcome {
     let mut q = Emulator::start(elf, board, false)?;
     q.send(&host_tests::link::configure(1, &paper_configure()))?;
     q.reply()?;
@@ -247,11 +247,11 @@ fn watchdog_on(elf: &std::path::Path, board: Board) -> Outcome {
 /// random bytes, zeros included) and a delimiter: every State answered with its Command, in
 /// order; the noise refused with Errors that the counters match; no reset.
 fn noisy_stream(elf: &std::path::Path) -> Outcome {
-    noisy_stream_on(elf, Board::Qemu)
+    noisy_stream_on(elf, Image::Qemu)
 }
 
 /// [`noisy_stream`] on `board`'s image.
-fn noisy_stream_on(elf: &std::path::Path, board: Board) -> Outcome {
+fn noisy_stream_on(elf: &std::path::Path, board: Image) -> Outcome {
     const STATES: u16 = 400;
     let mut q = Emulator::start(elf, board, false)?;
     let (accepted_before, refused_before) = q.counted_before();
@@ -358,7 +358,7 @@ fn serial_loop_on_cortex_m4f() -> Outcome {
 /// A fixed-point image (micro:bit, RP2040) in closed loop on the paper's four cases under both
 /// policies: every run identical to the same unit's on the host (`HostUnit<Fixed>` fed the same
 /// frames), bit for bit: capture time, switches and sign flips.
-fn fixed_point_closed_loop(elf: &std::path::Path, board: Board) -> Outcome {
+fn fixed_point_closed_loop(elf: &std::path::Path, board: Image) -> Outcome {
     let mut q = Emulator::start(elf, board, false)?;
     let (mut sequence, mut twin_sequence) = (0, 0);
     let mut twin = closed_loop::HostUnit::<Fixed>::new();
@@ -389,13 +389,13 @@ fn fixed_point_closed_loop(elf: &std::path::Path, board: Board) -> Outcome {
 }
 
 /// A test of one board's image: the ELF and the board.
-type BoardTest = fn(&std::path::Path, Board) -> Outcome;
+type BoardTest = fn(&std::path::Path, Image) -> Outcome;
 
 /// One board's flight image in its emulator, as `cargo xtask build` builds it, and the tests
 /// run on it; `failed_build` names the record of a build (or emulator install) that failed.
 struct ImageTests {
     heading: &'static str,
-    board: Board,
+    board: Image,
     failed_build: &'static str,
     tests: &'static [(&'static str, BoardTest)],
 }
@@ -405,7 +405,7 @@ struct ImageTests {
 const IMAGE_TESTS: [ImageTests; 3] = [
     ImageTests {
         heading: "firmware in QEMU (micro:bit, Cortex-M0, fixed point)",
-        board: Board::Microbit,
+        board: Image::Microbit,
         failed_build: "qemu::microbit_image_builds",
         tests: &[
             (
@@ -420,7 +420,7 @@ const IMAGE_TESTS: [ImageTests; 3] = [
     },
     ImageTests {
         heading: "firmware in QEMU (netduinoplus2, STM32F405, the flight image)",
-        board: Board::Stm32f405,
+        board: Image::Stm32f405,
         failed_build: "qemu::stm32f405_image_builds",
         tests: &[
             (
@@ -439,7 +439,7 @@ const IMAGE_TESTS: [ImageTests; 3] = [
     },
     ImageTests {
         heading: "firmware in rp2040js (RP2040, Cortex-M0+, fixed point, the flight image)",
-        board: Board::Rp2040,
+        board: Image::Rp2040,
         failed_build: "rp2040js::rp2040_image_runs",
         tests: &[
             (
@@ -486,7 +486,7 @@ fn run_images(record: &mut impl FnMut(&str, Outcome)) {
 /// Runs the QEMU tests; returns (passed, failed).
 pub fn run() -> (u64, u64) {
     println!("== xtask test: firmware in QEMU (mps2-an386)");
-    let elf = match qemu::qemu_binary().and_then(|_| build::build_checked(Board::Qemu, None)) {
+    let elf = match qemu::qemu_binary().and_then(|_| build::build_checked(Image::Qemu, None)) {
         Ok((elf, _)) => elf,
         Err(e) => {
             eprintln!("== xtask test: {e}");
@@ -537,15 +537,15 @@ pub fn run() -> (u64, u64) {
     println!("== xtask test: the MAVLink images in QEMU, pymavlink the autopilot and the target");
     record(
         "qemu::mavlink_scripted_session_passes_every_check",
-        crate::firmware::mavlink::scripted_session(Board::QemuMavlink)
+        crate::firmware::mavlink::scripted_session(Image::QemuMavlink)
             .map(|()| "every check passed".to_string()),
     );
     // The STM32F405 image closes the loop too. Its scripted session's timing checks do not
     // hold in netduinoplus2: QEMU clocks SysTick at the model's own rate whatever the clock
     // controller says, so the image's internal-oscillator millisecond runs 10.5 times fast.
     for (board, name) in [
-        (Board::QemuMavlink, "mavlink"),
-        (Board::Stm32f405Mavlink, "stm32f405_mavlink"),
+        (Image::QemuMavlink, "mavlink"),
+        (Image::Stm32f405Mavlink, "stm32f405_mavlink"),
     ] {
         record(
             &format!("qemu::{name}_closed_loop_captures_the_paper_cases_on_time"),
@@ -560,7 +560,7 @@ pub fn run() -> (u64, u64) {
     }
     record(
         "qemu::mavlink_late_sparse_noisy_target_is_captured_without_chatter",
-        crate::firmware::mavlink_field::run_field(Board::QemuMavlink, None).and_then(|ok| {
+        crate::firmware::mavlink_field::run_field(Image::QemuMavlink, None).and_then(|ok| {
             if ok {
                 Ok("four captures, median sign flips within 5".to_string())
             } else {
@@ -583,7 +583,7 @@ pub fn run() -> (u64, u64) {
 /// pymavlink's check. The key is a fixed test key.
 fn signed_closed_loop() -> Outcome {
     let key = crate::firmware::signing::SigningKey::for_tests()?;
-    match crate::firmware::mavlink::run_cases(Board::QemuMavlink, Some(&key))? {
+    match crate::firmware::mavlink::run_cases(Image::QemuMavlink, Some(&key))? {
         true => Ok(
             "signed both ways: four captures within 5 control periods; five forged \
                     PARAM_SETs unanswered, each counted once; pymavlink took every frame"

@@ -15,7 +15,7 @@ use hji::paper::PaperValue;
 use hji::{Game, Grid, Solution, REACHED};
 use host_tests::scenarios::states_beyond;
 
-use crate::hj::sets::NEAR_FIELD;
+use crate::hj::sets::NEAR_FIELD_LEVELS;
 use crate::hj::solve::{solve_grid, write_set, Boundary};
 
 /// `cargo xtask hj`'s options.
@@ -143,7 +143,7 @@ fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
 /// Runs the solver on three grids and prints the validation; returns the exit code.
 pub fn command(args: &HjArgs) -> i32 {
     let levels = if args.levels.is_empty() {
-        NEAR_FIELD.to_vec()
+        NEAR_FIELD_LEVELS.to_vec()
     } else {
         args.levels.clone()
     };

@@ -12,7 +12,7 @@ use hji::Grid;
 /// set flies, since it is the reference their plays are judged by. With 24 headings outside,
 /// V(x0) 8.5 r_p out reads 4.154 s at 2, 2, 1.2, 1.2, against 4.315 and 4.384 s with 48 and
 /// 72.
-pub(crate) const NEAR_FIELD: [Grid; 3] =
+pub(crate) const NEAR_FIELD_LEVELS: [Grid; 3] =
     [grid(121, 30.0, 72), grid(61, 6.0, 48), grid(121, 3.0, 72)];
 
 /// A set of nested tables an image carries: the limits (v_pm, w_pm, v_em, w_em) whose ratios it

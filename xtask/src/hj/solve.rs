@@ -15,7 +15,7 @@ use crate::progress::Progress;
 /// beyond the threshold, each finer one on the table before it; each is solved to a residual
 /// of 1e-4, or read back from `target/hj-cache/` where the same solver sources solved it;
 /// with how.
-pub(crate) fn near_field(limits: [f64; 4], levels: &[Grid]) -> (Vec<Solution>, String) {
+pub(crate) fn nested_tables(limits: [f64; 4], levels: &[Grid]) -> (Vec<Solution>, String) {
     let game = Game::with_radius(limits, 1.0);
     let started = Instant::now();
     let mut tables: Vec<Solution> = Vec::new();
@@ -48,7 +48,7 @@ pub(crate) fn flash_sets(sets: &[FlashSet]) -> Result<Vec<std::path::PathBuf>, S
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths = Vec::new();
     for set in sets {
-        let (tables, how) = near_field(set.limits, &set.levels);
+        let (tables, how) = nested_tables(set.limits, &set.levels);
         let bytes = hji::table_set_bytes(&tables);
         let [v_pm, w_pm, v_em, w_em] = set.limits;
         let path = dir.join(format!("{v_pm}-{w_pm}-{v_em}-{w_em}.tcv"));
@@ -75,7 +75,7 @@ pub(crate) fn write_set(path: &std::path::Path, limits: [f64; 4], levels: &[Grid
         );
         return 2;
     }
-    let (tables, how) = near_field(limits, levels);
+    let (tables, how) = nested_tables(limits, levels);
     let bytes = hji::table_set_bytes(&tables);
     if let Err(e) = std::fs::write(path, &bytes) {
         eprintln!("xtask hj: {}: {e}", path.display());
