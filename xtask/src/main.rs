@@ -9,16 +9,14 @@ mod firmware;
 mod fuzz;
 mod hj;
 mod host;
-mod package;
 mod progress;
 mod px4;
+mod run;
 mod setup;
-mod test;
 mod workspace;
 
 use bench::profile;
 use clap::{Parser, Subcommand};
-use firmware::run;
 use host::{eval, options, plot, report, sim};
 use std::process::ExitCode;
 use twocars::Policy;
@@ -42,7 +40,7 @@ enum Cmd {
     Run(run::RunArgs),
     /// Every check: fmt, clippy (host and thumb), builds, host tests, docs, QEMU, on-target
     /// tests, fuzz smoke runs; the last line is `N passed, N failed`.
-    Test(test::TestArgs),
+    Test(checks::suite::TestArgs),
     /// Build the firmware images and print their flash and RAM.
     Build(firmware::build::BuildArgs),
     /// Instructions per law evaluation (M4F, M0), flash, stack, host throughput ->
@@ -105,7 +103,7 @@ fn main() -> ExitCode {
         Cmd::Eval { law } => eval::run(&law.options(Policy::Paper)),
         Cmd::Sim(args) => sim::run(&args.law.options(Policy::Paper), args.opponent()),
         Cmd::Run(args) => run::run(args),
-        Cmd::Test(args) => test::run(args),
+        Cmd::Test(args) => checks::suite::run(args),
         Cmd::Bench => bench::run(),
         Cmd::Fuzz(args) => fuzz::command(args),
         Cmd::Report(args) => report::command(args),

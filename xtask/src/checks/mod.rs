@@ -1,8 +1,36 @@
-//! Checks of the source itself, run by `cargo xtask test` and on their own.
+//! `cargo xtask test`: the suite's named steps ([`suite`]) and the checks they run: the
+//! source's imports, the firmware in its emulators, the package as a user gets it.
 
+pub mod firmware;
 pub mod imports;
+pub mod package;
+pub mod suite;
 
 use crate::workspace::root;
+
+/// Named tests' outcomes, each printed as `cargo test` prints its tests, and counted.
+#[derive(Debug, Default)]
+pub struct Tally {
+    pub passed: u64,
+    pub failed: u64,
+}
+
+impl Tally {
+    /// Prints and counts the outcome of the test `name`: Ok with what it saw, or Err with why
+    /// it failed.
+    pub fn record(&mut self, name: &str, outcome: Result<String, String>) {
+        match outcome {
+            Ok(detail) => {
+                println!("test {name} ... ok ({detail})");
+                self.passed += 1;
+            }
+            Err(e) => {
+                println!("test {name} ... FAILED: {e}");
+                self.failed += 1;
+            }
+        }
+    }
+}
 
 /// The crates whose files must not import each other in a circle: their roots.
 const CRATES: [&str; 6] = [

@@ -13,4 +13,3 @@ pub mod run;
 pub mod signing;
 pub mod size;
 pub mod tables;
-pub mod tests;

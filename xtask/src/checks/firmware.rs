@@ -14,6 +14,7 @@ use twocars::protocol::message::{Counters, LineCounts};
 use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::{Policy, Scalar, Variant};
 
+use super::Tally;
 use crate::firmware::build::{self, Image};
 use crate::firmware::closed_loop;
 use crate::firmware::emulator::Emulator;
@@ -483,14 +484,15 @@ fn run_images(record: &mut impl FnMut(&str, Outcome)) {
     }
 }
 
-/// Runs the QEMU tests; returns (passed, failed).
-pub fn run() -> (u64, u64) {
+/// The serial images' tests in their emulators: QEMU's mps2-an386, the other boards', the
+/// value tables' image and the serial loop's and the fixed-point law's bench sessions.
+pub fn serial_images(tally: &mut Tally) {
     println!("== xtask test: firmware in QEMU (mps2-an386)");
     let elf = match qemu::qemu_binary().and_then(|_| build::build_checked(Image::Qemu, None)) {
         Ok((elf, _)) => elf,
         Err(e) => {
-            eprintln!("== xtask test: {e}");
-            return (0, 1);
+            tally.record("qemu::image_builds_and_qemu_is_found", Err(e));
+            return;
         }
     };
     let tests: [(&str, QemuTest); 4] = [
@@ -508,20 +510,10 @@ pub fn run() -> (u64, u64) {
             noisy_stream,
         ),
     ];
-    let (mut passed, mut failed) = (0, 0);
-    let mut record = |name: &str, outcome: Outcome| match outcome {
-        Ok(detail) => {
-            println!("test {name} ... ok ({detail})");
-            passed += 1;
-        }
-        Err(e) => {
-            println!("test {name} ... FAILED: {e}");
-            failed += 1;
-        }
-    };
     for (name, test) in tests {
-        record(name, test(&elf));
+        tally.record(name, test(&elf));
     }
+    let mut record = |name: &str, outcome: Outcome| tally.record(name, outcome);
     run_images(&mut record);
     crate::firmware::tables::run(&mut record);
     println!("== xtask test: the serial loop's bench session in QEMU (mps2-an386)");
@@ -534,8 +526,13 @@ pub fn run() -> (u64, u64) {
         "qemu::fixed_point_law_on_cortex_m0_equals_the_host_and_the_paper",
         fixed_point_on_cortex_m0(),
     );
+}
+
+/// The MAVLink images in QEMU, pymavlink playing the autopilot and the target: the scripted
+/// session, the paper's cases on two boards, the field's chases, and the signed link.
+pub fn mavlink_images(tally: &mut Tally) {
     println!("== xtask test: the MAVLink images in QEMU, pymavlink the autopilot and the target");
-    record(
+    tally.record(
         "qemu::mavlink_scripted_session_passes_every_check",
         crate::firmware::mavlink::scripted_session(Image::QemuMavlink)
             .map(|()| "every check passed".to_string()),
@@ -543,13 +540,13 @@ pub fn run() -> (u64, u64) {
     // The STM32F405 image closes the loop too. Its scripted session's timing checks do not
     // hold in netduinoplus2: QEMU clocks SysTick at the model's own rate whatever the clock
     // controller says, so the image's internal-oscillator millisecond runs 10.5 times fast.
-    for (board, name) in [
+    for (image, name) in [
         (Image::QemuMavlink, "mavlink"),
         (Image::Stm32f405Mavlink, "stm32f405_mavlink"),
     ] {
-        record(
+        tally.record(
             &format!("qemu::{name}_closed_loop_captures_the_paper_cases_on_time"),
-            crate::firmware::mavlink::run_cases(board, None).and_then(|on_time| {
+            crate::firmware::mavlink::run_cases(image, None).and_then(|on_time| {
                 if on_time {
                     Ok("four captures within 5 control periods".to_string())
                 } else {
@@ -558,7 +555,7 @@ pub fn run() -> (u64, u64) {
             }),
         );
     }
-    record(
+    tally.record(
         "qemu::mavlink_late_sparse_noisy_target_is_captured_without_chatter",
         crate::firmware::mavlink_field::run_field(Image::QemuMavlink, None).and_then(|ok| {
             if ok {
@@ -568,13 +565,10 @@ pub fn run() -> (u64, u64) {
             }
         }),
     );
-    record(
+    tally.record(
         "qemu::mavlink_signed_closed_loop_captures_and_refuses_unsigned_and_forged_frames",
         signed_closed_loop(),
     );
-    crate::ardupilot::record_tests(&mut record);
-    crate::px4::record_tests(&mut record);
-    (passed, failed)
 }
 
 /// The MAVLink image built with a signing key, pymavlink signing with it: the paper's cases

@@ -1,6 +1,7 @@
 //! `cargo xtask test`: every check the project has, as a list of named steps run in order;
 //! stops at the first failure. `--quick` is the edit loop's tier, `--only` and `--skip` pick steps.
 
+use super::Tally;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::Instant;
@@ -234,7 +235,7 @@ impl Step {
 }
 
 /// The suite, in order; the full run stops at the first step that fails.
-const STEPS: [Step; 17] = [
+const STEPS: [Step; 20] = [
     Step::quick("format", format),
     Step::quick("imports", |suite| {
         println!("== xtask test: no import cycle between the files of each crate");
@@ -250,21 +251,47 @@ const STEPS: [Step; 17] = [
     Step::full("panic-free", panic_free),
     Step::quick("host-tests", host),
     Step::full("docs", docs),
-    Step::full("qemu", qemu),
+    Step::full("qemu", |suite| {
+        named_tests(
+            suite,
+            "the serial images' tests",
+            crate::checks::firmware::serial_images,
+        )
+    }),
+    Step::full("mavlink", |suite| {
+        named_tests(
+            suite,
+            "the MAVLink images' tests",
+            crate::checks::firmware::mavlink_images,
+        )
+    }),
+    Step::full("ardupilot", |suite| {
+        named_tests(suite, "the ArduPilot SITL tests", |tally| {
+            crate::ardupilot::record_tests(&mut |name, outcome| tally.record(name, outcome))
+        })
+    }),
+    Step::full("px4", |suite| {
+        named_tests(suite, "the PX4 SITL tests", |tally| {
+            crate::px4::record_tests(&mut |name, outcome| tally.record(name, outcome))
+        })
+    }),
     Step::full("on-target", on_target_tests),
     Step::full("readme", |suite| {
         println!("== xtask test: README's commands, as written, from the root");
-        let counts = timed("README's commands", crate::package::run_readme);
+        let counts = timed("README's commands", crate::checks::package::run_readme);
         suite.count(counts)
     }),
     Step::full("package", |suite| {
         println!("== xtask test: the examples built from the packaged crate");
-        let counts = timed("the package check", crate::package::check_package);
+        let counts = timed("the package check", crate::checks::package::check_package);
         suite.count(counts)
     }),
     Step::full("rust-version", |suite| {
         println!("== xtask test: the core on the manifest's rust-version");
-        let counts = timed("the rust-version check", crate::package::check_rust_version);
+        let counts = timed(
+            "the rust-version check",
+            crate::checks::package::check_rust_version,
+        );
         suite.count(counts)
     }),
     Step::full("fuzz", fuzz),
@@ -487,9 +514,11 @@ fn on_target_tests(suite: &mut Suite) -> bool {
     suite.count(counts)
 }
 
-fn qemu(suite: &mut Suite) -> bool {
-    let counts = timed("the QEMU tests", crate::firmware::tests::run);
-    suite.count(counts)
+/// A step of named tests, run into one [`Tally`] and counted.
+fn named_tests(suite: &mut Suite, title: &str, run: impl FnOnce(&mut Tally)) -> bool {
+    let mut tally = Tally::default();
+    timed(title, || run(&mut tally));
+    suite.count((tally.passed, tally.failed))
 }
 
 /// Each libFuzzer target for 10 s from its seed corpus (`cargo-fuzz` installed the first time).

@@ -1,0 +1,293 @@
+//! `cargo xtask run`: its options, and the one call each link and vehicle makes: our serial
+//! protocol in an emulator ([`crate::firmware::run`]), MAVLink against pymavlink
+//! ([`crate::firmware::mavlink`]), or an autopilot's SITL ([`crate::ardupilot`],
+//! [`crate::px4`]).
+
+use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
+use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
+use twocars::Policy;
+
+use crate::firmware::build::Image;
+use crate::firmware::run::{RunOptions, NEAR_CASE};
+use crate::firmware::signing::SigningKey;
+use crate::host::options::{LawArgs, Options};
+
+/// Which players the firmware plays (the host law plays the other).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Roles {
+    /// Both players.
+    Both,
+    /// The pursuer only.
+    Pursuer,
+    /// The evader only.
+    Evader,
+}
+
+/// `cargo xtask run`'s options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub law: LawArgs,
+    /// A paper case (paper1..paper4) or all; repeatable; default all.
+    #[arg(long, value_parser = ["paper1", "paper2", "paper3", "paper4", "all"])]
+    case: Vec<String>,
+    /// Control period, seconds.
+    #[arg(long, default_value_t = 0.01)]
+    dt: f64,
+    /// Longest run, seconds.
+    #[arg(long, default_value_t = 30.0)]
+    t_max: f64,
+    /// The players the firmware plays; the host's law plays the other.
+    #[arg(long, value_enum, default_value = "both")]
+    roles: Roles,
+    /// Limits v_pm,w_pm,v_em,w_em (m/s, 1/m, m/s, 1/m); default the paper's 2,2,1,1.
+    #[arg(long, value_parser = crate::workspace::numbers::<4>)]
+    limits: Option<[f64; 4]>,
+    /// A custom start: the pursuer's x,y,theta (m, m, rad), with --evader.
+    #[arg(long, value_parser = crate::workspace::numbers::<3>, requires = "evader")]
+    pursuer: Option<[f64; 3]>,
+    /// A custom start: the evader's x,y,theta (m, m, rad), with --pursuer.
+    #[arg(long, value_parser = crate::workspace::numbers::<3>, requires = "pursuer")]
+    evader: Option<[f64; 3]>,
+    /// The host simulation only, no emulator.
+    #[arg(long)]
+    pub host_only: bool,
+    /// The emulated board: an f32 image (mps2-an386, STM32F405), or a fixed-point one (micro:bit,
+    /// RP2040; the host then simulates fixed point too, and runs the same unit in this process
+    /// to compare bit for bit).
+    #[arg(long, value_enum, default_value = "qemu")]
+    board: RunBoard,
+    /// The firmware's link: our COBS protocol, or MAVLink 2 with pymavlink playing the
+    /// autopilot and the target (the paper's cases at ten times their scale; docs/mavlink.md).
+    #[arg(long, value_enum, default_value = "cobs")]
+    link: RunLink,
+    /// With `--link mavlink` or `ardupilot`: build the MAVLink image with this signing key (a
+    /// file of 32 bytes or 64 hexadecimal digits), and sign the other
+    /// side with it (pymavlink; ArduPilot, given the key with SETUP_SIGNING).
+    #[arg(long)]
+    signing_key: Option<std::path::PathBuf>,
+    /// With `--link ardupilot`, or `px4 --rover-evader`: the `ardurover` SITL binary
+    /// (default: TWOCARS_ARDUROVER, then ../shared/ardupilot/ardurover).
+    #[arg(long)]
+    ardurover: Option<std::path::PathBuf>,
+    /// With `--link mavlink`: the target's fixes 200 ms late, 5 a second, with GPS noise of
+    /// 0.2 r_p, through the unit's estimator; with `--link ardupilot`: 300 ms late, 5 a
+    /// second, 1 m and 5 degrees, wind and GPS noise on the rover (docs/field.md).
+    #[arg(long)]
+    field: bool,
+    /// With `--link ardupilot` or `px4` (rovers): the evader a second ArduPilot Rover SITL
+    /// driven by the suite's evaders, its own GLOBAL_POSITION_INT the unit's target
+    /// (docs/ardupilot.md, docs/px4.md).
+    #[arg(long)]
+    rover_evader: bool,
+    /// With `--link ardupilot` or `px4`: the unit the `twocars-companion` binary on the host
+    /// (over TCP to the router) in place of the QEMU image (docs/companion.md).
+    #[arg(long)]
+    companion: bool,
+    /// With `--link ardupilot` or `px4`: the pursuer a rover or a plane (ArduPlane in GUIDED
+    /// under roll setpoints; PX4's SIH airplane in OFFBOARD under the unit's energy hold).
+    #[arg(long, value_enum, default_value = "rover")]
+    vehicle: RunVehicle,
+    /// With `--vehicle plane` (`--link ardupilot` or `px4`): the evader an ArduPlane SITL
+    /// (slower, banking less) driven by the suite's evaders, its own GLOBAL_POSITION_INT the
+    /// unit's target (docs/ardupilot.md, docs/px4.md).
+    #[arg(long)]
+    plane_evader: bool,
+    /// With `--link ardupilot --vehicle plane`, or `px4 --plane-evader`: the `arduplane` SITL
+    /// binary (default: TWOCARS_ARDUPLANE, then ../shared/ardupilot/arduplane).
+    #[arg(long)]
+    arduplane: Option<std::path::PathBuf>,
+    /// With `--vehicle plane`: SITL's speed-up over the wall clock.
+    #[arg(long, default_value_t = crate::ardupilot::plane::SPEEDUP)]
+    speedup: u32,
+    /// With `--link px4`: the `px4` SITL binary, its `etc/` beside `bin/` (default:
+    /// ../shared/px4/bin/px4).
+    #[arg(long)]
+    px4: Option<std::path::PathBuf>,
+}
+
+/// The links `run` can fly the firmware over.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunLink {
+    /// The COBS protocol (docs/protocol.md).
+    Cobs,
+    /// MAVLink 2 (the `twocars-qemu-mavlink` image).
+    Mavlink,
+    /// MAVLink 2 with ArduPilot Rover SITL flying the pursuer (docs/ardupilot.md).
+    Ardupilot,
+    /// MAVLink 2 with PX4 SITL (SIH Ackermann rover) flying the pursuer (docs/px4.md).
+    Px4,
+}
+
+/// The pursuer's vehicle under an autopilot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunVehicle {
+    /// A ground vehicle.
+    Rover,
+    /// A fixed-wing aircraft.
+    Plane,
+}
+
+/// The boards `run` can emulate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunBoard {
+    /// QEMU mps2-an386 (Cortex-M4F, f32 law).
+    Qemu,
+    /// QEMU microbit (nRF51822, Cortex-M0, fixed-point law).
+    Microbit,
+    /// QEMU mps2-an386 with the value tables in flash: the policy defaults to the
+    /// tables' (Configure's policy byte 2), and the host simulation plays the same tables.
+    QemuTables,
+    /// The STM32F405 flight image in QEMU's netduinoplus2 (Cortex-M4F, f32; USART1).
+    Stm32f405,
+    /// The Raspberry Pi Pico flight image in rp2040js (RP2040, Cortex-M0+, fixed-point law;
+    /// UART0), compared bit for bit with the same unit on the host, as the micro:bit is.
+    Rp2040,
+}
+
+/// Runs the main job; returns the exit code.
+pub fn run(args: &RunArgs) -> i32 {
+    if args.link == RunLink::Px4 && args.vehicle == RunVehicle::Plane {
+        return crate::px4::plane::run(&crate::px4::plane::Options {
+            px4: args.px4.clone(),
+            short: false,
+            companion: args.companion,
+            plane_evader: args.plane_evader,
+            arduplane: args.arduplane.clone(),
+        });
+    }
+    if args.link == RunLink::Px4 {
+        return crate::px4::run(&crate::px4::Options {
+            px4: args.px4.clone(),
+            short: false,
+            companion: args.companion,
+            rover_evader: args.rover_evader,
+            ardurover: args.ardurover.clone(),
+        });
+    }
+    let Ok(key) = SigningKey::given(args.signing_key.as_deref(), "xtask run") else {
+        return 2;
+    };
+    if args.link == RunLink::Ardupilot {
+        if args.vehicle == RunVehicle::Plane {
+            return crate::ardupilot::plane::run(&crate::ardupilot::plane::Options {
+                arduplane: args.arduplane.clone(),
+                short: false,
+                companion: args.companion,
+                speedup: args.speedup,
+                plane_evader: args.plane_evader,
+                key,
+            });
+        }
+        let options = crate::ardupilot::Options {
+            ardurover: args.ardurover.clone(),
+            short: false,
+            field: args.field,
+            simulated: !args.rover_evader,
+            rover_evader: args.rover_evader,
+            companion: args.companion,
+            key,
+        };
+        return crate::ardupilot::run(&options);
+    }
+    if args.link == RunLink::Mavlink && args.field {
+        return match crate::firmware::mavlink_field::run_field(Image::QemuMavlink, key.as_ref()) {
+            Ok(true) => 0,
+            Ok(false) => 1,
+            Err(e) => {
+                eprintln!("xtask run --link mavlink --field: {e}");
+                1
+            }
+        };
+    }
+    if args.link == RunLink::Mavlink {
+        return match args.board {
+            RunBoard::Qemu => crate::firmware::mavlink::run(Image::QemuMavlink, key.as_ref()),
+            RunBoard::Stm32f405 => {
+                crate::firmware::mavlink::run(Image::Stm32f405Mavlink, key.as_ref())
+            }
+            other => {
+                eprintln!("xtask run: no MAVLink image for {other:?}");
+                2
+            }
+        };
+    }
+    let (board, options) = board_and_options(args);
+    match parse(args) {
+        Ok(o) => crate::firmware::run::fly(board, &options, &o),
+        Err(e) => {
+            eprintln!("xtask run: {e}");
+            2
+        }
+    }
+}
+
+fn parse(args: &RunArgs) -> Result<RunOptions, String> {
+    let tables = args.board == RunBoard::QemuTables;
+    let mut o = RunOptions {
+        cases: Vec::new(),
+        limits: args.limits.unwrap_or(PAPER_LIMITS),
+        dt: args.dt,
+        t_max: args.t_max,
+        roles: match args.roles {
+            Roles::Both => ROLE_PURSUER | ROLE_EVADER,
+            Roles::Pursuer => ROLE_PURSUER,
+            Roles::Evader => ROLE_EVADER,
+        },
+        host_only: args.host_only,
+    };
+    for name in &args.case {
+        o.cases.extend(
+            paper_cases()
+                .into_iter()
+                .filter(|c| name == "all" || c.name == name.as_str()),
+        );
+    }
+    if let (Some(p), Some(e)) = (args.pursuer, args.evader) {
+        o.cases.push(Case {
+            name: "custom",
+            pursuer: p,
+            evader: e,
+            expected_value: f64::NAN,
+        });
+    }
+    if o.cases.is_empty() {
+        o.cases.extend(paper_cases());
+        if tables {
+            o.cases.push(NEAR_CASE);
+        }
+    }
+    if !(o.dt.is_finite() && o.dt > 0.0 && o.t_max.is_finite() && o.t_max > 0.0) {
+        return Err("--dt and --t-max must be positive".to_string());
+    }
+    Ok(o)
+}
+
+/// The board `args` asks for, and the law's options there: the policy its image plays by
+/// default, and the numeric backend of its law, which the host simulates too.
+fn board_and_options(args: &RunArgs) -> (Image, Options) {
+    let tables_board = args.board == RunBoard::QemuTables;
+    let mut options = args.law.options(if tables_board {
+        Policy::Table
+    } else {
+        Policy::Flight
+    });
+    let board = match args.board {
+        RunBoard::Qemu => Image::Qemu,
+        RunBoard::Microbit => {
+            options.numeric = crate::host::options::Numeric::Fixed;
+            Image::Microbit
+        }
+        RunBoard::QemuTables => {
+            // The tables are read in f32.
+            options.numeric = crate::host::options::Numeric::F32;
+            Image::QemuTables
+        }
+        RunBoard::Stm32f405 => Image::Stm32f405,
+        RunBoard::Rp2040 => {
+            options.numeric = crate::host::options::Numeric::Fixed;
+            Image::Rp2040
+        }
+    };
+    (board, options)
+}
