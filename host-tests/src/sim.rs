@@ -5,6 +5,8 @@
 
 use crate::adversary::{Adversary, Opponent};
 pub use crate::kinematics::{advance, angle_error, distance, wrap_pi};
+use twocars::law::geometry::Units;
+use twocars::law::Scene;
 use twocars::{Direction, Guidance, Law, Observation, Policy, Scalar, Status, Variant};
 
 /// Number of sub-samples per step used to find the capture instant and the minimum distance.
@@ -285,42 +287,39 @@ pub fn simulate_against<S: Scalar>(
     opponent: Option<(Opponent, u64)>,
     record: bool,
 ) -> SimResult {
-    let none = |_: [f64; 3], _: [f64; 3]| None;
-    simulate_with_turns::<S>(
-        params,
-        variant,
-        policy,
+    let setup = Setup {
         opponent,
-        record,
-        [&none, &none],
-        Setup::default(),
-    )
+        ..Setup::default()
+    };
+    simulate_with::<S>(params, variant, policy, record, setup)
 }
 
 /// A player's curvature (1/m) from both states (metres and radians), where it has one.
 pub type Turn<'a> = &'a (dyn Fn([f64; 3], [f64; 3]) -> Option<f64> + Sync);
 
-/// What the simulated guidance is given beyond its law and policy.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Setup {
+/// A run's set-up beyond the law and the policy: what the simulated guidance is given, an
+/// adversary in place of one player, and turns that override either player's.
+#[derive(Clone, Copy, Default)]
+pub struct Setup<'a> {
     /// Value tables it plays ([`Guidance::with_tables`]; ignored if they do not fit the limits).
     pub tables: Option<&'static twocars::value_tables::ValueTables<'static>>,
     /// Whether it is told the run's capture radius ([`Guidance::with_capture_radius`]).
     pub capture_radius: bool,
+    /// The adversary of [`crate::adversary`] that plays the other player, and its seed.
+    pub opponent: Option<(Opponent, u64)>,
+    /// The pursuer's and the evader's curvatures (1/m) wherever these give one; the
+    /// guidance's (or the opponent's) elsewhere. The guidance still steps every period.
+    pub turns: [Option<Turn<'a>>; 2],
 }
 
-/// [`simulate_against`] with the pursuer's and the evader's curvatures (1/m) from `turns`
-/// wherever they give one, the guidance's (or the opponent's) elsewhere; the guidance still
-/// steps every period (a host experiment: the value table's players). The guidance has what
-/// `setup` gives it.
-pub fn simulate_with_turns<S: Scalar>(
+/// The closed loop of [`simulate_against`] with everything `setup` gives (a host experiment:
+/// the value table's players override turns).
+pub fn simulate_with<S: Scalar>(
     params: &SimParams,
     variant: Variant,
     policy: Policy,
-    opponent: Option<(Opponent, u64)>,
     record: bool,
-    [pursuer_turn, evader_turn]: [Turn<'_>; 2],
-    setup: Setup,
+    setup: Setup<'_>,
 ) -> SimResult {
     let idle = SimResult::empty(
         SimStatus::InvalidSimParams,
@@ -329,6 +328,71 @@ pub fn simulate_with_turns<S: Scalar>(
     if !valid_params(params) {
         return idle;
     }
+    let (scene, units, [predicted, predicted_lower]) =
+        match predict::<S>(params, variant, idle.clone()) {
+            Ok(predicted) => predicted,
+            Err(ended) => return ended,
+        };
+    let Some(guidance) = guidance_for(&scene, variant, policy, params, &setup) else {
+        return idle;
+    };
+    let mut guidance = guidance;
+    // The vehicles move with the limits the law was given (f32), so both see the same car.
+    let params = SimParams {
+        limits: params.limits.map(|v| f64::from(v as f32)),
+        ..*params
+    };
+    let mut adversary = match setup.opponent {
+        Some((opponent, seed)) => {
+            match Adversary::new(opponent, params.limits, params.dt, params.eps, seed) {
+                Some(a) => Some(a),
+                None => return idle,
+            }
+        }
+        None => None,
+    };
+    let [pursuer_turn, evader_turn] = setup.turns;
+    let result = closed_loop(&params, record, |t, p, e| {
+        let narrow = |s: [f64; 3]| s.map(|v| v as f32);
+        let mut command = match scene.limits.states(narrow(p), narrow(e)) {
+            Ok((ps, es)) => {
+                let ev = guidance.step(&ps, &es);
+                StepCommand::full_speed(
+                    units.curvature(ev.command.pursuer),
+                    units.curvature(ev.command.evader),
+                    ev.report.map(|r| (r.solution.row, r.solution.col)),
+                )
+            }
+            Err(_) => StepCommand::full_speed(0.0, 0.0, None),
+        };
+        if let Some(turn) = pursuer_turn.and_then(|turn| turn(p, e)) {
+            command.pursuer = turn;
+        }
+        if let Some(turn) = evader_turn.and_then(|turn| turn(p, e)) {
+            command.evader = turn;
+        }
+        if let Some(adversary) = adversary.as_mut() {
+            adversary_plays(adversary, t, p, e, &mut command);
+        }
+        Ok::<_, core::convert::Infallible>(command)
+    });
+    match result {
+        Ok(r) => SimResult {
+            predicted,
+            predicted_lower,
+            ..r
+        },
+        Err(never) => match never {},
+    }
+}
+
+/// The law's scene at t = 0, its units and its upper and lower values (s; infinite without
+/// them); Err with the run's result where the law ends it there (captured, or refused).
+fn predict<S: Scalar>(
+    params: &SimParams,
+    variant: Variant,
+    idle: SimResult,
+) -> Result<(Scene<S>, Units, [f64; 2]), SimResult> {
     let observation = Observation {
         limits: params.limits.map(|v| v as f32),
         pursuer: params.pursuer.map(|v| v as f32),
@@ -343,33 +407,41 @@ pub fn simulate_with_turns<S: Scalar>(
             s.lower.map_or(f64::INFINITY, |v| units.seconds(v)),
         )
     });
-    let scene = match (initial.status, twocars::law::validate::<S>(&observation)) {
-        (Status::Ok | Status::NoValidTangent, Ok(scene)) => scene,
-        (Status::Captured, _) => {
-            return SimResult {
-                status: SimStatus::Law(Status::Captured),
-                t_capture: 0.0,
-                predicted: 0.0,
-                predicted_lower: 0.0,
-                ..idle
-            }
+    match (initial.status, twocars::law::validate::<S>(&observation)) {
+        (Status::Ok | Status::NoValidTangent, Ok(scene)) => {
+            Ok((scene, units, [predicted, predicted_lower]))
         }
-        (status, _) => {
-            return SimResult {
-                status: SimStatus::Law(status),
-                predicted,
-                predicted_lower,
-                ..idle
-            }
-        }
-    };
-    let Ok(guidance) = Guidance::new(
+        (Status::Captured, _) => Err(SimResult {
+            status: SimStatus::Law(Status::Captured),
+            t_capture: 0.0,
+            predicted: 0.0,
+            predicted_lower: 0.0,
+            ..idle
+        }),
+        (status, _) => Err(SimResult {
+            status: SimStatus::Law(status),
+            predicted,
+            predicted_lower,
+            ..idle
+        }),
+    }
+}
+
+/// The guidance of `scene` with `policy` and what `setup` gives it; `None` for a control
+/// period it refuses.
+fn guidance_for<S: Scalar>(
+    scene: &Scene<S>,
+    variant: Variant,
+    policy: Policy,
+    params: &SimParams,
+    setup: &Setup<'_>,
+) -> Option<Guidance<S>> {
+    let guidance = Guidance::new(
         Law::new(scene.limits, variant),
         params.dt as f32,
         twocars::Policy::Paper,
-    ) else {
-        return idle;
-    };
+    )
+    .ok()?;
     let mut guidance = guidance.with_policy(policy);
     if let Some(tables) = setup.tables {
         guidance = guidance.with_tables(tables).unwrap_or(guidance);
@@ -379,60 +451,26 @@ pub fn simulate_with_turns<S: Scalar>(
             .with_capture_radius(params.eps as f32)
             .unwrap_or(guidance);
     }
-    // The vehicles move with the limits the law was given (f32), so both see the same car.
-    let params = SimParams {
-        limits: observation.limits.map(f64::from),
-        ..*params
-    };
-    let mut adversary = match opponent {
-        Some((opponent, seed)) => {
-            match Adversary::new(opponent, params.limits, params.dt, params.eps, seed) {
-                Some(a) => Some(a),
-                None => return idle,
-            }
+    Some(guidance)
+}
+
+/// The adversary's command for its player, in place of the guidance's.
+fn adversary_plays(
+    adversary: &mut Adversary,
+    t: f64,
+    p: [f64; 3],
+    e: [f64; 3],
+    command: &mut StepCommand,
+) {
+    let (w, v) = adversary.command(t, p, e);
+    match adversary.opponent() {
+        Opponent::Evader(_) => {
+            command.evader = w;
+            command.evader_speed = Some(v);
         }
-        None => None,
-    };
-    let result = closed_loop(&params, record, |t, p, e| {
-        let narrow = |s: [f64; 3]| s.map(|v| v as f32);
-        let mut command = match scene.limits.states(narrow(p), narrow(e)) {
-            Ok((ps, es)) => {
-                let ev = guidance.step(&ps, &es);
-                StepCommand::full_speed(
-                    units.curvature(ev.command.pursuer),
-                    units.curvature(ev.command.evader),
-                    ev.report.map(|r| (r.solution.row, r.solution.col)),
-                )
-            }
-            Err(_) => StepCommand::full_speed(0.0, 0.0, None),
-        };
-        if let Some(turn) = pursuer_turn(p, e) {
-            command.pursuer = turn;
+        Opponent::Pursuer(_) => {
+            command.pursuer = w;
+            command.pursuer_speed = Some(v);
         }
-        if let Some(turn) = evader_turn(p, e) {
-            command.evader = turn;
-        }
-        if let Some(adversary) = adversary.as_mut() {
-            let (w, v) = adversary.command(t, p, e);
-            match adversary.opponent() {
-                Opponent::Evader(_) => {
-                    command.evader = w;
-                    command.evader_speed = Some(v);
-                }
-                Opponent::Pursuer(_) => {
-                    command.pursuer = w;
-                    command.pursuer_speed = Some(v);
-                }
-            }
-        }
-        Ok::<_, core::convert::Infallible>(command)
-    });
-    match result {
-        Ok(r) => SimResult {
-            predicted,
-            predicted_lower,
-            ..r
-        },
-        Err(never) => match never {},
     }
 }

@@ -7,7 +7,7 @@
 use host_tests::adversary::{EvaderKind, Opponent};
 use host_tests::rng::Rng;
 use host_tests::scenarios::PAPER_LIMITS;
-use host_tests::sim::{simulate, simulate_with_turns, Setup, SimParams, SimResult, SimStatus};
+use host_tests::sim::{simulate, simulate_with, Setup, SimParams, SimResult, SimStatus};
 use std::f64::consts::PI;
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
@@ -120,18 +120,10 @@ fn told_the_capture_radius_the_pursuer_turns_onto_an_evader_in_reach() {
     let run = |capture_radius| {
         let setup = Setup {
             capture_radius,
+            opponent: evader,
             ..Setup::default()
         };
-        let none = |_: [f64; 3], _: [f64; 3]| None;
-        simulate_with_turns::<f32>(
-            &p,
-            Variant::Paper,
-            Policy::Flight,
-            evader,
-            false,
-            [&none, &none],
-            setup,
-        )
+        simulate_with::<f32>(&p, Variant::Paper, Policy::Flight, false, setup)
     };
     let (told, exact) = (run(true), run(false));
     println!(
@@ -161,22 +153,12 @@ fn a_lead_point_behind_turns_the_law_s_way_on_the_first_period() {
             eps: 0.5,
         };
         let greedy = Some((Opponent::Evader(EvaderKind::Greedy { periods: 1 }), 1));
-        let none = |_: [f64; 3], _: [f64; 3]| None;
         let setup = Setup {
             capture_radius: true,
+            opponent: greedy,
             ..Setup::default()
         };
-        let run = |policy| {
-            simulate_with_turns::<f32>(
-                &p,
-                Variant::Paper,
-                policy,
-                greedy,
-                false,
-                [&none, &none],
-                setup,
-            )
-        };
+        let run = |policy| simulate_with::<f32>(&p, Variant::Paper, policy, false, setup);
         let (flight, paper) = (run(Policy::Flight), run(Policy::Paper));
         println!(
             "dt {dt}: flight {:.3} s, paper {:.3} s",

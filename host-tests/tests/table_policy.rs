@@ -8,7 +8,7 @@ use hji::policy::{pursuer_curvature, relative};
 use hji::{solve, table_set_bytes, Game, Grid, Solution};
 use host_tests::adversary::{EvaderKind, Opponent};
 use host_tests::rng::Rng;
-use host_tests::sim::{simulate_with_turns, Setup, SimParams, SimStatus};
+use host_tests::sim::{simulate_with, Setup, SimParams, SimStatus};
 use twocars::value_tables::ValueTables;
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
@@ -125,7 +125,6 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
     let (solutions, set) = tables();
     let set: &'static ValueTables<'static> = set;
     let mut rng = Rng::new(43);
-    let none = |_: [f64; 3], _: [f64; 3]| None;
     let host = |p, e| pursuer_curvature(solutions, LIMITS[1], p, e);
     let mut runs = 0;
     for kind in [
@@ -149,26 +148,27 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
                 eps: solutions[0].game.eps / LIMITS[1],
             };
             let opponent = Some((Opponent::Evader(kind), rng.next_u64()));
-            let firmware = simulate_with_turns::<f32>(
+            let firmware = simulate_with::<f32>(
                 &params,
                 Variant::Paper,
                 Policy::Table,
-                opponent,
                 false,
-                [&none, &none],
                 Setup {
                     tables: Some(set),
+                    opponent,
                     ..Setup::default()
                 },
             );
-            let on_host = simulate_with_turns::<f32>(
+            let on_host = simulate_with::<f32>(
                 &params,
                 Variant::Paper,
                 Policy::Flight,
-                opponent,
                 false,
-                [&host, &none],
-                Setup::default(),
+                Setup {
+                    opponent,
+                    turns: [Some(&host), None],
+                    ..Setup::default()
+                },
             );
             assert_eq!(firmware.status, SimStatus::Captured, "{kind:?} {params:?}");
             assert_eq!(on_host.status, SimStatus::Captured, "{kind:?} {params:?}");

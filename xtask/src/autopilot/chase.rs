@@ -10,7 +10,7 @@ use std::time::Duration;
 use host_tests::adversary::{Adversary, EvaderKind, Opponent};
 use host_tests::autopilot::{hdg_cdeg, velocity_cm_s};
 use host_tests::kinematics::{advance, distance};
-use host_tests::sim::{simulate_with_turns, Setup, SimParams, SimStatus};
+use host_tests::sim::{simulate_with, Setup, SimParams, SimStatus};
 use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 use twocars::{Policy, Variant};
 
@@ -148,19 +148,12 @@ pub fn place(rover: [f64; 3], start: &Start) -> [f64; 3] {
 /// The host's closed loop of `params` against `evader`: the pursuer a Dubins car at full speed
 /// from t = 0 with the unit's law (f32, flight policy, told the capture radius).
 fn ideal_run(params: &SimParams, evader: EvaderKind, seed: u64) -> host_tests::sim::SimResult {
-    let none = |_: [f64; 3], _: [f64; 3]| None;
-    simulate_with_turns::<f32>(
-        params,
-        Variant::Paper,
-        Policy::Flight,
-        Some((Opponent::Evader(evader), seed)),
-        false,
-        [&none, &none],
-        Setup {
-            capture_radius: true,
-            ..Setup::default()
-        },
-    )
+    let setup = Setup {
+        capture_radius: true,
+        opponent: Some((Opponent::Evader(evader), seed)),
+        ..Setup::default()
+    };
+    simulate_with::<f32>(params, Variant::Paper, Policy::Flight, false, setup)
 }
 
 /// Where the harness's records stood when a chase began.

@@ -244,13 +244,11 @@ fn host_case(
     let host = match tables {
         Some(set) => {
             print_table_value(o, case, set);
-            host_tests::sim::simulate_with_turns::<f32>(
+            host_tests::sim::simulate_with::<f32>(
                 &params(o, case),
                 options.variant,
                 options.policy,
-                None,
                 false,
-                [&|_, _| None, &|_, _| None],
                 host_tests::sim::Setup {
                     tables: Some(set),
                     ..Default::default()

@@ -17,7 +17,7 @@ use hji::{table_set_bytes, Solution};
 use host_tests::adversary::{Adversary, EvaderKind, Opponent};
 use host_tests::rng::Rng;
 use host_tests::sim::{
-    simulate_with_turns, theorem_threshold, Setup, SimParams, SimResult, SimStatus, Turn,
+    simulate_with, theorem_threshold, Setup, SimParams, SimResult, SimStatus, Turn,
 };
 use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
@@ -109,7 +109,6 @@ fn play(
     }
     let [_, w_pm, _, w_em] = limits;
     let table_evader = |p, e| evader_curvature(reference, [w_pm, w_em], p, e);
-    let no_turn = |_, _| None;
     starts
         .into_par_iter()
         .map(|(params, v0, adversary_seed)| {
@@ -119,20 +118,17 @@ fn play(
                 ..params
             };
             // The table's evader overrides the law's evader wherever the table has a turn.
-            let (opponent, evader_turn): (_, Turn<'_>) = match evader {
-                Evader::Suite(kind) => (Some((Opponent::Evader(kind), adversary_seed)), &no_turn),
-                Evader::Table => (None, &table_evader),
+            let (opponent, evader_turn): (_, Option<Turn<'_>>) = match evader {
+                Evader::Suite(kind) => (Some((Opponent::Evader(kind), adversary_seed)), None),
+                Evader::Table => (None, Some(&table_evader)),
             };
-            let run = |pursuer_turn: Turn<'_>, policy, setup| {
-                simulate_with_turns::<f32>(
-                    &params,
-                    Variant::Paper,
-                    policy,
+            let run = |pursuer_turn: Option<Turn<'_>>, policy, setup: Setup<'_>| {
+                let setup = Setup {
                     opponent,
-                    false,
-                    [pursuer_turn, evader_turn],
-                    setup,
-                )
+                    turns: [pursuer_turn, evader_turn],
+                    ..setup
+                };
+                simulate_with::<f32>(&params, Variant::Paper, policy, false, setup)
             };
             // The flight policy is told the capture radius V(x0) is solved for, as a user
             // whose vehicle captures at a radius tells it.
@@ -149,9 +145,10 @@ fn play(
                 v0,
                 states: [params.pursuer, params.evader],
                 adversary_seed,
-                flight: run(&no_turn, Policy::Flight, told),
-                table: tables_play.then(|| run(&host_tables, Policy::Flight, Setup::default())),
-                firmware: tables_play.then(|| run(&no_turn, Policy::Table, in_flash)),
+                flight: run(None, Policy::Flight, told),
+                table: tables_play
+                    .then(|| run(Some(&host_tables), Policy::Flight, Setup::default())),
+                firmware: tables_play.then(|| run(None, Policy::Table, in_flash)),
             }
         })
         .collect()
