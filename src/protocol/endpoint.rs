@@ -9,7 +9,6 @@
 use crate::error::Error;
 use crate::estimate::{Estimated, Estimator, FieldSettings, Fix, FixNoise, Stale};
 use crate::guidance::{Guidance, Policy};
-use crate::law::capture::Variant;
 use crate::law::geometry::{Direction, Limits};
 use crate::law::{Decision, Law};
 use crate::num::{ieee, Scalar};
@@ -18,8 +17,8 @@ use crate::protocol::frame::{
     VERSION, VERSION_1,
 };
 use crate::protocol::message::{
-    kind, policy_of_byte, CommandMsg, Configure, Counters, ErrorMsg, LineCounts, StateMsg,
-    NO_CIRCLE, ROLE_EVADER, ROLE_PURSUER,
+    kind, policy_of_byte, variant_of_byte, CommandMsg, Configure, Counters, ErrorMsg, LineCounts,
+    StateMsg, NO_CIRCLE, ROLE_EVADER, ROLE_PURSUER,
 };
 use crate::status::Status;
 use crate::value_tables::ValueTables;
@@ -485,10 +484,8 @@ fn configure<S: Scalar>(
         Error::InvalidLimits => WireError::InvalidLimits,
         _ => WireError::OutOfRangeField,
     })?;
-    let variant = match message.variant {
-        0 => Variant::Paper,
-        1 => Variant::Clamped,
-        _ => return Err(WireError::InvalidConfig),
+    let Some(variant) = variant_of_byte(message.variant) else {
+        return Err(WireError::InvalidConfig);
     };
     let Some(policy) = policy_of_byte(message.policy) else {
         return Err(WireError::InvalidConfig);

@@ -2,6 +2,7 @@
 //! Byte-by-byte layout in `docs/protocol.md`. Turn rates on the wire are rad/s (= v w).
 
 use crate::guidance::Policy;
+use crate::law::capture::Variant;
 use crate::protocol::frame::{Reader, WireError, Writer};
 
 /// Message type codes. Host to unit below 0x80, unit to host from 0x80.
@@ -35,6 +36,23 @@ pub mod kind {
 pub const ROLE_PURSUER: u8 = 0b01;
 /// Bit of [`Configure::roles`]: this unit computes the evader's command.
 pub const ROLE_EVADER: u8 = 0b10;
+
+/// A Configure's variant byte for `variant`: 0 paper, 1 clamped.
+pub const fn variant_byte(variant: Variant) -> u8 {
+    match variant {
+        Variant::Paper => 0,
+        Variant::Clamped => 1,
+    }
+}
+
+/// The variant a Configure's variant byte names, if any ([`variant_byte`]'s inverse).
+pub const fn variant_of_byte(byte: u8) -> Option<Variant> {
+    match byte {
+        0 => Some(Variant::Paper),
+        1 => Some(Variant::Clamped),
+        _ => None,
+    }
+}
 
 /// A Configure's policy byte for `policy`: 0 paper, 1 flight, 2 value tables.
 pub const fn policy_byte(policy: Policy) -> u8 {

@@ -123,27 +123,7 @@ pub fn run_against(
     (variant, policy): (Variant, Policy),
     opponent: Option<(EvaderKind, u64)>,
 ) -> Result<FirmwareRun, String> {
-    let limits32 = params.limits.map(|v| v as f32);
-    let configure = Configure {
-        limits: limits32,
-        dt: params.dt as f32,
-        watchdog: 1.0,
-        roles,
-        variant: match variant {
-            Variant::Paper => 0,
-            Variant::Clamped => 1,
-        },
-        policy: twocars::protocol::message::policy_byte(policy),
-        field: FieldConfig::EXACT,
-    };
-    *sequence = sequence.wrapping_add(1);
-    unit.send(&link::configure(*sequence, &configure))?;
-    match unit.reply()? {
-        Reply::ConfigureAck(s, Some(p)) if s == *sequence && p == configure.policy => {}
-        other => return Err(format!("Configure refused or another policy: {other:?}")),
-    }
-    let [v_pm, w_pm, v_em, w_em] = limits32;
-    let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|e| e.to_string())?;
+    let limits = configure(unit, sequence, params, roles, (variant, policy))?;
     let mut host = Guidance::new(
         Law::new(limits, variant),
         params.dt as f32,
@@ -159,7 +139,7 @@ pub fn run_against(
         errors_received: 0,
     };
     let params = SimParams {
-        limits: limits32.map(f64::from),
+        limits: params.limits.map(|v| f64::from(v as f32)),
         ..*params
     };
     let mut adversary = match opponent {
@@ -175,34 +155,14 @@ pub fn run_against(
         ),
         None => None,
     };
+    let [v_pm, _, v_em, _] = params.limits.map(|v| v as f32);
     let result = closed_loop(&params, false, |t, p, e| {
-        *sequence = sequence.wrapping_add(1);
         let state = StateMsg::exact(
             (t * 1000.0).round() as u32,
             p.map(|v| v as f32),
             e.map(|v| v as f32),
         );
-        unit.send(&link::state(*sequence, &state))?;
-        run.states_sent += 1;
-        let reply = unit.reply()?;
-        let (rate_p, rate_e, choice) = match reply {
-            Reply::Command(s, c) if s == *sequence => {
-                run.commands_received += 1;
-                if run.predicted.is_nan() {
-                    run.predicted = f64::from(c.predicted);
-                }
-                (
-                    c.pursuer_rate,
-                    c.evader_rate,
-                    circle(c.row).zip(circle(c.col)),
-                )
-            }
-            Reply::Error(..) => {
-                run.errors_received += 1;
-                (0.0, 0.0, None)
-            }
-            other => return Err(format!("unexpected reply at t = {t}: {other:?}")),
-        };
+        let (rate_p, rate_e, choice) = exchange(unit, sequence, &mut run, t, &state)?;
         // The host law plays any role the firmware does not compute.
         let host_command = match limits.states(state.pursuer, state.evader) {
             Ok((ps, es)) => host.step(&ps, &es).command,
@@ -220,15 +180,78 @@ pub fn run_against(
         };
         let mut command = StepCommand::full_speed(pursuer, evader, choice);
         if let Some(adversary) = adversary.as_mut() {
-            (command.evader, command.evader_speed) = {
-                let (w, v) = adversary.command(t, p, e);
-                (w, Some(v))
-            };
+            let (w, v) = adversary.command(t, p, e);
+            (command.evader, command.evader_speed) = (w, Some(v));
         }
         Ok::<_, String>(command)
     })?;
     run.result = result;
     Ok(run)
+}
+
+/// Configures the unit for `params`' limits and control period, `roles` and `how`; the
+/// limits as the unit holds them (f32). Err unless it acknowledges with that policy.
+fn configure(
+    unit: &mut impl Link,
+    sequence: &mut u16,
+    params: &SimParams,
+    roles: u8,
+    (variant, policy): (Variant, Policy),
+) -> Result<Limits<f32>, String> {
+    let limits32 = params.limits.map(|v| v as f32);
+    let configure = Configure {
+        limits: limits32,
+        dt: params.dt as f32,
+        watchdog: 1.0,
+        roles,
+        variant: twocars::protocol::message::variant_byte(variant),
+        policy: twocars::protocol::message::policy_byte(policy),
+        field: FieldConfig::EXACT,
+    };
+    *sequence = sequence.wrapping_add(1);
+    unit.send(&link::configure(*sequence, &configure))?;
+    match unit.reply()? {
+        Reply::ConfigureAck(s, Some(p)) if s == *sequence && p == configure.policy => {}
+        other => return Err(format!("Configure refused or another policy: {other:?}")),
+    }
+    let [v_pm, w_pm, v_em, w_em] = limits32;
+    Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|e| e.to_string())
+}
+
+/// The unit's answer to a State: the pursuer's and the evader's turn rates (rad/s) and their
+/// circles, where it chose.
+type Answer = (f32, f32, Option<(Direction, Direction)>);
+
+/// Sends `state` and reads the unit's reply, counted in `run`; after an Error reply, straight
+/// ahead and no circles.
+fn exchange(
+    unit: &mut impl Link,
+    sequence: &mut u16,
+    run: &mut FirmwareRun,
+    t: f64,
+    state: &StateMsg,
+) -> Result<Answer, String> {
+    *sequence = sequence.wrapping_add(1);
+    unit.send(&link::state(*sequence, state))?;
+    run.states_sent += 1;
+    match unit.reply()? {
+        Reply::Command(s, c) if s == *sequence => {
+            run.commands_received += 1;
+            if run.predicted.is_nan() {
+                run.predicted = f64::from(c.predicted);
+            }
+            Ok((
+                c.pursuer_rate,
+                c.evader_rate,
+                circle(c.row).zip(circle(c.col)),
+            ))
+        }
+        Reply::Error(..) => {
+            run.errors_received += 1;
+            Ok((0.0, 0.0, None))
+        }
+        other => Err(format!("unexpected reply at t = {t}: {other:?}")),
+    }
 }
 
 /// Reads the firmware's counters.

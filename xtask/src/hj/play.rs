@@ -225,36 +225,14 @@ pub fn command(
             return 1;
         }
     };
-    let grids = |tables: &[Solution]| -> String {
-        let grids: Vec<String> = tables
-            .iter()
-            .map(|t| {
-                format!(
-                    "{n} x {n} x {} over +-{} r_p",
-                    t.grid.headings,
-                    t.grid.half,
-                    n = t.grid.n
-                )
-            })
-            .collect();
-        grids.join(" in ")
+    let session = Session {
+        limits,
+        reference: &reference,
+        tables: &tables,
+        firmware,
+        tables_play,
     };
-    println!(
-        "Limits {limits:?}, dt = {DT} s, eps = {} m (the tables'); V(x0) and the tables' evader from {} ({reference_how}). {runs} seeded starts per evader and seed below the threshold (seeds {seeds:?}), those the tables capture from.\n",
-        capture_radius(&tables, limits),
-        grids(&reference),
-    );
-    println!("Over V: (capture - V(x0) - 5 dt) / V(x0), as p50, p90, p99 | runs past +10 % (their share), past +5 % | never captured. The flight policy is `Policy::Flight`, the pursuer to fly, told the capture radius (`Guidance::with_capture_radius`).");
-    if tables_play {
-        println!("Beside it, the tables' pursuer ({}; {how}) on the host (f64) and in the firmware (`Policy::Table` on the tables as the firmware reads them: u16, f32, {} B).", grids(&tables), bytes.len());
-    }
-    println!();
-    let header = if tables_play {
-        "| evader | flight: p50, p90, p99 | past 10 %, 5 % | never | tables: p50, p90, p99 | past 10 %, 5 % | never | firmware: p50, p90, p99 | past 10 %, 5 % | never | the tables' worst start: x, y (r_p), phi (rad), V(x0), seed |\n|---|---|---|---|---|---|---|---|---|---|---|"
-    } else {
-        "| evader | flight: p50, p90, p99 | past 10 %, 5 % | never | the flight policy's worst start: x, y (r_p), phi (rad), V(x0), seed |\n|---|---|---|---|---|"
-    };
-    println!("{header}");
+    session.preamble(runs, seeds, &reference_how, &how, bytes.len());
     let evaders = EvaderKind::ALL
         .into_iter()
         .map(Evader::Suite)
@@ -262,59 +240,123 @@ pub fn command(
     let mut late = Vec::new();
     let mut every: Vec<(u64, Play)> = Vec::new();
     for (k, evader) in evaders.enumerate() {
-        let plays: Vec<(u64, Play)> = seeds
-            .iter()
-            .flat_map(|&seed| {
-                let starts = seed.wrapping_add(k as u64);
-                play(
-                    limits,
-                    &reference,
-                    &tables,
-                    firmware,
-                    evader,
-                    (runs, starts),
-                    tables_play,
-                )
-                .into_iter()
-                .map(move |p| (seed, p))
-            })
-            .collect();
+        let plays = session.plays(evader, k as u64, runs, seeds);
         println!(
             "| {} | {} |",
             evader.name(),
             row(&plays, limits, tables_play)
         );
+        late.extend(session.late(evader, &plays));
+        every.extend(plays);
+    }
+    println!("| every evader | {} |", row(&every, limits, tables_play));
+    session.print_late(&late);
+    0
+}
+
+/// What `--play` plays with: the limits, the reference tables V(x0) is read from, the tables
+/// the pursuer plays (on the host, and as the firmware reads them), and whether they play.
+struct Session<'a> {
+    limits: [f64; 4],
+    reference: &'a [Solution],
+    tables: &'a [Solution],
+    firmware: &'static ValueTables<'static>,
+    tables_play: bool,
+}
+
+impl Session<'_> {
+    /// The report's first lines: the set-up, what "over V" means, the table's header.
+    fn preamble(&self, runs: usize, seeds: &[u64], reference_how: &str, how: &str, bytes: usize) {
+        let grids = |tables: &[Solution]| -> String {
+            let grids: Vec<String> = tables
+                .iter()
+                .map(|t| {
+                    format!(
+                        "{n} x {n} x {} over +-{} r_p",
+                        t.grid.headings,
+                        t.grid.half,
+                        n = t.grid.n
+                    )
+                })
+                .collect();
+            grids.join(" in ")
+        };
+        let limits = self.limits;
+        println!(
+            "Limits {limits:?}, dt = {DT} s, eps = {} m (the tables'); V(x0) and the tables' evader from {} ({reference_how}). {runs} seeded starts per evader and seed below the threshold (seeds {seeds:?}), those the tables capture from.\n",
+            capture_radius(self.tables, limits),
+            grids(self.reference),
+        );
+        println!("Over V: (capture - V(x0) - 5 dt) / V(x0), as p50, p90, p99 | runs past +10 % (their share), past +5 % | never captured. The flight policy is `Policy::Flight`, the pursuer to fly, told the capture radius (`Guidance::with_capture_radius`).");
+        if self.tables_play {
+            println!("Beside it, the tables' pursuer ({}; {how}) on the host (f64) and in the firmware (`Policy::Table` on the tables as the firmware reads them: u16, f32, {bytes} B).", grids(self.tables));
+        }
+        println!();
+        let header = if self.tables_play {
+            "| evader | flight: p50, p90, p99 | past 10 %, 5 % | never | tables: p50, p90, p99 | past 10 %, 5 % | never | firmware: p50, p90, p99 | past 10 %, 5 % | never | the tables' worst start: x, y (r_p), phi (rad), V(x0), seed |\n|---|---|---|---|---|---|---|---|---|---|---|"
+        } else {
+            "| evader | flight: p50, p90, p99 | past 10 %, 5 % | never | the flight policy's worst start: x, y (r_p), phi (rad), V(x0), seed |\n|---|---|---|---|---|"
+        };
+        println!("{header}");
+    }
+
+    /// `runs` starts from each of `seeds` against `evader`, the `k`-th of the suite (seed s
+    /// plays it from the starts of s + k), each with its seed.
+    fn plays(&self, evader: Evader, k: u64, runs: usize, seeds: &[u64]) -> Vec<(u64, Play)> {
+        seeds
+            .iter()
+            .flat_map(|&seed| {
+                let starts = seed.wrapping_add(k);
+                play(
+                    self.limits,
+                    self.reference,
+                    self.tables,
+                    self.firmware,
+                    evader,
+                    (runs, starts),
+                    self.tables_play,
+                )
+                .into_iter()
+                .map(move |p| (seed, p))
+            })
+            .collect()
+    }
+
+    /// The judged pursuer's runs past 10 % over V, each said in a line.
+    fn late(&self, evader: Evader, plays: &[(u64, Play)]) -> Vec<String> {
         let judged = |p: &Play| {
-            if tables_play {
+            if self.tables_play {
                 p.table.as_ref().map_or(0.0, |r| p.over(r))
             } else {
                 p.over(&p.flight)
             }
         };
-        late.extend(
-            plays
-                .iter()
-                .filter(|(_, p)| judged(p).is_finite() && judged(p) > 0.10)
-                .map(|(seed, p)| {
-                    if tables_play {
-                        beside_best_plan(limits, &reference, evader, *seed, p, judged(p))
-                    } else {
-                        late_run(limits, evader, *seed, p, judged(p))
-                    }
-                }),
-        );
-        every.extend(plays);
+        plays
+            .iter()
+            .filter(|(_, p)| judged(p).is_finite() && judged(p) > 0.10)
+            .map(|(seed, p)| {
+                if self.tables_play {
+                    beside_best_plan(self.limits, self.reference, evader, *seed, p, judged(p))
+                } else {
+                    late_run(self.limits, evader, *seed, p, judged(p))
+                }
+            })
+            .collect()
     }
-    println!("| every evader | {} |", row(&every, limits, tables_play));
-    if !late.is_empty() {
+
+    /// The list of `late` runs, if any.
+    fn print_late(&self, late: &[String]) {
+        if late.is_empty() {
+            return;
+        }
         println!(
             "\nThe {} runs past 10 %{}:\n",
-            if tables_play {
+            if self.tables_play {
                 "tables' pursuer's"
             } else {
                 "flight policy's"
             },
-            if tables_play {
+            if self.tables_play {
                 format!(", each beside the earliest capture of the same evader by the probe's {} open-loop plans (`--probe`; where no plan beats the pursuer, V(x0) is below what that evader allows)", crate::hj::probe::PLANS)
             } else {
                 String::new()
@@ -324,7 +366,6 @@ pub fn command(
             println!("- {line}");
         }
     }
-    0
 }
 
 /// A table row's cells after the evader's name: each pursuer's figures over `plays`, then the
