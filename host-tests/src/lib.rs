@@ -12,5 +12,6 @@ pub mod rng;
 pub mod scenarios;
 pub mod session;
 pub mod sim;
+pub mod starts;
 pub mod stats;
 pub mod uart_model;

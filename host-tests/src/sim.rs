@@ -80,6 +80,12 @@ pub struct SimResult {
 }
 
 impl SimResult {
+    /// When a point capture would be (s): the capture time plus the time to close the last
+    /// `eps` (m) at v_pm - v_em, the moment the law's values at t = 0 promise.
+    pub fn point_capture(&self, limits: [f64; 4], eps: f64) -> f64 {
+        self.t_capture + eps / (limits[0] - limits[2])
+    }
+
     /// A result with `status`, nothing simulated yet: times infinite, no switches or flips.
     pub fn empty(status: SimStatus, d_min: f64) -> Self {
         SimResult {

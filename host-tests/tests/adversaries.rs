@@ -9,6 +9,7 @@ use host_tests::rng::Rng;
 use host_tests::scenarios::EPS;
 use host_tests::scenarios::PAPER_LIMITS;
 use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
+use host_tests::starts::{random_limits, random_start};
 use std::f64::consts::PI;
 use twocars::{Policy, Variant};
 
@@ -29,27 +30,9 @@ fn seed() -> u64 {
 fn starts(rng: &mut Rng, n: usize, limits: Option<[f64; 4]>) -> Vec<(SimParams, u64)> {
     (0..n)
         .map(|_| {
-            let limits = limits.unwrap_or_else(|| {
-                let v_em = rng.uniform(0.5, 3.0);
-                let w_em = rng.uniform(0.2, 2.0);
-                [
-                    v_em * rng.uniform(1.1, 3.0),
-                    w_em * rng.uniform(1.1, 4.0),
-                    v_em,
-                    w_em,
-                ]
-            });
+            let limits = limits.unwrap_or_else(|| random_limits(rng));
             let d0 = rng.uniform(0.05, 3.0) * theorem_threshold(limits);
-            let bearing = rng.uniform(-PI, PI);
-            let p = SimParams {
-                limits,
-                pursuer: [0.0, 0.0, rng.uniform(-PI, PI)],
-                evader: [d0 * bearing.cos(), d0 * bearing.sin(), rng.uniform(-PI, PI)],
-                dt: DT,
-                t_max: 0.0,
-                eps: EPS,
-            };
-            (p, rng.next_u64())
+            (random_start(rng, limits, d0, DT, EPS), rng.next_u64())
         })
         .collect()
 }
@@ -78,7 +61,7 @@ fn far(p: &SimParams) -> bool {
 
 /// Capture time plus the time to close the last eps, minus the upper value at t = 0.
 fn lateness(r: &SimResult, limits: [f64; 4]) -> f64 {
-    r.t_capture + EPS / (limits[0] - limits[2]) - r.predicted
+    r.point_capture(limits, EPS) - r.predicted
 }
 
 /// At the paper's limits the flight policy's pursuer captures every evader of the suite from
@@ -150,7 +133,7 @@ fn beyond_the_threshold_our_evader_keeps_its_lower_value_against_every_pursuer()
                 if r.status != SimStatus::Captured {
                     continue;
                 }
-                let closed = r.t_capture + EPS / (p.limits[0] - p.limits[2]);
+                let closed = r.point_capture(p.limits, EPS);
                 assert!(
                     closed >= r.predicted_lower - FEW_DT - band * r.predicted_lower,
                     "{}: caught at {closed} s, lower {} s: {p:?}",

@@ -53,7 +53,7 @@ fn above_threshold(s: &Scene) -> bool {
 fn check_capture_matches_prediction(r: &SimResult, limits: [f64; 4]) -> bool {
     assert_eq!(r.status, SimStatus::Captured, "{r:?}");
     let band = f64::from(<f32 as twocars::Scalar>::TIE_BAND);
-    let closed = r.t_capture + EPS / (limits[0] - limits[2]);
+    let closed = r.point_capture(limits, EPS);
     let saddle = (r.predicted - r.predicted_lower).abs() <= band * r.predicted.abs();
     let (low, high) = (
         r.predicted_lower - FEW_DT - band * r.predicted_lower.abs(),
@@ -162,7 +162,7 @@ fn the_near_field_policy_does_not_lengthen_runs_the_paper_law_predicted() {
             let p = params(&s, 0.01);
             let paper = simulate::<f32>(&p, Variant::Paper, Policy::Paper, false);
             let ours = simulate::<f32>(&p, Variant::Paper, Policy::Flight, false);
-            let closed = paper.t_capture + EPS / (s.limits[0] - s.limits[2]);
+            let closed = paper.point_capture(s.limits, EPS);
             let held = paper.status == SimStatus::Captured
                 && (closed - paper.predicted).abs() <= 5.0 * p.dt;
             if held {
@@ -240,7 +240,7 @@ fn the_paper_cases_capture_as_predicted_without_chattering() {
             };
             let r = simulate::<f32>(&params(&s, dt), Variant::Paper, Policy::Paper, false);
             assert_eq!(r.status, SimStatus::Captured, "{}", case.name);
-            let closed = r.t_capture + EPS / (PAPER_LIMITS[0] - PAPER_LIMITS[2]);
+            let closed = r.point_capture(PAPER_LIMITS, EPS);
             assert!(
                 closed >= r.predicted_lower - 5.0 * dt && closed <= r.predicted + 5.0 * dt,
                 "{} dt {dt}: {closed} vs [{}, {}]",

@@ -356,7 +356,7 @@ pub fn run_cases(board: Image, key: Option<&SigningKey>) -> Result<bool, String>
             pursuer = [next[0], next[1], wrap_pi(next[2])];
             Ok::<_, String>(StepCommand::full_speed(pursuer_w, evader_w, None))
         })?;
-        let closing = result.t_capture + EPS / (params.limits[0] - params.limits[2]);
+        let closing = result.point_capture(params.limits, EPS);
         let late = (closing - reference) / DT;
         let on_time = result.status == SimStatus::Captured && late.abs() <= ON_TIME_PERIODS;
         ok &= on_time;

@@ -7,6 +7,7 @@ use host_tests::rng::Rng;
 use host_tests::scenarios::EPS;
 use host_tests::scenarios::PAPER_LIMITS;
 use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
+use host_tests::starts::{random_limits, random_start};
 use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
 use twocars::{Policy, Variant};
@@ -46,12 +47,10 @@ impl LimitSet {
 /// One seeded initial state: random limits (or the paper's), half the runs within the
 /// threshold, half up to three times it; random bearing and headings.
 pub fn random_state(rng: &mut Rng, dt: f64, limit_set: LimitSet) -> (SimParams, Regime) {
-    let v_em = rng.uniform(0.5, 3.0);
-    let v_pm = v_em * rng.uniform(1.1, 3.0);
-    let w_em = rng.uniform(0.2, 2.0);
-    let w_pm = w_em * rng.uniform(1.1, 4.0);
+    // Drawn at the paper's limits too, so that both sets see the same starts.
+    let random = random_limits(rng);
     let limits = match limit_set {
-        LimitSet::Random => [v_pm, w_pm, v_em, w_em],
+        LimitSet::Random => random,
         LimitSet::Paper => PAPER_LIMITS,
     };
     let threshold = theorem_threshold(limits);
@@ -61,16 +60,7 @@ pub fn random_state(rng: &mut Rng, dt: f64, limit_set: LimitSet) -> (SimParams, 
     } else {
         rng.uniform(1.0, 3.0) * threshold
     };
-    let pi = std::f64::consts::PI;
-    let bearing = rng.uniform(-pi, pi);
-    let params = SimParams {
-        limits,
-        pursuer: [0.0, 0.0, rng.uniform(-pi, pi)],
-        evader: [d0 * bearing.cos(), d0 * bearing.sin(), rng.uniform(-pi, pi)],
-        dt,
-        t_max: 0.0,
-        eps: EPS,
-    };
+    let params = random_start(rng, limits, d0, dt, EPS);
     (params, if near { Regime::Near } else { Regime::Far })
 }
 
@@ -91,15 +81,13 @@ pub struct Run {
 impl Run {
     /// Capture time plus the time to close the last eps, minus the prediction at t = 0.
     pub fn lateness(&self, r: &SimResult) -> f64 {
-        let [v_pm, _, v_em, _] = self.params.limits;
-        r.t_capture + EPS / (v_pm - v_em) - r.predicted
+        r.point_capture(self.params.limits, EPS) - r.predicted
     }
 
     /// Capture time plus eps / (v_pm - v_em) minus the lower value at t = 0 (negative: the
     /// evader was caught before its guarantee).
     pub fn margin_over_lower(&self, r: &SimResult) -> f64 {
-        let [v_pm, _, v_em, _] = self.params.limits;
-        r.t_capture + EPS / (v_pm - v_em) - r.predicted_lower
+        r.point_capture(self.params.limits, EPS) - r.predicted_lower
     }
 
     /// Late: captured more than the tolerance after the upper value, or never.
