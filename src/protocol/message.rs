@@ -37,20 +37,12 @@ pub const ROLE_PURSUER: u8 = 0b01;
 /// Bit of [`Configure::roles`]: this unit computes the evader's command.
 pub const ROLE_EVADER: u8 = 0b10;
 
-/// A Configure's variant byte for `variant`: 0 paper, 1 clamped.
+/// A Configure's variant byte for `variant`: 0 paper, 1 clamped (the unit reads it back in
+/// `protocol::endpoint`).
 pub const fn variant_byte(variant: Variant) -> u8 {
     match variant {
         Variant::Paper => 0,
         Variant::Clamped => 1,
-    }
-}
-
-/// The variant a Configure's variant byte names, if any ([`variant_byte`]'s inverse).
-pub const fn variant_of_byte(byte: u8) -> Option<Variant> {
-    match byte {
-        0 => Some(Variant::Paper),
-        1 => Some(Variant::Clamped),
-        _ => None,
     }
 }
 
