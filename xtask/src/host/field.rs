@@ -12,6 +12,7 @@ use host_tests::adversary::EvaderKind;
 use host_tests::field::{chase, FieldModel, Receiver};
 use host_tests::rng::Rng;
 use host_tests::sim::{theorem_threshold, SimParams, SimResult, SimStatus};
+use host_tests::starts::random_start;
 use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
 
@@ -83,18 +84,9 @@ impl Cell {
 /// A seeded start at `limits`: d0 uniform in [2 r_p, 1.5 threshold], bearing and headings
 /// uniform.
 fn start(rng: &mut Rng, limits: [f64; 4], dt: f64) -> SimParams {
-    let pi = std::f64::consts::PI;
     let r_p = 1.0 / limits[1];
     let d0 = rng.uniform(2.0 * r_p, 1.5 * theorem_threshold(limits));
-    let bearing = rng.uniform(-pi, pi);
-    SimParams {
-        limits,
-        pursuer: [0.0, 0.0, rng.uniform(-pi, pi)],
-        evader: [d0 * bearing.cos(), d0 * bearing.sin(), rng.uniform(-pi, pi)],
-        dt,
-        t_max: 0.0,
-        eps: CAPTURE_RADII * r_p,
-    }
+    random_start(rng, limits, d0, dt, CAPTURE_RADII * r_p)
 }
 
 /// One start's chases: ideal, exact, through the raw fixes, through the estimator.
