@@ -9,10 +9,12 @@ mod firmware;
 mod fuzz;
 mod hj;
 mod host;
+mod image;
 mod progress;
 mod px4;
 mod run;
 mod setup;
+mod tables;
 mod workspace;
 
 use bench::profile;
@@ -42,7 +44,7 @@ enum Cmd {
     /// tests, fuzz smoke runs; the last line is `N passed, N failed`.
     Test(checks::suite::TestArgs),
     /// Build the firmware images and print their flash and RAM.
-    Build(firmware::build::BuildArgs),
+    Build(image::BuildArgs),
     /// Instructions per law evaluation (M4F, M0), flash, stack, host throughput ->
     /// docs/bench.md.
     Bench,
@@ -110,7 +112,7 @@ fn main() -> ExitCode {
         Cmd::Hj(args) => hj::command(args),
         Cmd::Plot(args) => plot::command(args),
         Cmd::Profile => profile::command(),
-        Cmd::Build(args) => firmware::build::build_command(args),
+        Cmd::Build(args) => image::build_command(args),
         Cmd::Imports => i32::from(checks::import_cycles().1 > 0),
     };
     ExitCode::from(u8::try_from(code).unwrap_or(1))

@@ -7,10 +7,10 @@ use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::Policy;
 
-use crate::firmware::build::Image;
 use crate::firmware::run::{RunOptions, NEAR_CASE};
-use crate::firmware::signing::SigningKey;
 use crate::host::options::{LawArgs, Options};
+use crate::image::signing::SigningKey;
+use crate::image::Image;
 
 /// Which players the firmware plays (the host law plays the other).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

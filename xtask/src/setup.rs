@@ -4,7 +4,6 @@
 //! line; where it cannot be done here (not root, or no apt-get), the exact command is printed and
 //! the command stops.
 
-use crate::firmware::qemu;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -129,12 +128,12 @@ fn is_root() -> bool {
 /// Installs `qemu-system-arm` with apt-get where this runs as root; otherwise the command for
 /// this platform's package manager, as an error.
 fn qemu() -> Result<(), String> {
-    if qemu::qemu_binary().is_ok() {
+    if qemu_binary().is_ok() {
         return Ok(());
     }
-    if is_root() && qemu::on_path("apt-get").is_some() {
+    if is_root() && on_path("apt-get").is_some() {
         if apt_install(&["qemu-system-arm"]) {
-            return qemu::qemu_binary().map(|_| ());
+            return qemu_binary().map(|_| ());
         }
         return Err("apt-get could not install qemu-system-arm".to_string());
     }
@@ -145,7 +144,7 @@ fn qemu() -> Result<(), String> {
         ("brew", "brew install qemu"),
     ]
     .iter()
-    .find(|(manager, _)| qemu::on_path(manager).is_some())
+    .find(|(manager, _)| on_path(manager).is_some())
     .map_or(
         "your package manager's qemu-system-arm package",
         |(_, c)| *c,
@@ -182,7 +181,7 @@ pub fn python_venv() -> Result<(), String> {
     if works() {
         return Ok(());
     }
-    let root_with_apt = is_root() && qemu::on_path("apt-get").is_some();
+    let root_with_apt = is_root() && on_path("apt-get").is_some();
     if root_with_apt && apt_install(&["python3", "python3-venv"]) && works() {
         return Ok(());
     }
@@ -206,7 +205,7 @@ pub fn node() -> Result<(), String> {
     if works("node") && works("npm") {
         return Ok(());
     }
-    let root_with_apt = is_root() && qemu::on_path("apt-get").is_some();
+    let root_with_apt = is_root() && on_path("apt-get").is_some();
     if root_with_apt && apt_install(&["nodejs", "npm"]) && works("node") && works("npm") {
         return Ok(());
     }
@@ -215,4 +214,25 @@ pub fn node() -> Result<(), String> {
          (or your system's Node.js 18 or later), then the command again"
             .to_string(),
     )
+}
+
+/// `program` on the PATH (or in ~/.cargo/bin).
+pub fn on_path(program: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    let mut dirs: Vec<PathBuf> = std::env::split_paths(&path).collect();
+    if let Some(home) = std::env::var_os("HOME") {
+        dirs.push(PathBuf::from(home).join(".cargo/bin"));
+    }
+    dirs.into_iter()
+        .map(|d| d.join(program))
+        .find(|p| p.is_file())
+}
+
+/// `qemu-system-arm`, or a message saying how to install it.
+pub fn qemu_binary() -> Result<PathBuf, String> {
+    on_path("qemu-system-arm").ok_or_else(|| {
+        "qemu-system-arm is not installed: run `sudo apt-get install qemu-system-arm` \
+         (Debian/Ubuntu), or `bash .ci/run` which installs it"
+            .to_string()
+    })
 }

@@ -6,7 +6,7 @@ use host_tests::autopilot::HOME;
 use super::sitl::{connect_serial1, setup_signing, Frame, Launch, Sitl};
 use crate::autopilot::router::Router;
 use crate::autopilot::unit::{self, Unit};
-use crate::firmware::signing::SigningKey;
+use crate::image::signing::SigningKey;
 
 /// The unit (the QEMU image or the companion), SITL instance 0 of `frame` at home running
 /// `speedup` times the wall clock, and the router between them: signed both ways with `key`

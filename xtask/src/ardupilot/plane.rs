@@ -11,7 +11,6 @@ use super::aircraft::{self, MEASURED_BANK_DEG};
 use super::plane_evader::{self, Banked, PlaneSteer};
 use super::rover_evader::pump;
 use super::sitl::{self, Frame};
-use crate::autopilot::aircraft::chase_held;
 use crate::autopilot::chase::{self, Outcome};
 use crate::autopilot::evader::{self, Terms};
 use crate::autopilot::harness::{Harness, Pursuer};
@@ -46,7 +45,7 @@ pub struct Options {
     /// simulated one.
     pub plane_evader: bool,
     /// The unit's link signed both ways with this key.
-    pub key: Option<crate::firmware::signing::SigningKey>,
+    pub key: Option<crate::image::signing::SigningKey>,
 }
 
 /// What `fly` flew.
@@ -196,98 +195,5 @@ pub fn run(options: &Options) -> i32 {
             eprintln!("xtask run --link ardupilot --vehicle plane: {e}");
             1
         }
-    }
-}
-
-/// `cargo xtask test`'s plane chase: one start below the threshold against the straight
-/// evader, where ArduPlane SITL is found (said plainly where not).
-pub fn record_tests(record: &mut impl FnMut(&str, Result<String, String>)) {
-    println!("== xtask test: ArduPlane SITL flying the pursuer in GUIDED, the MAVLink image its companion");
-    if sitl::find(Frame::Plane, None).is_none() {
-        println!(
-            "   SKIPPED: ArduPlane SITL not found (TWOCARS_ARDUPLANE or \
-             ../shared/ardupilot/arduplane); docs/ardupilot.md says how to build it"
-        );
-        return;
-    }
-    let flown = fly(&Options {
-        arduplane: None,
-        short: true,
-        companion: false,
-        speedup: SPEEDUP,
-        plane_evader: false,
-        key: None,
-    });
-    record(
-        "ardupilot::arduplane_captures_under_roll_setpoints_holding_airspeed_and_height",
-        flown.as_ref().map_err(Clone::clone).and_then(check_chase),
-    );
-    let two = fly(&Options {
-        arduplane: None,
-        short: true,
-        companion: false,
-        speedup: SPEEDUP,
-        plane_evader: true,
-        key: None,
-    });
-    record(
-        "ardupilot::arduplane_catches_a_second_arduplane_below_the_threshold",
-        two.as_ref().map_err(Clone::clone).and_then(check_two),
-    );
-}
-
-/// Captured no later than the ideal Dubins pursuer + 3 s with at most 5 sign flips; airspeed
-/// within 10 % of TC_V_PM and height within 10 m of the start's through the chase; ArduPlane's
-/// own roll back 2.9 to 3.3 s after the unit's last setpoint (its fixed 3 s timeout).
-fn check_chase(flown: &Flown) -> Result<String, String> {
-    let o = flown.outcomes.first().ok_or("no chase flown")?;
-    let captured = chase_held(o, flown.limits[0])?;
-    let failsafe = o.to_failsafe.ok_or("ArduPlane never took its roll back")?;
-    let line = format!(
-        "plane {:.2} m/s, curvature {:.5} 1/m at {MEASURED_BANK_DEG} deg ({:.0} % of coordinated), roll response {:.2} s; \
-         law {:?}, TC_BANK_EFF {}; captured at {captured:.2} s (ideal {:.2} s), {} sign flips; {}; \
-         ArduPlane's own roll {failsafe:.2} s after the last setpoint",
-        flown.aircraft.speed,
-        flown.aircraft.curvature,
-        100.0 * flown.aircraft.efficiency,
-        flown.aircraft.response,
-        flown.limits,
-        flown.efficiency,
-        o.ideal,
-        o.flips,
-        energy_line(o, flown.limits),
-    );
-    if o.flips <= 5 && (2.9..=3.3).contains(&failsafe) {
-        Ok(line)
-    } else {
-        Err(line)
-    }
-}
-
-/// Against the evader's aircraft: captured no later than the ideal Dubins pursuer + 3 s,
-/// airspeed and height held as [`chase_held`] says, the bank flipping side on at most one
-/// setpoint in ten (the tail chase's small corrections flip it; chatter flips most), the
-/// evader's mean ground speed within 5 % of v_em.
-fn check_two(flown: &Flown) -> Result<String, String> {
-    let o = flown.outcomes.first().ok_or("no chase flown")?;
-    let speed = flown.evader_speeds.first().copied().unwrap_or(f64::NAN);
-    let line = format!(
-        "law {:?}; {} start {:.1} m; captured at {} s (ideal {:.2} s), {} sign flips in {} setpoints; {}; the evader's mean ground speed {speed:.2} m/s",
-        flown.limits,
-        o.start.name,
-        o.distance,
-        o.captured.map_or("never".to_string(), |t| format!("{t:.2}")),
-        o.ideal,
-        o.flips,
-        o.setpoints,
-        energy_line(o, flown.limits),
-    );
-    let held = chase_held(o, flown.limits[0]).is_ok()
-        && o.flips * 10 <= o.setpoints
-        && (speed / flown.limits[2] - 1.0).abs() <= 0.05;
-    if held {
-        Ok(line)
-    } else {
-        Err(line)
     }
 }

@@ -147,7 +147,7 @@ pub fn setup_signing(serial0: &mut TcpStream, key: [u8; 32]) -> Result<(), Strin
         }
     }
     let message = SETUP_SIGNING_DATA {
-        initial_timestamp: crate::firmware::signing::clock_now(),
+        initial_timestamp: crate::image::signing::clock_now(),
         target_system: 1,
         target_component: 1,
         secret_key: key,

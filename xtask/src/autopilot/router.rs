@@ -288,7 +288,7 @@ impl Router {
 
     /// Encodes `message` from `sender` (MAVLink 2; signed where signing is on).
     pub fn encode<M: MessageData>(&mut self, sender: (u8, u8), message: &M) -> Vec<u8> {
-        self.outbox.timestamp = crate::firmware::signing::clock_now() + CLOCK_LEAD;
+        self.outbox.timestamp = crate::image::signing::clock_now() + CLOCK_LEAD;
         let mut out = Vec::new();
         self.outbox
             .send_as(sender, message, &mut |f| out.extend_from_slice(f));

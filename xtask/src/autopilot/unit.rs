@@ -6,9 +6,9 @@ use std::net::{TcpListener, TcpStream};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::firmware::build::{self, Image};
 use crate::firmware::emulator::{self, Launched};
-use crate::firmware::signing::SigningKey;
+use crate::image::signing::SigningKey;
+use crate::image::{self, Image};
 
 /// The unit's process, stopped on drop: the emulator, or the companion.
 pub struct Unit {
@@ -29,7 +29,7 @@ impl Drop for Unit {
 /// `key` where given.
 pub fn start(companion: bool, key: Option<&SigningKey>) -> Result<(Unit, TcpStream), String> {
     if !companion {
-        let (elf, _) = build::build_checked(Image::QemuMavlink, key)?;
+        let (elf, _) = image::build_checked(Image::QemuMavlink, key)?;
         let launched = emulator::launch(&elf, Image::QemuMavlink, false)?;
         let link = emulator::connect(launched.port, "the unit")?;
         let unit = Unit {

@@ -7,8 +7,6 @@ use std::time::{Duration, Instant};
 
 use twocars_bench::STATES;
 
-use crate::firmware::qemu;
-
 /// One emulated CPU the bench runs on.
 #[derive(Clone, Copy)]
 pub struct Cpu {
@@ -27,7 +25,7 @@ impl Cpu {
     /// QEMU on this CPU's machine, headless, semihosting to the host, loading `elf`; the caller
     /// adds its own options (instruction counting, execution log).
     pub fn qemu(&self, elf: &std::path::Path) -> Result<Command, String> {
-        let mut command = Command::new(qemu::qemu_binary()?);
+        let mut command = Command::new(crate::setup::qemu_binary()?);
         command
             .args(self.machine)
             .args(["-display", "none", "-monitor", "none", "-serial", "none"])
@@ -113,7 +111,7 @@ pub(crate) fn build_and_print_with(
     env: &[(&str, &std::ffi::OsStr)],
 ) -> Result<(String, u64), String> {
     let elf = build_with(cpu, bin, env)?;
-    let flash = crate::firmware::size::of(&elf)?.flash();
+    let flash = crate::image::size::of(&elf)?.flash();
     let mut child = cpu
         .qemu(&elf)?
         .args(["-icount", "shift=6"])
@@ -175,7 +173,7 @@ fn build_with(cpu: Cpu, bin: &str, env: &[(&str, &std::ffi::OsStr)]) -> Result<P
         .find(|(name, _)| *name == bin)
         .map(|(_, features)| *features)
         .ok_or_else(|| format!("no bench image {bin}"))?;
-    crate::firmware::build::build_image(
+    crate::image::build_image(
         "twocars-bench",
         cpu.target,
         features,

@@ -9,7 +9,7 @@ use twocars::{Law, Limits, Variant};
 use twocars_bench::{LIMITS, STATES};
 
 use crate::bench::serial::LoopImage;
-use crate::firmware::build::{self, Image};
+use crate::image::{build_checked, Image};
 use crate::workspace::root;
 
 pub mod estimate;
@@ -115,7 +115,7 @@ fn firmware_sizes() -> String {
         "| firmware image | flash | of the board's flash | static RAM |\n|---|---|---|---|\n",
     );
     for board in Image::ALL {
-        match build::build_checked(board, None) {
+        match build_checked(board, None) {
             Ok((elf, size)) => {
                 let name = elf
                     .file_name()

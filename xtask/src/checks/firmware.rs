@@ -15,10 +15,9 @@ use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::{Policy, Scalar, Variant};
 
 use super::Tally;
-use crate::firmware::build::{self, Image};
 use crate::firmware::closed_loop;
 use crate::firmware::emulator::Emulator;
-use crate::firmware::qemu;
+use crate::image::{self, Image};
 
 type Outcome = Result<String, String>;
 type QemuTest = fn(&std::path::Path) -> Outcome;
@@ -468,10 +467,10 @@ fn run_images(record: &mut impl FnMut(&str, Outcome)) {
     for image in &IMAGE_TESTS {
         println!("== xtask test: {}", image.heading);
         let ready = match image.board.machine() {
-            Some(build::Machine::Rp2040js) => crate::firmware::rp2040js::installed().map(|_| ()),
+            Some(image::Machine::Rp2040js) => crate::firmware::rp2040js::installed().map(|_| ()),
             _ => Ok(()),
         };
-        let elf = match ready.and_then(|()| build::build_checked(image.board, None)) {
+        let elf = match ready.and_then(|()| image::build_checked(image.board, None)) {
             Ok((elf, _)) => elf,
             Err(e) => {
                 record(image.failed_build, Err(e));
@@ -488,13 +487,14 @@ fn run_images(record: &mut impl FnMut(&str, Outcome)) {
 /// value tables' image and the serial loop's and the fixed-point law's bench sessions.
 pub fn serial_images(tally: &mut Tally) {
     println!("== xtask test: firmware in QEMU (mps2-an386)");
-    let elf = match qemu::qemu_binary().and_then(|_| build::build_checked(Image::Qemu, None)) {
-        Ok((elf, _)) => elf,
-        Err(e) => {
-            tally.record("qemu::image_builds_and_qemu_is_found", Err(e));
-            return;
-        }
-    };
+    let elf =
+        match crate::setup::qemu_binary().and_then(|_| image::build_checked(Image::Qemu, None)) {
+            Ok((elf, _)) => elf,
+            Err(e) => {
+                tally.record("qemu::image_builds_and_qemu_is_found", Err(e));
+                return;
+            }
+        };
     let tests: [(&str, QemuTest); 4] = [
         (
             "qemu::scripted_session_matches_the_host_unit_byte_for_byte",
@@ -515,7 +515,7 @@ pub fn serial_images(tally: &mut Tally) {
     }
     let mut record = |name: &str, outcome: Outcome| tally.record(name, outcome);
     run_images(&mut record);
-    crate::firmware::tables::run(&mut record);
+    crate::checks::tables::run(&mut record);
     println!("== xtask test: the serial loop's bench session in QEMU (mps2-an386)");
     record(
         "qemu::serial_loop_bench_session_on_cortex_m4f_equals_the_host",
@@ -576,7 +576,7 @@ pub fn mavlink_images(tally: &mut Tally) {
 /// and with its signature cut short each refused and counted; the unit's frames well signed by
 /// pymavlink's check. The key is a fixed test key.
 fn signed_closed_loop() -> Outcome {
-    let key = crate::firmware::signing::SigningKey::for_tests()?;
+    let key = crate::image::signing::SigningKey::for_tests()?;
     match crate::firmware::mavlink::run_cases(Image::QemuMavlink, Some(&key))? {
         true => Ok(
             "signed both ways: four captures within 5 control periods; five forged \

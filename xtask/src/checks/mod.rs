@@ -4,7 +4,9 @@
 pub mod firmware;
 pub mod imports;
 pub mod package;
+pub mod sitl;
 pub mod suite;
+pub mod tables;
 
 use crate::workspace::root;
 

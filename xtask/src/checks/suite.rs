@@ -188,7 +188,7 @@ impl Suite {
         if self.tables.is_none() {
             println!("== xtask test: the value tables of the tables images");
             let sets = timed("the value tables", || {
-                crate::hj::solve::flash_sets(crate::firmware::build::Image::QemuTables.table_sets())
+                crate::tables::solve::flash_sets(crate::image::Image::QemuTables.table_sets())
             });
             match sets.map(|paths| std::env::join_paths(paths).map_err(|e| e.to_string())) {
                 Ok(Ok(joined)) => self.tables = Some(joined.to_string_lossy().into_owned()),
@@ -267,12 +267,12 @@ const STEPS: [Step; 20] = [
     }),
     Step::full("ardupilot", |suite| {
         named_tests(suite, "the ArduPilot SITL tests", |tally| {
-            crate::ardupilot::record_tests(&mut |name, outcome| tally.record(name, outcome))
+            crate::checks::sitl::ardupilot(&mut |name, outcome| tally.record(name, outcome))
         })
     }),
     Step::full("px4", |suite| {
         named_tests(suite, "the PX4 SITL tests", |tally| {
-            crate::px4::record_tests(&mut |name, outcome| tally.record(name, outcome))
+            crate::checks::sitl::px4(&mut |name, outcome| tally.record(name, outcome))
         })
     }),
     Step::full("on-target", on_target_tests),
@@ -450,7 +450,7 @@ fn clippy_bench(suite: &mut Suite) -> bool {
 fn images(_: &mut Suite) -> bool {
     let what = "firmware images build, vector tables at their boards' flash origins";
     every_board(what, "the firmware images", |board| {
-        crate::firmware::build::build_checked(board, None)
+        crate::image::build_checked(board, None)
     })
 }
 
@@ -459,7 +459,7 @@ fn panic_free(_: &mut Suite) -> bool {
     every_board(
         what,
         "the panic-freedom links",
-        crate::firmware::build::prove_panic_free,
+        crate::image::prove_panic_free,
     )
 }
 
@@ -468,12 +468,12 @@ fn panic_free(_: &mut Suite) -> bool {
 fn every_board<T>(
     what: &str,
     title: &str,
-    check: fn(crate::firmware::build::Image) -> Result<T, String>,
+    check: fn(crate::image::Image) -> Result<T, String>,
 ) -> bool {
     println!("== xtask test: {what}");
     timed(title, || {
         let mut ok = true;
-        for board in crate::firmware::build::Image::ALL {
+        for board in crate::image::Image::ALL {
             if let Err(e) = check(board) {
                 eprintln!("== xtask test: {e}");
                 ok = false;

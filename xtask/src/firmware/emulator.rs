@@ -15,8 +15,8 @@ use std::time::{Duration, Instant};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use twocars::protocol::message::Counters;
 
-use crate::firmware::build::{Image, Machine};
 use crate::firmware::{qemu, rp2040js};
+use crate::image::{Image, Machine};
 
 fn free_port() -> Result<u16, String> {
     let listener = TcpListener::bind("127.0.0.1:0").map_err(|e| format!("no free port: {e}"))?;
@@ -233,6 +233,19 @@ pub fn connect(port: u16, what: &str) -> Result<TcpStream, String> {
                 return Err(format!("could not connect to {what} on port {port}: {e}"));
             }
             Err(_) => std::thread::sleep(Duration::from_millis(50)),
+        }
+    }
+}
+
+impl Machine {
+    /// The emulator's name and model, as reports print it.
+    pub fn name(self) -> String {
+        match self {
+            Machine::Qemu(options) => match options {
+                [_, machine, ..] => format!("QEMU {machine}"),
+                _ => "QEMU".to_string(),
+            },
+            Machine::Rp2040js => format!("rp2040js {}", rp2040js::VERSION),
         }
     }
 }

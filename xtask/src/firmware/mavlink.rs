@@ -17,9 +17,9 @@ use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
 use host_tests::sim::{advance, closed_loop, wrap_pi, SimParams, SimStatus, StepCommand};
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
-use crate::firmware::build::{self, Image};
 use crate::firmware::emulator;
-use crate::firmware::signing::SigningKey;
+use crate::image::signing::SigningKey;
+use crate::image::{self, Image};
 
 /// pymavlink's version in the virtual environment.
 const PYMAVLINK: &str = "pymavlink==2.4.49";
@@ -79,7 +79,7 @@ fn peer_script() -> PathBuf {
 /// failed.
 pub fn scripted_session(board: Image) -> Result<(), String> {
     let python = python()?;
-    let (elf, _) = build::build_checked(board, None)?;
+    let (elf, _) = image::build_checked(board, None)?;
     let launched = emulator::launch(&elf, board, false)?;
     let status = Command::new(python)
         .arg(peer_script())
@@ -284,7 +284,7 @@ fn signature_refusals(peer: &mut Peer) -> Result<bool, String> {
 /// whether every capture was on time.
 pub fn run_cases(board: Image, key: Option<&SigningKey>) -> Result<bool, String> {
     let scaled = scaled_limits();
-    let (elf, size) = build::build_checked(board, key)?;
+    let (elf, size) = image::build_checked(board, key)?;
     println!(
         "{}: {} B flash; pymavlink plays the autopilot (system 1) and the target (system 2)",
         board.bin(),

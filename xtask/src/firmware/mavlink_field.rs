@@ -15,12 +15,12 @@ use host_tests::field::{chase, FieldModel, Fixes, Receiver};
 use host_tests::scenarios::paper_cases;
 use host_tests::sim::{advance, capture_within, distance, wrap_pi, SimParams, SimStatus};
 
-use super::build::{self, Image};
 use super::emulator;
 use super::mavlink::{
     field, report, scaled_case, scaled_limits, set_params, set_scaled_limits, Peer, DT,
 };
-use super::signing::SigningKey;
+use crate::image::signing::SigningKey;
+use crate::image::{self, Image};
 
 /// The target fixes' lag (s), interval (s), position and heading noise (m at the scale, rad).
 const LAG: f64 = 0.2;
@@ -146,7 +146,7 @@ pub fn run_field(board: Image, key: Option<&SigningKey>) -> Result<bool, String>
     let limits = scaled.map(f64::from);
     let r_p = 1.0 / limits[1];
     let turn = std::f32::consts::TAU / (scaled[0] * scaled[1]);
-    let (elf, _) = build::build_checked(board, key)?;
+    let (elf, _) = image::build_checked(board, key)?;
     let launched = emulator::launch(&elf, board, false)?;
     let mut peer = Peer::start(launched.port, key)?;
     peer.ask(r#"{"op": "heartbeat"}"#)?;

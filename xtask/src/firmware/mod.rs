@@ -1,8 +1,7 @@
-//! The firmware on the host's side: building the images, running them in their emulators (QEMU,
-//! rp2040js), the closed loop with the host simulator (`cargo xtask run`), and the emulated
-//! checks of `cargo xtask test`.
+//! The firmware's harnesses on the host: the images in their emulators (QEMU, rp2040js), the
+//! closed loop with the host simulator (`cargo xtask run`), the pymavlink peer of the MAVLink
+//! images, and the value tables an image carries. Building the images is [`crate::image`].
 
-pub mod build;
 pub mod closed_loop;
 pub mod emulator;
 pub mod mavlink;
@@ -10,6 +9,4 @@ pub mod mavlink_field;
 pub mod qemu;
 pub mod rp2040js;
 pub mod run;
-pub mod signing;
-pub mod size;
 pub mod tables;

@@ -2,28 +2,9 @@
 //! image with its UART on a loopback TCP port (QEMU the server, the host the client).
 
 use std::path::{Path, PathBuf};
+
+use crate::setup::{on_path, qemu_binary};
 use std::process::{Command, Stdio};
-
-/// `program` on the PATH (or in ~/.cargo/bin).
-pub fn on_path(program: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    let mut dirs: Vec<PathBuf> = std::env::split_paths(&path).collect();
-    if let Some(home) = std::env::var_os("HOME") {
-        dirs.push(PathBuf::from(home).join(".cargo/bin"));
-    }
-    dirs.into_iter()
-        .map(|d| d.join(program))
-        .find(|p| p.is_file())
-}
-
-/// `qemu-system-arm`, or a message saying how to install it.
-pub fn qemu_binary() -> Result<PathBuf, String> {
-    on_path("qemu-system-arm").ok_or_else(|| {
-        "qemu-system-arm is not installed: run `sudo apt-get install qemu-system-arm` \
-         (Debian/Ubuntu), or `bash .ci/run` which installs it"
-            .to_string()
-    })
-}
 
 /// `defmt-print`, installed with `cargo install` when missing; `None` if that fails (logs are
 /// then not shown).

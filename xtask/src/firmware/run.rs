@@ -10,10 +10,10 @@ use host_tests::sim::{SimParams, SimResult, SimStatus};
 use twocars::value_tables::ValueTables;
 use twocars::{evaluate_observation, Observation, Policy, Scalar};
 
-use crate::firmware::build::{self, Image};
 use crate::firmware::closed_loop;
 use crate::firmware::emulator::Emulator;
 use crate::host::options::{with_numeric, Options};
+use crate::image::{self, Image};
 
 /// Largest |firmware - host| capture-time difference accepted, in control periods.
 const AGREEMENT_PERIODS: f64 = 3.0;
@@ -184,7 +184,7 @@ pub fn fly(board: Image, options: &Options, o: &RunOptions) -> i32 {
     );
     let mut session = None;
     if !o.host_only {
-        match build::build_checked(board, None)
+        match image::build_checked(board, None)
             .and_then(|(elf, _)| Emulator::start(&elf, board, board.logs_with_defmt()))
         {
             Ok(q) => session = Some(q),

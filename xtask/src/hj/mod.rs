@@ -8,15 +8,13 @@
 pub mod play;
 pub mod probe;
 pub mod reference;
-pub mod sets;
-pub mod solve;
 
 use hji::paper::PaperValue;
 use hji::{Game, Grid, Solution, REACHED};
 use host_tests::scenarios::states_beyond;
 
-use crate::hj::sets::NEAR_FIELD_LEVELS;
-use crate::hj::solve::{solve_grid, write_set, Boundary};
+use crate::tables::sets::NEAR_FIELD_LEVELS;
+use crate::tables::solve::{solve_grid, write_set, Boundary};
 
 /// `cargo xtask hj`'s options.
 #[derive(Debug, Clone, clap::Args)]

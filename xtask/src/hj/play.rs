@@ -1,13 +1,13 @@
 //! `cargo xtask hj --play RUNS`: the value tables' pursuer (on the host) against
 //! every evader of the adversary suite, from seeded starts below the theorem's threshold at the
 //! paper's limits (or `--limits`), beside the flight policy. The tables are the limits' near
-//! field ([`crate::hj::solve::nested_tables`], `--levels`); their pursuer takes the turn whose worst case
+//! field ([`crate::tables::solve::nested_tables`], `--levels`); their pursuer takes the turn whose worst case
 //! one step ahead has the least V (`hji::policy`), the paper's law beyond the
 //! threshold. The last row's evader plays the reference tables (its turn whose best case for
 //! the pursuer one step ahead has the largest V), where both players play V's game. The runs
 //! capture at the tables' radius, and each capture is compared with V(x0), the time to capture
 //! under optimal play by both sides, read from the reference tables
-//! ([`crate::hj::sets::NEAR_FIELD_LEVELS`]) whatever `--levels` the pursuer plays: a coarser table's V
+//! ([`crate::tables::sets::NEAR_FIELD_LEVELS`]) whatever `--levels` the pursuer plays: a coarser table's V
 //! is off by its grid's error, and would judge its own captures by it. Below the table, each
 //! run past 10 % is listed beside the earliest capture of its evader by the open-loop plans of
 //! `--probe` ([`crate::hj::probe::best_plan`]).
@@ -210,11 +210,11 @@ pub fn command(
     tables_play: bool,
 ) -> i32 {
     let (reference, reference_how) =
-        crate::hj::solve::nested_tables(limits, &crate::hj::sets::NEAR_FIELD_LEVELS);
-    let (tables, how) = if levels == crate::hj::sets::NEAR_FIELD_LEVELS || !tables_play {
+        crate::tables::solve::nested_tables(limits, &crate::tables::sets::NEAR_FIELD_LEVELS);
+    let (tables, how) = if levels == crate::tables::sets::NEAR_FIELD_LEVELS || !tables_play {
         (reference.clone(), reference_how.clone())
     } else {
-        crate::hj::solve::nested_tables(limits, levels)
+        crate::tables::solve::nested_tables(limits, levels)
     };
     // The firmware's reader of the same tables, quantised as they are written to flash.
     let bytes: &'static [u8] = Box::leak(table_set_bytes(&tables).into_boxed_slice());

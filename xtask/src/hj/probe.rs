@@ -26,8 +26,8 @@ type Plan = ([f64; 3], [f64; 2]);
 /// pursuer's frame: r_p, r_p, rad) and prints what it found; exit code 0.
 pub fn command(start: [f64; 3], levels: &[hji::Grid], limits: [f64; 4]) -> i32 {
     let (reference, _) =
-        crate::hj::solve::nested_tables(limits, &crate::hj::sets::NEAR_FIELD_LEVELS);
-    let (tables, _) = crate::hj::solve::nested_tables(limits, levels);
+        crate::tables::solve::nested_tables(limits, &crate::tables::sets::NEAR_FIELD_LEVELS);
+    let (tables, _) = crate::tables::solve::nested_tables(limits, levels);
     let [_, w_pm, v_em, w_em] = limits;
     let eps = capture_radius(&reference, limits);
     let pursuer0 = [0.0, 0.0, 0.0];

@@ -113,7 +113,7 @@ fn turn_colour(t: Option<f64>) -> String {
 /// Solves the paper's game on the near-field grid and writes the two side-by-side figures.
 pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let (tables, how) =
-        crate::hj::solve::nested_tables(PAPER_LIMITS, &crate::hj::sets::NEAR_FIELD_LEVELS);
+        crate::tables::solve::nested_tables(PAPER_LIMITS, &crate::tables::sets::NEAR_FIELD_LEVELS);
     let outer = &tables[tables.len() - 1];
     let game = outer.game;
     let half_m = outer.grid.half / PAPER_LIMITS[1];

@@ -6,8 +6,8 @@ use std::time::Instant;
 use hji::paper::PaperValue;
 use hji::{solve, solve_with_boundary, Game, Grid, Solution, NEVER};
 
-use crate::hj::sets::FlashSet;
 use crate::progress::Progress;
+use crate::tables::sets::FlashSet;
 
 /// The game of `limits` (v_pm, w_pm, v_em, w_em) over its near field as nested tables
 /// (`hji::policy`) on `levels`, coarsest first; returned finest first. Capture
@@ -100,7 +100,7 @@ pub(crate) fn write_set(path: &std::path::Path, limits: [f64; 4], levels: &[Grid
 
 /// The sources a solution depends on: the solver and its time step (`value_tables::table::step_time`),
 /// its boundaries (the paper's value comes from the law) and this module's nesting of grids
-/// (not `crate::hj::sets`, which only says which grids: the cache's file names say that).
+/// (not `crate::tables::sets`, which only says which grids: the cache's file names say that).
 const SOLVER_SOURCES: [&str; 7] = [
     include_str!("../../../hji/src/lib.rs"),
     include_str!("../../../src/value_tables/table.rs"),

@@ -2,10 +2,13 @@
 //! tables an image carries), the link-time panic check, the memory map's check and
 //! `cargo xtask build`.
 
+pub mod signing;
+pub mod size;
+
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
-use crate::firmware::signing::SigningKey;
+use crate::image::signing::SigningKey;
 use crate::workspace::root;
 
 /// The firmware images xtask builds: one binary each, for one board (a chip and its
@@ -37,19 +40,6 @@ pub enum Machine {
     Qemu(&'static [&'static str]),
     /// rp2040js under Node.js (xtask/rp2040js_harness.mjs).
     Rp2040js,
-}
-
-impl Machine {
-    /// The emulator's name and model, as reports print it.
-    pub fn name(self) -> String {
-        match self {
-            Machine::Qemu(options) => match options {
-                [_, machine, ..] => format!("QEMU {machine}"),
-                _ => "QEMU".to_string(),
-            },
-            Machine::Rp2040js => format!("rp2040js {}", crate::firmware::rp2040js::VERSION),
-        }
-    }
 }
 
 impl Image {
@@ -101,12 +91,12 @@ impl Image {
             Image::Stm32f405Tables => "board-stm32f405,tables-in-flash",
         }
     }
-    /// The value-table sets the image carries, one per pair of ratios (`crate::hj::solve::flash_sets`):
-    /// both of [`crate::hj::sets::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
-    pub fn table_sets(self) -> &'static [crate::hj::sets::FlashSet] {
+    /// The value-table sets the image carries, one per pair of ratios (`crate::tables::solve::flash_sets`):
+    /// both of [`crate::tables::sets::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
+    pub fn table_sets(self) -> &'static [crate::tables::sets::FlashSet] {
         match self {
-            Image::QemuTables => &crate::hj::sets::FLASH_SETS,
-            Image::Stm32f405Tables => &crate::hj::sets::FLASH_SETS[..1],
+            Image::QemuTables => &crate::tables::sets::FLASH_SETS,
+            Image::Stm32f405Tables => &crate::tables::sets::FLASH_SETS[..1],
             _ => &[],
         }
     }
@@ -230,7 +220,7 @@ fn build_with(board: Image, features: &str, key: Option<&SigningKey>) -> Result<
         .map_err(|e| format!("firmware build for {board:?} failed ({e})"));
     }
     // The same binary with its sets in flash, kept beside the one without as `<bin>-tables`.
-    let files = crate::hj::solve::flash_sets(sets)?;
+    let files = crate::tables::solve::flash_sets(sets)?;
     let paths = std::env::join_paths(&files).map_err(|e| e.to_string())?;
     let elf = build_image(
         CORE,
@@ -288,9 +278,9 @@ pub fn build_image(
 pub fn build_checked(
     board: Image,
     key: Option<&SigningKey>,
-) -> Result<(PathBuf, crate::firmware::size::ImageSize), String> {
+) -> Result<(PathBuf, crate::image::size::ImageSize), String> {
     let elf = build(board, key)?;
-    let size = crate::firmware::size::of(&elf)?;
+    let size = crate::image::size::of(&elf)?;
     // The RP2040's boot ROM runs the 256 bytes at the start of flash: boot2 must be there.
     if board == Image::Rp2040 && size.boot2 != Some(0x1000_0000) {
         return Err(format!(

@@ -1,6 +1,6 @@
 //! The value tables xtask solves: which limits on which nested grids (`cargo xtask hj`'s
 //! reference near field, and the sets the tables images carry). Kept apart from the solver's
-//! driver (`crate::hj`), whose source stamps the solve cache: a change here names other files
+//! driver ([`super::solve`]), whose source stamps the solve cache: a change here names other files
 //! in the cache and solves only what it changes.
 
 use hji::Grid;
