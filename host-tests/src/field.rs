@@ -162,6 +162,144 @@ fn lagged(w: f64, target: f64, tau: f64, h: f64) -> (f64, f64) {
     (mean, target + (w - target) * decay)
 }
 
+/// Our pursuer in the field: the flight policy (f32, told the capture radius), hearing of the
+/// target through its [`Receiver`].
+struct FieldPursuer {
+    guidance: Guidance<f32>,
+    estimator: Estimator,
+    limits: Limits<f32>,
+    receiver: Receiver,
+    /// The last fix to arrive, as it came.
+    last_fix: Option<[f64; 3]>,
+}
+
+impl FieldPursuer {
+    /// `None` where the limits or the field's settings are invalid.
+    fn new(params: &SimParams, field: &FieldModel, receiver: Receiver) -> Option<Self> {
+        let limits32 = params.limits.map(|v| v as f32);
+        let [v_pm, w_pm, v_em, w_em] = limits32;
+        let limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).ok()?;
+        // The guidance period is the pursuer's response where longer than dt, as the MAVLink
+        // endpoint's TC_PERIOD sets it: steering to close a bearing within one period of a
+        // vehicle that takes tau to answer over-commands it and flips full turns.
+        let period = params.dt.max(field.yaw_lag) as f32;
+        let guidance = Guidance::new(Law::new(limits, Variant::Paper), period, Policy::Flight)
+            .and_then(|g| g.with_capture_radius(params.eps as f32))
+            .ok()?;
+        let settings = FieldSettings {
+            target_noise: FixNoise {
+                position: field.position_sigma as f32,
+                heading: field.heading_sigma as f32,
+            },
+            own_lead: match receiver {
+                Receiver::Estimator { own_lead } => own_lead as f32,
+                Receiver::Raw => 0.0,
+            },
+            target_lag: field.lag as f32,
+            ..FieldSettings::exact(1.0e3)
+        };
+        let estimator = Estimator::new(limits32, settings).ok()?;
+        Some(FieldPursuer {
+            guidance,
+            estimator,
+            limits,
+            receiver,
+            last_fix: None,
+        })
+    }
+
+    /// Hears the fixes that arrived by `t0` and its own state `p`; its curvature command, 0
+    /// where it has nothing to steer by.
+    fn command(&mut self, t0: f64, p: [f64; 3], arrived: impl Iterator<Item = Pending>) -> f64 {
+        let now = micros(t0);
+        for fix in arrived {
+            self.last_fix = Some(fix.state);
+            let narrow = fix.state.map(|v| v as f32);
+            let _ = self
+                .estimator
+                .target_fix_received(narrow, micros(fix.arrival));
+        }
+        let _ = self.estimator.own_fix(&twocars::estimate::Fix {
+            state: p.map(|v| v as f32),
+            time_us: now,
+        });
+        let seen = match self.receiver {
+            Receiver::Raw => self.last_fix.and_then(|target| {
+                // The law's frame centred on the pursuer, formed as for the estimates below.
+                let (own, target) = (p.map(|v| v as f32), target.map(|v| v as f32));
+                let local = |s: [f32; 3]| [s[0] - own[0], s[1] - own[1], s[2]];
+                let (ps, es) = self.limits.states(local(own), local(target)).ok()?;
+                Some(self.guidance.decide(&ps, &es))
+            }),
+            Receiver::Estimator { .. } => self.estimator.states(now).ok().and_then(|mut est| {
+                // The law's frame centred on the pursuer, as `sim::closed_loop` gives it.
+                let origin = [est.own[0], est.own[1]];
+                est.own = [0.0, 0.0, est.own[2]];
+                est.target = [
+                    est.target[0] - origin[0],
+                    est.target[1] - origin[1],
+                    est.target[2],
+                ];
+                self.guidance.decide_estimated(&est).ok()
+            }),
+        };
+        seen.map_or(0.0, |d| f64::from(d.command.pursuer))
+    }
+}
+
+/// One control period of `dt` from `t0`: the pursuer at `v_pm`, its curvature lagging toward
+/// `command` with time constant `yaw_lag`; the evader holding (`v_e`, `w_e`); capture at `eps`.
+struct Period {
+    t0: f64,
+    dt: f64,
+    command: f64,
+    v_pm: f64,
+    yaw_lag: f64,
+    evader: (f64, f64),
+    eps: f64,
+}
+
+impl Period {
+    /// Moves the pursuer `p` (curvature `w_actual`) and the evader `e` over the period in
+    /// [`SUBSTEPS`]; the capture time where the gap closes to `eps` within it (the states then
+    /// left at the sub-step's start).
+    fn fly(
+        &self,
+        p: &mut [f64; 3],
+        w_actual: &mut f64,
+        e: &mut [f64; 3],
+        d_min: &mut f64,
+    ) -> Option<f64> {
+        let (v_e, w_e) = self.evader;
+        let (v_pm, yaw_lag, eps) = (self.v_pm, self.yaw_lag, self.eps);
+        let h = self.dt / SUBSTEPS as f64;
+        for i in 0..SUBSTEPS {
+            let (w_p, w_end) = lagged(*w_actual, self.command, yaw_lag, h);
+            let offset = i as f64 * h;
+            let start = *p;
+            let at = |tau: f64| {
+                (
+                    advance(start, v_pm, w_p, tau),
+                    advance(advance(*e, v_e, w_e, offset), v_e, w_e, tau),
+                )
+            };
+            let gap = |tau: f64| {
+                let (a, b) = at(tau);
+                distance(a, b)
+            };
+            if let Some(tau) = capture_within(h, eps, gap, d_min) {
+                return Some(self.t0 + offset + tau);
+            }
+            *p = at(h).0;
+            *w_actual = w_end;
+        }
+        p[2] = wrap_pi(p[2]);
+        *e = advance(*e, v_e, w_e, self.dt);
+        e[2] = wrap_pi(e[2]);
+        None
+    }
+}
+
 /// One chase of our pursuer (flight policy, f32, told the capture radius) against `evader`
 /// (seeded by `evader_seed`) in `field`, hearing of it through `receiver`. `sign_flips`
 /// counts the pursuer's alone.
@@ -172,21 +310,8 @@ pub fn chase(
     field: &FieldModel,
     receiver: Receiver,
 ) -> SimResult {
-    let idle = SimResult::empty(
-        SimStatus::InvalidSimParams,
-        distance(params.pursuer, params.evader),
-    );
-    let limits32 = params.limits.map(|v| v as f32);
-    let [v_pm, w_pm, v_em, w_em] = limits32;
-    let Ok(limits) = Limits::<f32>::new(v_pm, w_pm, v_em, w_em) else {
-        return idle;
-    };
-    // The guidance period is the pursuer's response where longer than dt, as the MAVLink
-    // endpoint's TC_PERIOD sets it: steering to close a bearing within one period of a vehicle
-    // that takes tau to answer over-commands it and flips full turns.
-    let period = params.dt.max(field.yaw_lag) as f32;
-    let guidance = Guidance::new(Law::new(limits, Variant::Paper), period, Policy::Flight)
-        .and_then(|g| g.with_capture_radius(params.eps as f32));
+    let (p, e) = (params.pursuer, params.evader);
+    let pursuer = FieldPursuer::new(params, field, receiver);
     let adversary = Adversary::new(
         Opponent::Evader(evader),
         params.limits,
@@ -194,99 +319,42 @@ pub fn chase(
         params.eps,
         evader_seed,
     );
-    let (Ok(mut guidance), Some(mut adversary), true) = (guidance, adversary, valid_params(params))
+    let (Some(mut pursuer), Some(mut adversary), true) = (pursuer, adversary, valid_params(params))
     else {
-        return idle;
-    };
-    let settings = FieldSettings {
-        target_noise: FixNoise {
-            position: field.position_sigma as f32,
-            heading: field.heading_sigma as f32,
-        },
-        own_lead: match receiver {
-            Receiver::Estimator { own_lead } => own_lead as f32,
-            Receiver::Raw => 0.0,
-        },
-        target_lag: field.lag as f32,
-        ..FieldSettings::exact(1.0e3)
-    };
-    let Ok(mut estimator) = Estimator::new(limits32, settings) else {
-        return idle;
+        return SimResult::empty(SimStatus::InvalidSimParams, distance(p, e));
     };
     let [v_pm, w_pm, _, _] = params.limits;
     let (dt, eps) = (params.dt, params.eps);
-    let (mut p, mut e) = (params.pursuer, params.evader);
+    let (mut p, mut e) = (p, e);
     let mut result = SimResult::empty(SimStatus::Timeout, distance(p, e));
     let mut fixes = Fixes::new(*field);
-    let mut last_fix: Option<[f64; 3]> = None;
     let (mut w_actual, mut last_sign) = (0.0_f64, 0.0_f64);
     let steps = (params.t_max / dt).ceil() as u64;
-    let h = dt / SUBSTEPS as f64;
     for k in 0..steps {
         let t0 = k as f64 * dt;
         let (w_e, v_e) = adversary.command(t0, p, e);
         fixes.sample(t0, dt, e, v_e, w_e);
-        let now = micros(t0);
-        for fix in fixes.arrived(t0) {
-            last_fix = Some(fix.state);
-            let narrow = fix.state.map(|v| v as f32);
-            let _ = estimator.target_fix_received(narrow, micros(fix.arrival));
-        }
-        let _ = estimator.own_fix(&twocars::estimate::Fix {
-            state: p.map(|v| v as f32),
-            time_us: now,
-        });
-        let seen = match receiver {
-            Receiver::Raw => last_fix.and_then(|target| {
-                // The law's frame centred on the pursuer, formed as for the estimates below.
-                let (own, target) = (p.map(|v| v as f32), target.map(|v| v as f32));
-                let local = |s: [f32; 3]| [s[0] - own[0], s[1] - own[1], s[2]];
-                let (ps, es) = limits.states(local(own), local(target)).ok()?;
-                Some(guidance.decide(&ps, &es))
-            }),
-            Receiver::Estimator { .. } => estimator.states(now).ok().and_then(|mut est| {
-                // The law's frame centred on the pursuer, as `sim::closed_loop` gives it.
-                let origin = [est.own[0], est.own[1]];
-                est.own = [0.0, 0.0, est.own[2]];
-                est.target = [
-                    est.target[0] - origin[0],
-                    est.target[1] - origin[1],
-                    est.target[2],
-                ];
-                guidance.decide_estimated(&est).ok()
-            }),
-        };
-        let command = seen.map_or(0.0, |d| f64::from(d.command.pursuer));
+        let command = pursuer.command(t0, p, fixes.arrived(t0));
         if command.abs() > 1e-6 * w_pm {
             if last_sign != 0.0 && last_sign != command.signum() {
                 result.sign_flips += 1;
             }
             last_sign = command.signum();
         }
-        for i in 0..SUBSTEPS {
-            let (w_p, w_end) = lagged(w_actual, command, field.yaw_lag, h);
-            let offset = i as f64 * h;
-            let at = |tau: f64| {
-                (
-                    advance(p, v_pm, w_p, tau),
-                    advance(advance(e, v_e, w_e, offset), v_e, w_e, tau),
-                )
-            };
-            let gap = |tau: f64| {
-                let (a, b) = at(tau);
-                distance(a, b)
-            };
-            if let Some(tau) = capture_within(h, eps, gap, &mut result.d_min) {
-                result.status = SimStatus::Captured;
-                result.t_capture = t0 + offset + tau;
-                return result;
-            }
-            p = at(h).0;
-            w_actual = w_end;
+        let period = Period {
+            t0,
+            dt,
+            command,
+            v_pm,
+            yaw_lag: field.yaw_lag,
+            evader: (v_e, w_e),
+            eps,
+        };
+        if let Some(t) = period.fly(&mut p, &mut w_actual, &mut e, &mut result.d_min) {
+            result.status = SimStatus::Captured;
+            result.t_capture = t;
+            return result;
         }
-        p[2] = wrap_pi(p[2]);
-        e = advance(e, v_e, w_e, dt);
-        e[2] = wrap_pi(e[2]);
     }
     result
 }

@@ -186,10 +186,50 @@ pub fn python_venv() -> Result<(), String> {
         return Ok(());
     }
     Err(
-        "python3 with venv is needed for pymavlink: run `sudo apt-get install python3-venv` \
+        "python3 with venv is needed for pymavlink and the HJI peer: run `sudo apt-get install python3-venv` \
          (or your system's Python 3 with venv), then the command again"
             .to_string(),
     )
+}
+
+/// The Python of the virtual environment `target/NAME`, created on first use with
+/// `requirements` installed (pinned, from the Python package index); `probe` is the import that
+/// tells it is ready.
+pub fn venv(name: &str, requirements: &[&str], probe: &str) -> Result<PathBuf, String> {
+    let venv = crate::workspace::target_dir().join(name);
+    let python = venv.join("bin/python");
+    let ready = |p: &PathBuf| {
+        Command::new(p)
+            .args(["-c", probe])
+            .stderr(std::process::Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    if ready(&python) {
+        return Ok(python);
+    }
+    python_venv()?;
+    let wanted = requirements.join(" ");
+    eprintln!("xtask: installing {wanted} into target/{name} (first use)");
+    let created = Command::new("python3")
+        .args(["-m", "venv"])
+        .arg(&venv)
+        .status()
+        .is_ok_and(|s| s.success());
+    let installed = created
+        && Command::new(&python)
+            .args(["-m", "pip", "install", "--quiet"])
+            .args(requirements)
+            .status()
+            .is_ok_and(|s| s.success());
+    if installed && ready(&python) {
+        Ok(python)
+    } else {
+        Err(format!(
+            "could not install {wanted} into {} (is the Python package index reachable?)",
+            venv.display()
+        ))
+    }
 }
 
 /// Node.js and npm (rp2040js, the RP2040's emulator): installed with apt-get where this runs as

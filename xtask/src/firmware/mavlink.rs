@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
 use host_tests::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
-use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
+use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use host_tests::sim::{advance, closed_loop, wrap_pi, SimParams, SimStatus, StepCommand};
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
@@ -37,38 +37,7 @@ const REFERENCE: [f64; 4] = [5.6575, 6.6072, 5.1265, 5.9778];
 
 /// The virtual environment's Python with pymavlink, created on first use.
 pub fn python() -> Result<PathBuf, String> {
-    let venv = crate::workspace::target_dir().join("mavlink-venv");
-    let python = venv.join("bin/python");
-    let has_pymavlink = |p: &PathBuf| {
-        Command::new(p)
-            .args(["-c", "import pymavlink"])
-            .stderr(Stdio::null())
-            .status()
-            .is_ok_and(|s| s.success())
-    };
-    if has_pymavlink(&python) {
-        return Ok(python);
-    }
-    crate::setup::python_venv()?;
-    eprintln!("xtask: installing {PYMAVLINK} into target/mavlink-venv (first use)");
-    let created = Command::new("python3")
-        .args(["-m", "venv"])
-        .arg(&venv)
-        .status()
-        .is_ok_and(|s| s.success());
-    let installed = created
-        && Command::new(&python)
-            .args(["-m", "pip", "install", "--quiet", PYMAVLINK])
-            .status()
-            .is_ok_and(|s| s.success());
-    if installed && has_pymavlink(&python) {
-        Ok(python)
-    } else {
-        Err(format!(
-            "could not install {PYMAVLINK} into {} (is the Python package index reachable?)",
-            venv.display()
-        ))
-    }
+    crate::setup::venv("mavlink-venv", &[PYMAVLINK], "import pymavlink")
 }
 
 fn peer_script() -> PathBuf {
@@ -283,7 +252,6 @@ fn signature_refusals(peer: &mut Peer) -> Result<bool, String> {
 /// The closed loop of `run --link mavlink` on `board`'s image, signed with `key` where given:
 /// whether every capture was on time.
 pub fn run_cases(board: Image, key: Option<&SigningKey>) -> Result<bool, String> {
-    let scaled = scaled_limits();
     let (elf, size) = image::build_checked(board, key)?;
     println!(
         "{}: {} B flash; pymavlink plays the autopilot (system 1) and the target (system 2)",
@@ -292,86 +260,12 @@ pub fn run_cases(board: Image, key: Option<&SigningKey>) -> Result<bool, String>
     );
     let launched = emulator::launch(&elf, board, false)?;
     let mut peer = Peer::start(launched.port, key)?;
-    let heartbeat = peer.ask(r#"{"op": "heartbeat"}"#)?;
-    println!("unit's heartbeat: {heartbeat}");
-    let mut ok = heartbeat.contains("\"component\": 191") && heartbeat.contains("\"type\": 18");
-    // The fallback clock's STATUSTEXT comes with the first heartbeat, where the board runs on it.
-    let fallback =
-        board.status_in_emulator() & twocars::protocol::message::BOARD_FALLBACK_CLOCK != 0;
-    ok &= heartbeat.contains(twocars::mavlink::FALLBACK_CLOCK_TEXT) == fallback;
-    // An image built without a key says so with its first heartbeat.
-    ok &= heartbeat.contains(twocars::mavlink::UNSIGNED_TEXT) == key.is_none();
-    ok &= set_scaled_limits(&mut peer)?;
-    // Every parameter listed: the list is paced to the transmit queue's room.
-    let list = peer.ask(r#"{"op": "list"}"#)?;
-    println!("PARAM_REQUEST_LIST: {list}");
-    ok &= list.matches(r#"["TC_"#).count() == twocars::mavlink::SPECS.len();
-    if key.is_some() {
-        ok &= signature_refusals(&mut peer)?;
-    }
-    let [v_pm, w_pm, v_em, w_em] = scaled;
+    let mut ok = greet(&mut peer, board, key)?;
+    let [v_pm, w_pm, v_em, w_em] = scaled_limits();
     let law_limits = Limits::<f32>::new(v_pm, w_pm, v_em, w_em).map_err(|e| e.to_string())?;
-    let plane = Plane::new(HOME);
     let mut clock_ms = 0_u32;
     for (case, reference) in paper_cases().into_iter().zip(REFERENCE) {
-        let params = scaled_case(&case, 30.0, EPS);
-        // The evader plays the paper's law on the exact states.
-        let mut evader_law = Guidance::new(
-            Law::new(law_limits, Variant::Paper),
-            DT as f32,
-            twocars::Policy::Paper,
-        )
-        .map_err(|_| "invalid dt".to_string())?
-        .with_policy(Policy::Paper);
-        let mut pursuer = params.pursuer;
-        let mut first_tc_t = None;
-        let mut setpoints = 0_u64;
-        let result = closed_loop(&params, false, |_, local_p, local_e| {
-            // closed_loop gives the states about the pursuer; the autopilot reports fixes.
-            let evader = [pursuer[0] + local_e[0], pursuer[1] + local_e[1], local_e[2]];
-            let request = format!(
-                r#"{{"op": "step", "own": {}, "target": {}}}"#,
-                report(&plane, clock_ms, pursuer, params.limits[0]),
-                report(&plane, clock_ms, evader, params.limits[2]),
-            );
-            clock_ms += (DT * 1000.0) as u32;
-            let answer = peer.ask(&request)?;
-            let rate = field(&answer, "yaw_rate")
-                .ok_or_else(|| format!("no setpoint for the own state: {answer}"))?;
-            setpoints += 1;
-            if first_tc_t.is_none() {
-                first_tc_t = field(&answer, "tc_t");
-            }
-            let evader_w = match evader_law
-                .law()
-                .limits
-                .states(local_p.map(|v| v as f32), local_e.map(|v| v as f32))
-            {
-                Ok((p, e)) => f64::from(evader_law.step(&p, &e).command.evader),
-                Err(_) => 0.0,
-            };
-            let pursuer_w = rate / params.limits[0];
-            // The same step closed_loop takes: the pursuer's absolute state for the next fix.
-            let next = advance(pursuer, params.limits[0], pursuer_w, DT);
-            pursuer = [next[0], next[1], wrap_pi(next[2])];
-            Ok::<_, String>(StepCommand::full_speed(pursuer_w, evader_w, None))
-        })?;
-        let closing = result.point_capture(params.limits, EPS);
-        let late = (closing - reference) / DT;
-        let on_time = result.status == SimStatus::Captured && late.abs() <= ON_TIME_PERIODS;
-        ok &= on_time;
-        println!(
-            "{}: firmware over MAVLink: {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); \
-             reference {reference:.4} s: {:+.2} control periods ({}); first TC_T {:.4} s (upper value {:.4} s); {setpoints} setpoints",
-            case.name,
-            result.status.name(),
-            result.t_capture,
-            closing,
-            late,
-            if on_time { "within 5" } else { "NOT WITHIN 5" },
-            first_tc_t.unwrap_or(f64::NAN),
-            case.expected_value,
-        );
+        ok &= fly_case(&mut peer, &case, reference, law_limits, &mut clock_ms)?;
         // The next case starts fresh: both states go stale (TC_TIMEOUT 1 s), which the unit
         // announces and which resets its guidance.
         peer.ask(r#"{"op": "quiet", "seconds": 1.2}"#)?;
@@ -380,4 +274,96 @@ pub fn run_cases(board: Image, key: Option<&SigningKey>) -> Result<bool, String>
     drop(peer);
     drop(launched);
     Ok(ok)
+}
+
+/// The unit's first words: its heartbeat (the fallback clock's and an unsigned image's
+/// STATUSTEXT with it where they apply), the scaled limits set, every parameter listed, and
+/// where signed the refusals of bad signatures; whether all were as expected.
+fn greet(peer: &mut Peer, board: Image, key: Option<&SigningKey>) -> Result<bool, String> {
+    let heartbeat = peer.ask(r#"{"op": "heartbeat"}"#)?;
+    println!("unit's heartbeat: {heartbeat}");
+    let mut ok = heartbeat.contains("\"component\": 191") && heartbeat.contains("\"type\": 18");
+    let fallback =
+        board.status_in_emulator() & twocars::protocol::message::BOARD_FALLBACK_CLOCK != 0;
+    ok &= heartbeat.contains(twocars::mavlink::FALLBACK_CLOCK_TEXT) == fallback;
+    ok &= heartbeat.contains(twocars::mavlink::UNSIGNED_TEXT) == key.is_none();
+    ok &= set_scaled_limits(peer)?;
+    // Every parameter listed: the list is paced to the transmit queue's room.
+    let list = peer.ask(r#"{"op": "list"}"#)?;
+    println!("PARAM_REQUEST_LIST: {list}");
+    ok &= list.matches(r#"["TC_"#).count() == twocars::mavlink::SPECS.len();
+    if key.is_some() {
+        ok &= signature_refusals(peer)?;
+    }
+    Ok(ok)
+}
+
+/// One paper case through the unit: pymavlink reports both fixes each period, the unit's yaw
+/// rate steers the pursuer, the evader plays the paper's law on the exact states; whether the
+/// capture came within [`ON_TIME_PERIODS`] of `reference`.
+fn fly_case(
+    peer: &mut Peer,
+    case: &Case,
+    reference: f64,
+    law_limits: Limits<f32>,
+    clock_ms: &mut u32,
+) -> Result<bool, String> {
+    let plane = Plane::new(HOME);
+    let params = scaled_case(case, 30.0, EPS);
+    let mut evader_law = Guidance::new(
+        Law::new(law_limits, Variant::Paper),
+        DT as f32,
+        twocars::Policy::Paper,
+    )
+    .map_err(|_| "invalid dt".to_string())?
+    .with_policy(Policy::Paper);
+    let mut pursuer = params.pursuer;
+    let mut first_tc_t = None;
+    let mut setpoints = 0_u64;
+    let result = closed_loop(&params, false, |_, local_p, local_e| {
+        // closed_loop gives the states about the pursuer; the autopilot reports fixes.
+        let evader = [pursuer[0] + local_e[0], pursuer[1] + local_e[1], local_e[2]];
+        let request = format!(
+            r#"{{"op": "step", "own": {}, "target": {}}}"#,
+            report(&plane, *clock_ms, pursuer, params.limits[0]),
+            report(&plane, *clock_ms, evader, params.limits[2]),
+        );
+        *clock_ms += (DT * 1000.0) as u32;
+        let answer = peer.ask(&request)?;
+        let rate = field(&answer, "yaw_rate")
+            .ok_or_else(|| format!("no setpoint for the own state: {answer}"))?;
+        setpoints += 1;
+        if first_tc_t.is_none() {
+            first_tc_t = field(&answer, "tc_t");
+        }
+        let evader_w = match evader_law
+            .law()
+            .limits
+            .states(local_p.map(|v| v as f32), local_e.map(|v| v as f32))
+        {
+            Ok((p, e)) => f64::from(evader_law.step(&p, &e).command.evader),
+            Err(_) => 0.0,
+        };
+        let pursuer_w = rate / params.limits[0];
+        // The same step closed_loop takes: the pursuer's absolute state for the next fix.
+        let next = advance(pursuer, params.limits[0], pursuer_w, DT);
+        pursuer = [next[0], next[1], wrap_pi(next[2])];
+        Ok::<_, String>(StepCommand::full_speed(pursuer_w, evader_w, None))
+    })?;
+    let closing = result.point_capture(params.limits, EPS);
+    let late = (closing - reference) / DT;
+    let on_time = result.status == SimStatus::Captured && late.abs() <= ON_TIME_PERIODS;
+    println!(
+        "{}: firmware over MAVLink: {}, captured to {EPS} m at {:.4} s (+ eps / (v_pm - v_em) = {:.4} s); \
+         reference {reference:.4} s: {:+.2} control periods ({}); first TC_T {:.4} s (upper value {:.4} s); {setpoints} setpoints",
+        case.name,
+        result.status.name(),
+        result.t_capture,
+        closing,
+        late,
+        if on_time { "within 5" } else { "NOT WITHIN 5" },
+        first_tc_t.unwrap_or(f64::NAN),
+        case.expected_value,
+    );
+    Ok(on_time)
 }

@@ -10,7 +10,9 @@
 //! ([`crate::tables::sets::NEAR_FIELD_LEVELS`]) whatever `--levels` the pursuer plays: a coarser table's V
 //! is off by its grid's error, and would judge its own captures by it. Below the table, each
 //! run past 10 % is listed beside the earliest capture of its evader by the open-loop plans of
-//! `--probe` ([`crate::hj::probe::best_plan`]).
+//! `--probe` ([`crate::hj::probe::best_plan`]). `cargo xtask report` judges the same policies
+//! by the paper's upper value instead, over both sides of the threshold
+//! ([`crate::host::report`]).
 
 use hji::policy::{evader_curvature, pursuer_curvature, relative};
 use hji::{table_set_bytes, Solution};

@@ -1,6 +1,11 @@
 //! `cargo xtask report`: closed-loop Monte Carlo over seeded random initial states, both
 //! policies, split at the theorem's threshold, against the adversary suite's evaders (our
-//! pursuer) or pursuers (our evader), run in parallel over the cores.
+//! pursuer) or pursuers (our evader), run in parallel over the cores. Each run is judged by
+//! the paper's values at t = 0 (the upper value for our pursuer, the lower for our evader), in
+//! seconds, on random limits as well as the paper's. `cargo xtask hj --play` is the other
+//! reporter: below the threshold only, at fixed limits, judged by the HJI value V(x0) in per
+//! cent; both draw their starts with [`random_state`] and their quantiles with
+//! `host_tests::stats`.
 
 use host_tests::adversary::{EvaderKind, Opponent, PursuerKind};
 use host_tests::rng::Rng;
@@ -409,6 +414,24 @@ pub fn command(args: &ReportArgs) -> i32 {
         "# Closed-loop Monte Carlo: {} seeded states per table row pair (seed {}), dt = {} s, eps = {EPS} m\n",
         o.runs, o.seed, o.dt
     );
+    let sets = (o.evaders.len() + o.pursuers.len()) * o.limits.len();
+    let progress = Progress::new((sets * o.runs) as u64, "closed-loop runs, 2 policies each");
+    let mut total = against_evaders(&o, &progress);
+    if !o.pursuers.is_empty() {
+        total += against_pursuers(&o, &progress);
+    }
+    progress.finish();
+    println!(
+        "\n({total} states x 2 policies in {:.1} s on {} threads)",
+        started.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    );
+    0
+}
+
+/// The report's section on our pursuer against each evader and limit set, and its worst runs;
+/// the number of runs.
+fn against_evaders(o: &ReportOptions, progress: &Progress) -> usize {
     println!(
         "Late: capture + eps / (v_pm - v_em) more than {TOLERANCE_PERIODS} dt after the upper value at t = 0 \
          (the pursuer's guarantee), or never. Lateness = that time minus the upper value, over captured runs.\n"
@@ -418,20 +441,12 @@ pub fn command(args: &ReportArgs) -> i32 {
     println!("|---|---|---|---|---|---|---|---|---|---|");
     let mut worst = Vec::new();
     let mut total = 0;
-    let sets = (o.evaders.len() + o.pursuers.len()) * o.limits.len();
-    let progress = Progress::new((sets * o.runs) as u64, "closed-loop runs, 2 policies each");
     for &evader in &o.evaders {
         for &limit_set in &o.limits {
             let name = evader.map_or("law (both players)", EvaderKind::name);
             progress.step(&format!("evader {name}, {} limits", limit_set.name()));
-            let runs = monte_carlo(
-                o.runs,
-                o.seed,
-                o.dt,
-                limit_set,
-                evader.map(Opponent::Evader),
-                Some(&progress),
-            );
+            let opponent = evader.map(Opponent::Evader);
+            let runs = monte_carlo(o.runs, o.seed, o.dt, limit_set, opponent, Some(progress));
             total += runs.len();
             print_evader(name, limit_set, &runs, &mut worst);
         }
@@ -443,38 +458,30 @@ pub fn command(args: &ReportArgs) -> i32 {
     for line in &worst {
         println!("{line}");
     }
-    if !o.pursuers.is_empty() {
-        println!("\n## Our evader against the pursuers\n");
-        println!("Early: capture + eps / (v_pm - v_em) more than {TOLERANCE_PERIODS} dt before the lower value at t = 0 (the evader's guarantee).\n");
-        println!("| pursuer | limits | regime | our policy | runs | captured | early | least margin over lower (s) |");
-        println!("|---|---|---|---|---|---|---|---|");
-        for &pursuer in &o.pursuers {
-            for &limit_set in &o.limits {
-                progress.step(&format!(
-                    "pursuer {}, {} limits",
-                    pursuer.name(),
-                    limit_set.name()
-                ));
-                let runs = monte_carlo(
-                    o.runs,
-                    o.seed,
-                    o.dt,
-                    limit_set,
-                    Some(Opponent::Pursuer(pursuer)),
-                    Some(&progress),
-                );
-                total += runs.len();
-                print_pursuer(pursuer.name(), limit_set, &runs);
-            }
+    total
+}
+
+/// The report's section on our evader against each pursuer and limit set; the number of runs.
+fn against_pursuers(o: &ReportOptions, progress: &Progress) -> usize {
+    println!("\n## Our evader against the pursuers\n");
+    println!("Early: capture + eps / (v_pm - v_em) more than {TOLERANCE_PERIODS} dt before the lower value at t = 0 (the evader's guarantee).\n");
+    println!("| pursuer | limits | regime | our policy | runs | captured | early | least margin over lower (s) |");
+    println!("|---|---|---|---|---|---|---|---|");
+    let mut total = 0;
+    for &pursuer in &o.pursuers {
+        for &limit_set in &o.limits {
+            progress.step(&format!(
+                "pursuer {}, {} limits",
+                pursuer.name(),
+                limit_set.name()
+            ));
+            let opponent = Some(Opponent::Pursuer(pursuer));
+            let runs = monte_carlo(o.runs, o.seed, o.dt, limit_set, opponent, Some(progress));
+            total += runs.len();
+            print_pursuer(pursuer.name(), limit_set, &runs);
         }
     }
-    progress.finish();
-    println!(
-        "\n({total} states x 2 policies in {:.1} s on {} threads)",
-        started.elapsed().as_secs_f64(),
-        rayon::current_num_threads()
-    );
-    0
+    total
 }
 
 #[cfg(test)]

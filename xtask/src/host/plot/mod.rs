@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
 use host_tests::sim::{simulate, SimParams, SimStatus};
-use twocars::{Direction, Law, Policy, TurningCircle, Variant};
+use twocars::{Direction, Law, Policy, TurningCircle, ValidTangent, Variant};
 
 use figure::{metres, ramp, Figure};
 use paper::{observation, paper_report, state};
@@ -42,31 +42,11 @@ fn paper_case(
     let (p, e) = (state(pursuer), state(evader));
     let evaluation = Law::new(scene.limits, Variant::Paper).evaluate(&p, &e);
     let report = evaluation.report.ok_or("no game at t = 0")?;
-    let circles = [
+    let circles: Circles = [
         (TurningCircle::both(&p, &scene.limits.pursuer), PURSUER),
         (TurningCircle::both(&e, &scene.limits.evader), EVADER),
     ];
-    // A square view holding both tracks and all four circles.
-    let mut points: Vec<(f64, f64)> = run
-        .trajectory
-        .iter()
-        .flat_map(|(_, p, e)| [(p[0], p[1]), (e[0], e[1])])
-        .collect();
-    for (pair, _) in circles {
-        for c in pair {
-            let o = c.centre();
-            points.extend([
-                (o.x - c.radius, o.y - c.radius),
-                (o.x + c.radius, o.y + c.radius),
-            ]);
-        }
-    }
-    let (x0, x1, y0, y1) = points.iter().fold(
-        (f64::MAX, f64::MIN, f64::MAX, f64::MIN),
-        |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y)),
-    );
-    let half = 0.5 * (x1 - x0).max(y1 - y0) + 1.0;
-    let mut fig = Figure::equal(640.0, (0.5 * (x0 + x1), 0.5 * (y0 + y1)), half);
+    let mut fig = square_view(&run.trajectory, &circles);
     for (pair, colour) in circles {
         for c in pair {
             let o = c.centre();
@@ -83,14 +63,7 @@ fn paper_case(
     fig.polyline(&track(1), EVADER, 1.8, "none");
     let (row, col) = (report.solution.row, report.solution.col);
     if let Some(chosen) = report.chosen_pair() {
-        let (sin, cos) = chosen.tangent.heading.sin_cos();
-        let pick = |pair: [TurningCircle<f64>; 2], d: Direction| match d {
-            Direction::Anticlockwise => pair[0],
-            Direction::Clockwise => pair[1],
-        };
-        let a = pick(circles[0].0, row).point_with_heading(sin, cos);
-        let b = pick(circles[1].0, col).point_with_heading(sin, cos);
-        fig.polyline(&[(a.x, a.y), (b.x, b.y)], "#2a9d3a", 2.0, "6 4");
+        draw_tangent(&mut fig, &chosen.tangent, (row, col), &circles);
     }
     fig.dot(pursuer[0], pursuer[1], 4.0, PURSUER);
     fig.dot(evader[0], evader[1], 4.0, EVADER);
@@ -116,6 +89,49 @@ fn paper_case(
     let path = dir.join(format!("{name}.svg"));
     fig.save(&path).map_err(|e| e.to_string())?;
     Ok(path)
+}
+
+/// The turning circles of both vehicles at t = 0 with their colours.
+type Circles = [([TurningCircle<f64>; 2], &'static str); 2];
+
+/// A square figure holding both tracks of `trajectory` and all four `circles`.
+fn square_view(trajectory: &[(f64, [f64; 3], [f64; 3])], circles: &Circles) -> Figure {
+    let mut points: Vec<(f64, f64)> = trajectory
+        .iter()
+        .flat_map(|(_, p, e)| [(p[0], p[1]), (e[0], e[1])])
+        .collect();
+    for (pair, _) in circles {
+        for c in pair {
+            let o = c.centre();
+            points.extend([
+                (o.x - c.radius, o.y - c.radius),
+                (o.x + c.radius, o.y + c.radius),
+            ]);
+        }
+    }
+    let (x0, x1, y0, y1) = points.iter().fold(
+        (f64::MAX, f64::MIN, f64::MAX, f64::MIN),
+        |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y)),
+    );
+    let half = 0.5 * (x1 - x0).max(y1 - y0) + 1.0;
+    Figure::equal(640.0, (0.5 * (x0 + x1), 0.5 * (y0 + y1)), half)
+}
+
+/// The chosen tangent, from the pursuer's circle of `row` to the evader's of `col`.
+fn draw_tangent(
+    fig: &mut Figure,
+    tangent: &ValidTangent<f64>,
+    (row, col): (Direction, Direction),
+    circles: &Circles,
+) {
+    let (sin, cos) = tangent.heading.sin_cos();
+    let pick = |pair: [TurningCircle<f64>; 2], d: Direction| match d {
+        Direction::Anticlockwise => pair[0],
+        Direction::Clockwise => pair[1],
+    };
+    let a = pick(circles[0].0, row).point_with_heading(sin, cos);
+    let b = pick(circles[1].0, col).point_with_heading(sin, cos);
+    fig.polyline(&[(a.x, a.y), (b.x, b.y)], "#2a9d3a", 2.0, "6 4");
 }
 
 /// The upper value and the chosen pair over a grid of evader positions (pursuer at the origin
