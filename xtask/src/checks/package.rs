@@ -3,6 +3,7 @@
 //! features on the oldest Rust the manifest claims (`rust-version`). `cargo xtask test` runs
 //! all three.
 
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use crate::workspace::root;
@@ -170,61 +171,19 @@ const EXAMPLES: [(&str, &str, Option<&str>); 5] = [
 pub fn check_package() -> (u64, u64) {
     let dir = crate::workspace::target_dir().join("package-check");
     let _ = std::fs::remove_dir_all(&dir);
-    let packaged = Command::new("cargo")
-        .args(["package", "-p", "twocars", "--no-verify", "--allow-dirty"])
-        .env("CARGO_TARGET_DIR", &dir)
-        .current_dir(root())
-        .status()
-        .is_ok_and(|s| s.success());
-    let crate_file = std::fs::read_dir(dir.join("package"))
-        .ok()
-        .and_then(|entries| {
-            entries
-                .flatten()
-                .map(|e| e.path())
-                .find(|p| p.extension().is_some_and(|e| e == "crate"))
-        });
-    let Some(crate_file) = crate_file.filter(|_| packaged) else {
+    let Some(crate_file) = package(&dir) else {
         eprintln!("package: cargo package made no .crate");
         return (0, 1);
     };
     // Outside the workspace, as a user's copy is: inside it, cargo takes it for a member.
     let unpacked = std::env::temp_dir().join(format!("twocars-package-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&unpacked);
-    let _ = std::fs::create_dir_all(&unpacked);
-    let untarred = Command::new("tar")
-        .arg("xzf")
-        .arg(&crate_file)
-        .arg("-C")
-        .arg(&unpacked)
-        .status()
-        .is_ok_and(|s| s.success());
-    let source = std::fs::read_dir(&unpacked)
-        .ok()
-        .and_then(|mut entries| entries.next())
-        .and_then(Result::ok)
-        .map(|e| e.path());
-    let Some(source) = source.filter(|_| untarred) else {
+    let Some(source) = unpack(&crate_file, &unpacked) else {
         eprintln!("package: could not unpack {}", crate_file.display());
         return (0, 1);
     };
     let (mut passed, mut failed) = (0, 0);
     for (name, features, target) in EXAMPLES {
-        let mut build = Command::new("cargo");
-        build
-            .args(["build", "--release", "--example", name])
-            .env("CARGO_TARGET_DIR", dir.join("build"))
-            .current_dir(&source)
-            .stdout(Stdio::null());
-        if !features.is_empty() {
-            build.args(["--features", features]);
-        }
-        if let Some(target) = target {
-            build
-                .args(["--target", target])
-                .env("RUSTFLAGS", "-C link-arg=-Tlink.x");
-        }
-        if build.status().is_ok_and(|s| s.success()) {
+        if build_example(&source, &dir.join("build"), name, features, target) {
             println!("package: example {name} builds from the published crate ... ok");
             passed += 1;
         } else {
@@ -251,6 +210,64 @@ pub fn check_package() -> (u64, u64) {
     }
     let _ = std::fs::remove_dir_all(&unpacked);
     (passed, failed)
+}
+
+/// `cargo package` of the core into `dir` (not verified: the examples are what this checks);
+/// the .crate made.
+fn package(dir: &Path) -> Option<PathBuf> {
+    let packaged = Command::new("cargo")
+        .args(["package", "-p", "twocars", "--no-verify", "--allow-dirty"])
+        .env("CARGO_TARGET_DIR", dir)
+        .current_dir(root())
+        .status()
+        .is_ok_and(|s| s.success());
+    let mut entries = std::fs::read_dir(dir.join("package")).ok()?;
+    let found = entries.find_map(|e| {
+        let p = e.ok()?.path();
+        p.extension().is_some_and(|e| e == "crate").then_some(p)
+    });
+    found.filter(|_| packaged)
+}
+
+/// The .crate `crate_file` unpacked into `into` (emptied first); its source directory.
+fn unpack(crate_file: &Path, into: &Path) -> Option<PathBuf> {
+    let _ = std::fs::remove_dir_all(into);
+    let _ = std::fs::create_dir_all(into);
+    let untarred = Command::new("tar")
+        .arg("xzf")
+        .arg(crate_file)
+        .arg("-C")
+        .arg(into)
+        .status()
+        .is_ok_and(|s| s.success());
+    let source = std::fs::read_dir(into).ok()?.next()?.ok()?.path();
+    untarred.then_some(source)
+}
+
+/// Whether example `name` builds from `source` with `features`, for `target` with
+/// cortex-m-rt's linker script where given.
+fn build_example(
+    source: &Path,
+    target_dir: &Path,
+    name: &str,
+    features: &str,
+    target: Option<&str>,
+) -> bool {
+    let mut build = Command::new("cargo");
+    build
+        .args(["build", "--release", "--example", name])
+        .env("CARGO_TARGET_DIR", target_dir)
+        .current_dir(source)
+        .stdout(Stdio::null());
+    if !features.is_empty() {
+        build.args(["--features", features]);
+    }
+    if let Some(target) = target {
+        build
+            .args(["--target", target])
+            .env("RUSTFLAGS", "-C link-arg=-Tlink.x");
+    }
+    build.status().is_ok_and(|s| s.success())
 }
 
 #[cfg(test)]

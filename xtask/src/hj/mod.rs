@@ -5,6 +5,7 @@
 //! table (`twocars::value_tables::table`), read back: the tail chase, and where the box reaches the
 //! theorem's threshold, V against the paper's upper value beyond it.
 
+pub mod compare;
 pub mod play;
 pub mod probe;
 pub mod reference;
@@ -70,6 +71,12 @@ pub struct HjArgs {
     /// turns against that evader.
     #[arg(long, value_parser = crate::workspace::numbers::<3>)]
     probe: Option<[f64; 3]>,
+    /// Instead of the validation: solve `--nodes` (and `--headings`) with ours and with
+    /// hj_reachability (installed on first use into target/hj-peer-venv from the Python
+    /// package index) and print both solvers' time, memory, tail chase, agreement where V is
+    /// smooth and the width of V's jumps.
+    #[arg(long)]
+    compare: bool,
     /// Seed of `--play`'s starts.
     #[arg(long, default_value_t = 2019)]
     seed: u64,
@@ -114,21 +121,24 @@ pub(crate) fn level(text: &str) -> Result<Grid, String> {
 /// The tail-chase distances checked, r_p: the evader dead ahead with the pursuer's heading.
 const TAIL_CHASE: [f64; 4] = [1.0, 2.0, 3.0, 4.0];
 
-fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
-    // Headings: about as many per turn as position nodes span 2 pi r_p, at least 24, and even
-    // (0 and pi are nodes: the tail chase lies on one, and the mirror symmetry maps nodes to
-    // nodes).
+/// The grid of `n` nodes per axis over `--half`, with `--headings` or its default: about as
+/// many per turn as position nodes span 2 pi r_p, at least 24, and even (0 and pi are nodes:
+/// the tail chase lies on one, and the mirror symmetry maps nodes to nodes).
+fn grid_of(n: usize, args: &HjArgs) -> Grid {
     let per_turn = (n - 1) as f64 * std::f64::consts::PI / args.half;
-    let grid = Grid {
+    Grid {
         n,
         half: args.half,
         headings: args
             .headings
             .unwrap_or(2 * ((0.5 * per_turn).round().max(12.0) as usize)),
-    };
+    }
+}
+
+fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
     solve_grid(
         game,
-        grid,
+        grid_of(n, args),
         args.tolerance,
         if args.paper_boundary {
             Boundary::Paper
@@ -178,6 +188,15 @@ pub fn command(args: &HjArgs) -> i32 {
     if let Some(path) = &args.table {
         return write_table(game, args, path);
     }
+    if args.compare {
+        return compare::command(game, grid_of(args.nodes, args), args.tolerance);
+    }
+    validate(game, args)
+}
+
+/// The tail chase on three grids (half, three quarters and all of `--nodes`' intervals) against
+/// its exact value, and the observed order of convergence; the exit code.
+fn validate(game: Game, args: &HjArgs) -> i32 {
     println!("| grid | spacing (r_p) | sweeps | residual | solve time (s) | tail chase errors at d = 1, 2, 3, 4 r_p (r_p / v_pm) |");
     println!("|---|---|---|---|---|---|");
     let mut errors = Vec::new();
