@@ -191,6 +191,7 @@ def main():
         p.add_argument(f"--{name}", type=float, required=True)
     p.add_argument("--out-dt", type=float, default=0.05)
     p.add_argument("--ours", required=True)
+    p.add_argument("--peer-out", required=True)
     args = p.parse_args()
     n, k = args.nodes, args.headings
     ours = np.fromfile(args.ours, dtype="<f8").reshape(k, n, n).transpose(2, 1, 0).copy()
@@ -200,6 +201,8 @@ def main():
     peer = solve_peer(args)
     peer_seconds = time.perf_counter() - started
     peer_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    # Beside ours, in its layout (phi slowest, x fastest; inf where not captured), for a look.
+    peer.transpose(2, 1, 0).astype("<f8").tofile(args.peer_out)
 
     axis = np.linspace(-args.half, args.half, n)
     x, y = np.meshgrid(axis, axis, indexing="ij")

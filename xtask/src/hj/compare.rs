@@ -3,7 +3,8 @@
 //! peer runs in `xtask/hj_peer.py` from a virtual environment of pinned versions; it reads our
 //! values from a file and prints both solvers' figures: time and peak memory, the tail chase
 //! against its exact value, the agreement where V is smooth, and the width of V's jumps on rays
-//! across its barriers.
+//! across its barriers. Both solutions stay in `target/hj-compare/` (f64, phi slowest and x
+//! fastest, as `hji` lays them out; the peer's infinite where it does not capture).
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -82,6 +83,8 @@ fn compare(game: Game, grid: Grid, tolerance: f64) -> Result<Compared, String> {
         .args(["--ours-peak-mb", &peak_mb.to_string()])
         .arg("--ours")
         .arg(&file)
+        .arg("--peer-out")
+        .arg(dir.join(format!("peer-{}x{}.f64", grid.n, grid.headings)))
         .env("JAX_PLATFORMS", "cpu")
         .output()
         .map_err(|e| format!("the peer did not start: {e}"))?;
