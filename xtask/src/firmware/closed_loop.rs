@@ -142,19 +142,13 @@ pub fn run_against(
         limits: params.limits.map(|v| f64::from(v as f32)),
         ..*params
     };
-    let mut adversary = match opponent {
-        Some((kind, seed)) => Some(
-            Adversary::new(
-                Opponent::Evader(kind),
-                params.limits,
-                params.dt,
-                params.eps,
-                seed,
-            )
-            .ok_or("no adversary for these limits")?,
-        ),
-        None => None,
-    };
+    let mut adversary = opponent
+        .map(|(kind, seed)| {
+            let evader = Opponent::Evader(kind);
+            Adversary::new(evader, params.limits, params.dt, params.eps, seed)
+                .ok_or("no adversary for these limits")
+        })
+        .transpose()?;
     let [v_pm, _, v_em, _] = params.limits.map(|v| v as f32);
     let result = closed_loop(&params, false, |t, p, e| {
         let state = StateMsg::exact(
@@ -168,16 +162,15 @@ pub fn run_against(
             Ok((ps, es)) => host.step(&ps, &es).command,
             Err(_) => twocars::Command::straight(),
         };
-        let pursuer = if roles & ROLE_PURSUER != 0 {
-            f64::from(rate_p / v_pm)
-        } else {
-            f64::from(host_command.pursuer)
+        let curvature = |role: u8, rate: f32, speed: f32, host: f32| {
+            f64::from(if roles & role != 0 {
+                rate / speed
+            } else {
+                host
+            })
         };
-        let evader = if roles & ROLE_EVADER != 0 {
-            f64::from(rate_e / v_em)
-        } else {
-            f64::from(host_command.evader)
-        };
+        let pursuer = curvature(ROLE_PURSUER, rate_p, v_pm, host_command.pursuer);
+        let evader = curvature(ROLE_EVADER, rate_e, v_em, host_command.evader);
         let mut command = StepCommand::full_speed(pursuer, evader, choice);
         if let Some(adversary) = adversary.as_mut() {
             let (w, v) = adversary.command(t, p, e);

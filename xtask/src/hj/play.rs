@@ -76,17 +76,16 @@ impl Evader {
     }
 }
 
-/// `runs` seeded starts below the threshold of `limits` (those the reference tables capture
-/// from) against `evader`, the pursuer playing `tables`.
-fn play(
+/// `runs` seeded starts below the threshold of `limits` that the reference tables capture
+/// from: each with V(x0) and its adversary's seed. Drawn at the paper's limits and their
+/// distance scaled to the threshold of `limits`: the same seeded starts, in units of the
+/// threshold (and, at the paper's limits, the very same).
+fn near_starts(
     limits: [f64; 4],
     reference: &[Solution],
-    tables: &[Solution],
-    firmware: &'static ValueTables<'static>,
-    evader: Evader,
-    (runs, seed): (usize, u64),
-    tables_play: bool,
-) -> Vec<Play> {
+    runs: usize,
+    seed: u64,
+) -> Vec<(SimParams, f64, u64)> {
     let mut rng = Rng::new(seed);
     let mut starts = Vec::new();
     while starts.len() < runs {
@@ -95,9 +94,6 @@ fn play(
         if regime != Regime::Near {
             continue;
         }
-        // The start drawn at the paper's limits, its distance scaled to the threshold of
-        // `limits`: the same seeded starts, in units of the threshold (and, at the paper's
-        // limits, the very same).
         let scale = theorem_threshold(limits) / theorem_threshold(params.limits);
         let [x, y, theta] = params.evader;
         let params = SimParams {
@@ -109,6 +105,21 @@ fn play(
             starts.push((params, v0, adversary_seed));
         }
     }
+    starts
+}
+
+/// `runs` seeded starts below the threshold of `limits` (those the reference tables capture
+/// from) against `evader`, the pursuer playing `tables`.
+fn play(
+    limits: [f64; 4],
+    reference: &[Solution],
+    tables: &[Solution],
+    firmware: &'static ValueTables<'static>,
+    evader: Evader,
+    (runs, seed): (usize, u64),
+    tables_play: bool,
+) -> Vec<Play> {
+    let starts = near_starts(limits, reference, runs, seed);
     let [_, w_pm, _, w_em] = limits;
     let table_evader = |p, e| evader_curvature(reference, [w_pm, w_em], p, e);
     starts
