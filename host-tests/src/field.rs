@@ -14,7 +14,7 @@ use std::collections::VecDeque;
 use crate::adversary::{Adversary, EvaderKind, Opponent};
 use crate::kinematics::{advance, distance, wrap_pi};
 use crate::rng::Rng;
-use crate::sim::{capture_within, valid_params, SimParams, SimResult, SimStatus};
+use crate::sim::{capture_within, valid_params, SignFlips, SimParams, SimResult, SimStatus};
 use twocars::estimate::{Estimator, FieldSettings, FixNoise};
 use twocars::{Guidance, Law, Limits, Policy, Variant};
 
@@ -328,19 +328,15 @@ pub fn chase(
     let (mut p, mut e) = (p, e);
     let mut result = SimResult::empty(SimStatus::Timeout, distance(p, e));
     let mut fixes = Fixes::new(*field);
-    let (mut w_actual, mut last_sign) = (0.0_f64, 0.0_f64);
+    let (mut w_actual, mut flips) = (0.0_f64, SignFlips::default());
     let steps = (params.t_max / dt).ceil() as u64;
     for k in 0..steps {
         let t0 = k as f64 * dt;
         let (w_e, v_e) = adversary.command(t0, p, e);
         fixes.sample(t0, dt, e, v_e, w_e);
         let command = pursuer.command(t0, p, fixes.arrived(t0));
-        if command.abs() > 1e-6 * w_pm {
-            if last_sign != 0.0 && last_sign != command.signum() {
-                result.sign_flips += 1;
-            }
-            last_sign = command.signum();
-        }
+        flips.record(0, command, w_pm, false);
+        result.sign_flips = flips.count;
         let period = Period {
             t0,
             dt,

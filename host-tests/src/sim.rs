@@ -137,16 +137,20 @@ pub fn theorem_threshold(limits: [f64; 4]) -> f64 {
     twocars::law::geometry::theorem_threshold(1.0 / w_em, v_pm, v_em)
 }
 
-/// Per-player sign-flip counter.
-#[derive(Default)]
-struct SignFlips {
+/// Sign flips of the players' curvature commands (0: the pursuer, 1: the evader): a command
+/// whose sign differs from the last one above 1e-6 of the player's largest curvature.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SignFlips {
     last: [f64; 2],
-    count: u64,
-    near_field: u64,
+    /// Flips of both players.
+    pub count: u64,
+    /// Those recorded as in the near field.
+    pub near_field: u64,
 }
 
 impl SignFlips {
-    fn record(&mut self, player: usize, w: f64, w_max: f64, near_field: bool) {
+    /// Records `player`'s command `w` (1/m) of at most `w_max`.
+    pub fn record(&mut self, player: usize, w: f64, w_max: f64, near_field: bool) {
         let Some(last) = self.last.get_mut(player) else {
             return;
         };

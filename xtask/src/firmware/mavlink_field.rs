@@ -13,7 +13,9 @@ use host_tests::adversary::{Adversary, EvaderKind, Opponent};
 use host_tests::autopilot::{Plane, HOME};
 use host_tests::field::{chase, FieldModel, Fixes, Receiver};
 use host_tests::scenarios::paper_cases;
-use host_tests::sim::{advance, capture_within, distance, wrap_pi, SimParams, SimStatus};
+use host_tests::sim::{
+    advance, capture_within, distance, wrap_pi, SignFlips, SimParams, SimStatus,
+};
 
 use super::emulator;
 use super::mavlink::{
@@ -80,7 +82,7 @@ fn fly(
     .ok_or("the evader's limits")?;
     let mut fixes = Fixes::new(model(limits, seed));
     let (mut p, mut e) = (params.pursuer, params.evader);
-    let (mut flips, mut last_sign) = (0_u64, 0.0_f64);
+    let mut flips = SignFlips::default();
     let start_ms = *clock_ms;
     let on_clock = |t: f64| start_ms.wrapping_add((t * 1000.0).round() as i64 as u32);
     let steps = (params.t_max / DT).ceil() as u64;
@@ -103,12 +105,7 @@ fn fly(
         ))?;
         let rate = field(&answer, "yaw_rate").unwrap_or(0.0);
         let w_p = rate / limits[0];
-        if w_p.abs() > 1e-6 * limits[1] {
-            if last_sign != 0.0 && last_sign != w_p.signum() {
-                flips += 1;
-            }
-            last_sign = w_p.signum();
-        }
+        flips.record(0, w_p, limits[1], false);
         let at = |tau: f64| (advance(p, limits[0], w_p, tau), advance(e, v_e, w_e, tau));
         let gap = |tau: f64| {
             let (a, b) = at(tau);
@@ -120,7 +117,7 @@ fn fly(
             return Ok(Chase {
                 t_capture: t0 + tau,
                 exact: exact.t_capture,
-                flips,
+                flips: flips.count,
             });
         }
         let (np, ne) = at(DT);
@@ -135,7 +132,7 @@ fn fly(
             f64::NAN
         },
         exact: exact.t_capture,
-        flips,
+        flips: flips.count,
     })
 }
 
