@@ -56,6 +56,23 @@ fn model(limits: [f64; 4], seed: u64) -> FieldModel {
     }
 }
 
+/// One period through the unit: the target's fixes that arrived (reports, oldest first) and
+/// the own state's report; the unit's yaw-rate setpoint, rad/s (0 where it sent none). Fixes
+/// that arrive together go all but the last alone, then the last with the own state.
+fn step(peer: &mut Peer, targets: Vec<String>, own: &str) -> Result<f64, String> {
+    let (last, earlier) = match targets.split_last() {
+        Some((last, earlier)) => (last.as_str(), earlier),
+        None => ("null", &[][..]),
+    };
+    for target in earlier {
+        peer.ask(&format!(r#"{{"op": "target", "target": {target}}}"#))?;
+    }
+    let answer = peer.ask(&format!(
+        r#"{{"op": "step", "own": {own}, "target": {last}}}"#
+    ))?;
+    Ok(field(&answer, "yaw_rate").unwrap_or(0.0))
+}
+
 /// The closed loop of one chase through the unit: the setpoints' yaw rates fly the pursuer.
 fn fly(
     peer: &mut Peer,
@@ -91,20 +108,11 @@ fn fly(
         let (w_e, v_e) = evader.command(t0, p, e);
         fixes.sample(t0, DT, e, v_e, w_e);
         let arrived: Vec<_> = fixes.arrived(t0).collect();
-        // Fixes that arrive together: all but the last alone, then the last with the own state.
-        for fix in arrived.iter().rev().skip(1).rev() {
-            let target = report(&plane, on_clock(fix.taken), fix.state, limits[2]);
-            peer.ask(&format!(r#"{{"op": "target", "target": {target}}}"#))?;
-        }
-        let target = arrived.last().map_or("null".to_string(), |fix| {
-            report(&plane, on_clock(fix.taken), fix.state, limits[2])
-        });
+        let reports = arrived
+            .iter()
+            .map(|fix| report(&plane, on_clock(fix.taken), fix.state, limits[2]));
         let own = report(&plane, on_clock(t0), p, limits[0]);
-        let answer = peer.ask(&format!(
-            r#"{{"op": "step", "own": {own}, "target": {target}}}"#
-        ))?;
-        let rate = field(&answer, "yaw_rate").unwrap_or(0.0);
-        let w_p = rate / limits[0];
+        let w_p = step(peer, reports.collect(), &own)? / limits[0];
         flips.record(0, w_p, limits[1], false);
         let at = |tau: f64| (advance(p, limits[0], w_p, tau), advance(e, v_e, w_e, tau));
         let gap = |tau: f64| {
