@@ -156,32 +156,9 @@ fn value_map(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut value = Figure::equal(640.0, (0.0, 0.0), half);
     let mut choice = Figure::equal(640.0, (0.0, 0.0), half);
     for (x, y, report) in &cells {
-        let (x0, y0) = (x - step / 2.0, y - step / 2.0);
-        match report.and_then(|r| r.solution.upper.map(|u| (r, u))) {
-            Some((r, upper)) => {
-                value.cell(x0, y0, step, step, &ramp(upper / top));
-                let colour = match (r.solution.row, r.solution.col) {
-                    (Direction::Anticlockwise, Direction::Anticlockwise) => "#4e79a7",
-                    (Direction::Anticlockwise, Direction::Clockwise) => "#f28e2b",
-                    (Direction::Clockwise, Direction::Anticlockwise) => "#59a14f",
-                    (Direction::Clockwise, Direction::Clockwise) => "#b07aa1",
-                };
-                choice.cell(x0, y0, step, step, colour);
-                if !r.solution.saddle() {
-                    choice.cell(
-                        x0 + step * 0.3,
-                        y0 + step * 0.3,
-                        step * 0.4,
-                        step * 0.4,
-                        "black",
-                    );
-                }
-            }
-            None => {
-                value.cell(x0, y0, step, step, "#cccccc");
-                choice.cell(x0, y0, step, step, "#cccccc");
-            }
-        }
+        let square = (x - step / 2.0, y - step / 2.0, step);
+        let found = report.and_then(|r| r.solution.upper.map(|u| (r, u)));
+        draw_cell(&mut value, &mut choice, square, found, top);
     }
     for fig in [&mut value, &mut choice] {
         fig.dot(0.0, 0.0, 5.0, "white");
@@ -213,6 +190,43 @@ fn value_map(dir: &Path) -> Result<Vec<PathBuf>, String> {
     value.save(&a).map_err(|e| e.to_string())?;
     choice.save(&b).map_err(|e| e.to_string())?;
     Ok(vec![a, b])
+}
+
+/// One cell of the value map (its upper value `found.1` on the ramp to `top`) and of the
+/// choice map (the chosen pair's colour, a black dot where there is no pure saddle); grey in
+/// both where there is no finite value. `square`: lower-left corner and side, m.
+fn draw_cell(
+    value: &mut Figure,
+    choice: &mut Figure,
+    (x0, y0, step): (f64, f64, f64),
+    found: Option<(twocars::GameReport<f64>, f64)>,
+    top: f64,
+) {
+    match found {
+        Some((r, upper)) => {
+            value.cell(x0, y0, step, step, &ramp(upper / top));
+            let colour = match (r.solution.row, r.solution.col) {
+                (Direction::Anticlockwise, Direction::Anticlockwise) => "#4e79a7",
+                (Direction::Anticlockwise, Direction::Clockwise) => "#f28e2b",
+                (Direction::Clockwise, Direction::Anticlockwise) => "#59a14f",
+                (Direction::Clockwise, Direction::Clockwise) => "#b07aa1",
+            };
+            choice.cell(x0, y0, step, step, colour);
+            if !r.solution.saddle() {
+                choice.cell(
+                    x0 + step * 0.3,
+                    y0 + step * 0.3,
+                    step * 0.4,
+                    step * 0.4,
+                    "black",
+                );
+            }
+        }
+        None => {
+            value.cell(x0, y0, step, step, "#cccccc");
+            choice.cell(x0, y0, step, step, "#cccccc");
+        }
+    }
 }
 
 /// Simulated against predicted capture time (log axes) under one policy of a Monte Carlo.

@@ -146,49 +146,13 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
     value_legend.extend(grids.iter().map(String::as_str));
     value_legend.push("grey: not captured within the box");
 
-    let mut value_left = panel(
-        &cells,
-        half_m,
-        |c| value_colour(c.paper.map(|p| p.0)),
-        threshold_m,
-        "The paper's upper value (s)",
-    );
-    value_left.colour_scale(TOP_S);
-    value_left.legend(&["dashed: the theorem's threshold; grey: no finite value"]);
-    let mut value_right = panel(
-        &cells,
-        half_m,
-        |c| value_colour(c.table_v),
-        threshold_m,
-        "The game's value V (s), Hamilton-Jacobi-Isaacs",
-    );
-    value_right.colour_scale(TOP_S);
-    value_right.legend(&value_legend);
-    let mut turn_left = panel(
-        &cells,
-        half_m,
-        |c| turn_colour(c.paper.map(|p| p.1)),
-        threshold_m,
-        "The paper law's pursuer circle",
-    );
-    turn_left.legend(&["blue: anticlockwise (left), orange: clockwise (right)"]);
-    let mut turn_right = panel(
-        &cells,
-        half_m,
-        |c| turn_colour(c.table_turn),
-        threshold_m,
-        "The pursuer's optimal turn from V (one step's minimax)",
-    );
+    let (value_left, value_right) = value_panels(&cells, half_m, threshold_m, &value_legend);
     let agreement = format!(
         "agrees with the paper's circle in {agree} of {} cells where both turn ({:.1} %)",
         both.len(),
         100.0 * agree as f64 / both.len().max(1) as f64
     );
-    turn_right.legend(&[
-        "blue: left, orange: right, white: straight",
-        "grey: the table does not play (capture disc, beyond the threshold)",
-        &agreement,
-    ]);
+    let (turn_left, turn_right) = turn_panels(&cells, half_m, threshold_m, &agreement);
     println!(
         "near field: {solved} {} ({how}); the optimal turn {agreement}",
         grids.join(", ")
@@ -199,4 +163,58 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
     Figure::save_side_by_side(&value_left, &value_right, &a).map_err(|e| e.to_string())?;
     Figure::save_side_by_side(&turn_left, &turn_right, &b).map_err(|e| e.to_string())?;
     Ok(vec![a, b])
+}
+
+/// The paper's upper value beside V, in seconds on one colour scale.
+fn value_panels(
+    cells: &[Cell],
+    half_m: f64,
+    threshold_m: f64,
+    legend: &[&str],
+) -> (Figure, Figure) {
+    let mut value_left = panel(
+        cells,
+        half_m,
+        |c| value_colour(c.paper.map(|p| p.0)),
+        threshold_m,
+        "The paper's upper value (s)",
+    );
+    value_left.colour_scale(TOP_S);
+    value_left.legend(&["dashed: the theorem's threshold; grey: no finite value"]);
+    let mut value_right = panel(
+        cells,
+        half_m,
+        |c| value_colour(c.table_v),
+        threshold_m,
+        "The game's value V (s), Hamilton-Jacobi-Isaacs",
+    );
+    value_right.colour_scale(TOP_S);
+    value_right.legend(legend);
+    (value_left, value_right)
+}
+
+/// The paper law's pursuer circle beside the turn V's one-step minimax gives, with how often
+/// they agree (`agreement`).
+fn turn_panels(cells: &[Cell], half_m: f64, threshold_m: f64, agreement: &str) -> (Figure, Figure) {
+    let mut turn_left = panel(
+        cells,
+        half_m,
+        |c| turn_colour(c.paper.map(|p| p.1)),
+        threshold_m,
+        "The paper law's pursuer circle",
+    );
+    turn_left.legend(&["blue: anticlockwise (left), orange: clockwise (right)"]);
+    let mut turn_right = panel(
+        cells,
+        half_m,
+        |c| turn_colour(c.table_turn),
+        threshold_m,
+        "The pursuer's optimal turn from V (one step's minimax)",
+    );
+    turn_right.legend(&[
+        "blue: left, orange: right, white: straight",
+        "grey: the table does not play (capture disc, beyond the threshold)",
+        agreement,
+    ]);
+    (turn_left, turn_right)
 }
