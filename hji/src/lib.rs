@@ -14,32 +14,32 @@
 //! ```
 //!
 //! Capture is the disc x^2 + y^2 <= eps^2. One sweep sets, at every node outside it, V = max(0, min
-//! over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step ([`Step`]), V interpolated
-//! trilinearly (periodic in phi) or, within two cells of the capture disc, read by one step of
-//! three tau ([`Scheme::near`], [`Scheme::read`]), starting from V = [`NEVER`]: after k sweeps V is
-//! below it where capture within about k tau is guaranteed. Nodes in the disc behind the usable
-//! part of its edge (where the pursuer can force the distance down, [`usable`]) keep minus their
-//! depth, r - eps ([`disc_value`]), so that V's zero lies on the edge; behind the rest of the edge,
-//! where V jumps (an evader there slips past), each sweep sets them to V two cells outside on their
-//! ray, so that the jump is not smeared toward zero (on grids that resolve the disc, about five
-//! cells or more across its radius). Those values are for interpolating outside the disc: a step
-//! whose path is in the disc at its end, or at a look within it, was captured, whatever part of the
-//! edge it crossed (V there at most 0). The pursuer turns fully either way or runs straight (u in
-//! {-1, 0, 1}); the evader turns fully either way or runs straight at full speed, or stands still
-//! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary value is
-//! given ([`solve_with_boundary`]).
+//! over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step ([`Step`]), V read
+//! between nodes by a limited tricubic ([`Read`], periodic in phi) or, within two cells of the
+//! capture disc, by one step of three tau ([`Scheme::near`], [`Scheme::read`]), starting from
+//! V = [`NEVER`]: after k sweeps V is below it where capture within about k tau is guaranteed.
+//! A path that is in the disc at a look within a step or at its end was captured at the time it
+//! entered, found on its exact arc, whatever part of the edge it crossed. Nodes in the disc
+//! behind the usable part of its edge (where the pursuer can force the distance down,
+//! [`usable`]) hold V continued from outside ([`disc_value`]), so that V's zero lies on the
+//! edge; behind the rest of the edge, where V jumps (an evader there slips past), each sweep
+//! sets them to V two cells outside on their ray, so that the jump is not smeared toward zero.
+//! Both are for reading outside the disc; the first on grids that read by the cubic (two cells
+//! or more across the disc's radius, [`reads_cubic`]; coarser grids read trilinearly), the
+//! second on grids that resolve the disc (about five cells or more, [`resolves_disc`]). The pursuer turns
+//! fully either way or runs straight (u in {-1, 0, 1}); the evader turns fully either way or
+//! runs straight at full speed, or stands still ([`Game::evader_controls`]). Leaving the box
+//! counts as never captured unless a boundary value is given ([`solve_with_boundary`]).
 
+mod grid;
 pub mod paper;
 pub mod policy;
+mod read;
+
+pub use grid::{Grid, NEVER, REACHED};
+pub use read::Read;
 
 use rayon::prelude::*;
-
-/// The value of a state from which capture within the box was not found: a large finite time,
-/// so that interpolation near the edge of the capturable set stays a number (it smears that
-/// edge over a cell; values below [`REACHED`] are read as found).
-pub const NEVER: f64 = 1.0e4;
-/// Values below this are times to capture; above, not captured.
-pub const REACHED: f64 = 0.5 * NEVER;
 
 /// The game in the reduced units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,6 +65,7 @@ impl Game {
     /// Whether `(x, y)` (r_p) is in the capture disc. A point on its edge is inside whatever the
     /// rounding of its coordinates (-6 + 33 x 0.2 is 0.6000000000000005): without the margin,
     /// grids of equal spacing disagreed on a node there.
+    #[inline]
     pub fn captures(&self, x: f64, y: f64) -> bool {
         x * x + y * y <= self.eps * self.eps * (1.0 + 1e-9)
     }
@@ -93,44 +94,6 @@ impl Game {
             evader_turn: speed_ratio * w_em / w_pm,
             eps: eps * w_pm,
         }
-    }
-}
-
-/// The grid: `n` nodes on each of x and y over [-half, half], `headings` nodes of phi over a
-/// turn.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Grid {
-    /// Nodes per position axis (odd, so that 0 is a node).
-    pub n: usize,
-    /// Half the box's side, r_p.
-    pub half: f64,
-    /// Nodes over the relative heading's turn.
-    pub headings: usize,
-}
-
-impl Grid {
-    /// The position spacing, r_p.
-    pub fn spacing(&self) -> f64 {
-        2.0 * self.half / (self.n - 1) as f64
-    }
-
-    /// The solver's time step on this grid, r_p / v_pm: half a cell's time, or
-    /// [`twocars::value_tables::table::MIN_STEP`] where that is shorter, as the firmware's reader
-    /// looks ahead ([`twocars::value_tables::table::step_time`], in f32).
-    pub fn step_time(&self) -> f64 {
-        (0.5 * self.spacing()).max(f64::from(twocars::value_tables::table::MIN_STEP))
-    }
-    fn len(&self) -> usize {
-        self.n * self.n * self.headings
-    }
-    fn index(&self, i: usize, j: usize, k: usize) -> usize {
-        (k * self.n + j) * self.n + i
-    }
-    fn position(&self, i: usize) -> f64 {
-        -self.half + i as f64 * self.spacing()
-    }
-    fn heading(&self, k: usize) -> f64 {
-        -std::f64::consts::PI + k as f64 * std::f64::consts::TAU / self.headings as f64
     }
 }
 
@@ -174,7 +137,7 @@ impl Solution {
     /// V interpolated where a step lands at `(x, y, phi)`, at most 0 in the capture disc (the
     /// path was captured within the step); [`NEVER`] outside the box: the players' read.
     pub fn interpolated_landing(&self, at: (f64, f64, f64)) -> f64 {
-        interpolated_landing(&self.game, &self.grid, &self.values, at)
+        interpolated_landing(&self.game, &self.grid, &self.values, Read::Trilinear, at)
     }
 }
 
@@ -238,39 +201,12 @@ pub fn table_set_bytes(tables: &[Solution]) -> Vec<u8> {
 }
 
 fn interpolate(grid: &Grid, values: &[f64], x: f64, y: f64, phi: f64) -> f64 {
-    let h = grid.spacing();
-    let fx = (x + grid.half) / h;
-    let fy = (y + grid.half) / h;
-    let last = (grid.n - 1) as f64;
-    if !(0.0..=last).contains(&fx) || !(0.0..=last).contains(&fy) {
-        return NEVER;
-    }
-    let turn = std::f64::consts::TAU;
-    let fk = (phi + std::f64::consts::PI).rem_euclid(turn) / turn * grid.headings as f64;
-    let (i0, j0, k0) = (
-        (fx.floor() as usize).min(grid.n - 2),
-        (fy.floor() as usize).min(grid.n - 2),
-        fk.floor() as usize % grid.headings,
-    );
-    let (tx, ty, tk) = (fx - i0 as f64, fy - j0 as f64, fk - fk.floor());
-    let k1 = (k0 + 1) % grid.headings;
-    let mut v = 0.0;
-    for (k, wk) in [(k0, 1.0 - tk), (k1, tk)] {
-        for (j, wj) in [(j0, 1.0 - ty), (j0 + 1, ty)] {
-            for (i, wi) in [(i0, 1.0 - tx), (i0 + 1, tx)] {
-                let w = wi * wj * wk;
-                if w > 0.0 {
-                    v += w * values[grid.index(i, j, k)];
-                }
-            }
-        }
-    }
-    v
+    read::read(grid, values, Read::Trilinear, (x, y, phi)).unwrap_or(NEVER)
 }
 
 /// Solves `game` on `grid` with time step `tau` until no value changes by more than `tolerance`
-/// and none becomes finite, or `max_sweeps`; `progress(sweep, residual)` after each sweep.
-/// Leaving the box counts as never captured.
+/// and none becomes finite, or `max_sweeps`, reading between nodes by the default [`Read`];
+/// `progress(sweep, residual)` after each sweep. Leaving the box counts as never captured.
 pub fn solve(
     game: Game,
     grid: Grid,
@@ -279,15 +215,40 @@ pub fn solve(
     max_sweeps: usize,
     progress: impl FnMut(usize, f64),
 ) -> Solution {
-    solve_with_boundary(
-        game,
-        grid,
+    let sweeps = Sweeps {
         tau,
         tolerance,
         max_sweeps,
-        |_, _, _| NEVER,
-        progress,
-    )
+        read: Read::default(),
+    };
+    solve_with_boundary(game, grid, sweeps, |_, _, _| NEVER, progress)
+}
+
+/// How the solver sweeps: its time step, when it stops, and how it reads V between nodes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sweeps {
+    /// The time step, r_p / v_pm ([`Grid::step_time`]).
+    pub tau: f64,
+    /// The sweeps stop once no value changes by more than this (r_p / v_pm) and none becomes
+    /// finite ...
+    pub tolerance: f64,
+    /// ... or after this many.
+    pub max_sweeps: usize,
+    /// How a landing between nodes is read.
+    pub read: Read,
+}
+
+impl Sweeps {
+    /// `grid`'s time step, to `tolerance` within 20,000 sweeps, read by the default
+    /// ([`Read::Cubic`]).
+    pub fn on(grid: &Grid, tolerance: f64) -> Self {
+        Sweeps {
+            tau: grid.step_time(),
+            tolerance,
+            max_sweeps: 20_000,
+            read: Read::default(),
+        }
+    }
 }
 
 /// One step of the reduced game: the pursuer turning at `u` and the evader (speed `a`) at `w`,
@@ -305,6 +266,8 @@ pub struct Step {
     evader: (f64, f64),
     /// The relative heading's change (w - u) tau.
     heading: f64,
+    /// Its time, r_p / v_pm.
+    tau: f64,
 }
 
 impl Step {
@@ -326,11 +289,13 @@ impl Step {
             turn: (u * tau).sin_cos(),
             evader: (a * ex, a * ey),
             heading: tau * (w - u),
+            tau,
         }
     }
 
     /// Where the evader at `(x, y, phi)` in the pursuer's frame (heading sine `s`, cosine `c`)
     /// is after the step.
+    #[inline]
     pub fn from(&self, (x, y, phi, s, c): (f64, f64, f64, f64, f64)) -> (f64, f64, f64) {
         let ((px, py), (ts, tc), (ex, ey)) = (self.pursuer, self.turn, self.evader);
         // The evader's displacement turned into the starting frame by its heading phi.
@@ -352,11 +317,31 @@ pub fn usable(game: &Game, x: f64, y: f64, phi: f64) -> bool {
     (x == 0.0 && y == 0.0) || (x > 0.0 && game.speed_ratio * (x * c + y * s) - x < -1e-9)
 }
 
-/// The value the solver keeps at a node inside the capture disc: minus its depth, r - eps
-/// (r_p, a time at unit closing speed). Interpolated with the nodes outside, it puts V's zero
-/// on the disc's edge instead of smearing the edge over a cell.
+/// The value a solution keeps at a node inside the capture disc behind the usable part of its
+/// edge ([`usable`]): minus its depth, r - eps (r_p, a time at unit closing speed). Interpolated
+/// with the nodes outside, it puts V's zero on the disc's edge instead of smearing the edge
+/// over a cell; the firmware's tables read it so ([`twocars::value_tables::table`]).
 pub fn disc_value(game: &Game, x: f64, y: f64) -> f64 {
     x.hypot(y) - game.eps
+}
+
+/// The value the solver sweeps with at a node inside the capture disc behind the usable part
+/// of its edge: minus its depth over the speed at which the distance falls there (the evader
+/// running straight at full speed or standing still, whichever closes slower), at least
+/// 1 - a, the tail chase's. It continues V from outside the disc along the ray, so that a
+/// cubic read across the edge keeps V's slope: with minus the depth alone (slope 1 inside,
+/// 1 / (1 - a) = 2 outside in the paper's game) the tail chase read 0.015 r_p / v_pm low on a
+/// 0.15 r_p grid. A solution keeps [`disc_value`] there; grids that read trilinearly
+/// ([`reads_cubic`]) sweep with it too.
+fn disc_slope_value(game: &Game, (x, y, phi): (f64, f64, f64)) -> f64 {
+    let r = x.hypot(y);
+    if r == 0.0 {
+        return disc_value(game, x, y);
+    }
+    let (s, c) = phi.sin_cos();
+    let a = game.speed_ratio;
+    let closing = (x - a * (x * c + y * s).max(0.0)) / r;
+    disc_value(game, x, y) / closing.max(1.0 - a)
 }
 
 /// One step of the scheme: the steps under each pair of controls held for `tau`, and the looks
@@ -370,13 +355,15 @@ pub struct Scheme {
     /// The looks within a step: the same steps cut short at `m / looks` of `tau`, m = 1 ..
     sub_steps: Vec<Vec<[Step; 4]>>,
     looks: usize,
+    /// How landings between nodes are read.
+    read: Read,
 }
 
 impl Scheme {
     /// The scheme of `game` on `grid` with time step `tau` (r_p / v_pm).
     pub fn new(game: Game, grid: Grid, tau: f64) -> Self {
         let steps_for = |t: f64| -> Vec<[Step; 4]> {
-            [-1.0, 0.0, 1.0]
+            TURNS
                 .iter()
                 .map(|&u| {
                     game.evader_controls()
@@ -396,7 +383,13 @@ impl Scheme {
                 .map(|m| steps_for(tau * m as f64 / looks as f64))
                 .collect(),
             looks,
+            read: Read::Trilinear,
         }
+    }
+
+    /// The scheme reading landings between nodes by `read`.
+    pub fn reading(self, read: Read) -> Self {
+        Scheme { read, ..self }
     }
 
     /// The scheme that reads landings near the disc ([`Scheme::read`]) for a solver stepping
@@ -411,8 +404,9 @@ impl Scheme {
     }
 
     /// The scheme's value at `at` (a state and its heading's sine and cosine): the least over
-    /// the pursuer's turns of the most over the evader's controls of the time to capture at a
-    /// look within the step, or tau plus `land(turn, control, where the step ends)`.
+    /// the pursuer's turns of the most over the evader's controls of the time the path enters
+    /// the disc, where it is in the disc at a look within the step or at its end, or tau plus
+    /// `land(turn, control, where the step ends)`.
     pub fn minimax(
         &self,
         at: (f64, f64, f64, f64, f64),
@@ -426,18 +420,53 @@ impl Scheme {
                 row.iter()
                     .enumerate()
                     .map(|(e, step)| {
+                        let mut outside = 0.0;
                         for (m, sub) in self.sub_steps.iter().enumerate() {
                             let (sx, sy, _) = sub[p][e].from(at);
                             if game.captures(sx, sy) {
-                                return tau * (m + 1) as f64 / looks as f64;
+                                return self.entry(at, (p, e), outside, sub[p][e].tau);
                             }
+                            outside = tau * (m + 1) as f64 / looks as f64;
                         }
-                        (tau + land(p, e, step.from(at))).min(NEVER)
+                        let next = step.from(at);
+                        if game.captures(next.0, next.1) {
+                            return self.entry(at, (p, e), outside, tau);
+                        }
+                        (tau + land(p, e, next)).min(NEVER)
                     })
                     .fold(f64::NEG_INFINITY, f64::max)
             })
             .fold(f64::INFINITY, f64::min)
             .max(0.0)
+    }
+
+    /// The time the path from `at` under the pursuer's turn `p` and the evader's control `e`
+    /// enters the disc, between `outside` (out of it) and `inside` (in it), r_p / v_pm: by
+    /// halving on the exact arcs to a millionth of the interval. Counting the look at which the
+    /// path is first in the disc instead puts V's zero up to a look outside the disc's edge,
+    /// an error that does not shrink with the spacing where the step does not (near the disc
+    /// the scheme reads by a step of three tau): the tail chase at 1 r_p read 0.016 high on a
+    /// 0.1 r_p grid and 0.005 high on a 0.15 r_p one.
+    fn entry(
+        &self,
+        at: (f64, f64, f64, f64, f64),
+        (p, e): (usize, usize),
+        outside: f64,
+        inside: f64,
+    ) -> f64 {
+        let u = TURNS[p];
+        let (speed, w) = self.game.evader_controls()[e];
+        let (mut outside, mut inside) = (outside, inside);
+        for _ in 0..20 {
+            let mid = 0.5 * (outside + inside);
+            let (x, y, _) = Step::new(speed, mid, u, w).from(at);
+            if self.game.captures(x, y) {
+                inside = mid;
+            } else {
+                outside = mid;
+            }
+        }
+        inside
     }
 
     /// V where a step lands, from the node values `values`: in the capture disc at most 0 (it was
@@ -451,7 +480,7 @@ impl Scheme {
         let (game, grid) = (&self.game, &self.grid);
         let plain = |(x, y, phi): (f64, f64, f64)| {
             if x.abs() <= grid.half && y.abs() <= grid.half {
-                interpolated_landing(game, grid, values, (x, y, phi))
+                interpolated_landing(game, grid, values, self.read, (x, y, phi))
             } else {
                 outside
             }
@@ -473,15 +502,19 @@ fn interpolated_landing(
     game: &Game,
     grid: &Grid,
     values: &[f64],
+    how: Read,
     (x, y, phi): (f64, f64, f64),
 ) -> f64 {
-    let v = interpolate(grid, values, x, y, phi);
+    let v = read::read(grid, values, how, (x, y, phi)).unwrap_or(NEVER);
     if game.captures(x, y) {
         v.min(0.0)
     } else {
         v
     }
 }
+
+/// The pursuer's turn rates the scheme tries: fully either way, and straight (rad per unit time).
+const TURNS: [f64; 3] = [-1.0, 0.0, 1.0];
 
 /// How many steps of the solver's tau one step of [`Scheme::near`] takes.
 pub const NEAR_STEPS: f64 = 3.0;
@@ -492,6 +525,14 @@ pub const NEAR_STEPS: f64 = 3.0;
 /// tail chase's V at 1 r_p doubled, the disc's few nodes feeding each other's values.
 pub fn resolves_disc(game: &Game, grid: &Grid) -> bool {
     game.eps > 4.5 * grid.spacing()
+}
+
+/// Whether the solver may read `grid` by the cubic ([`Read::Cubic`]): where the capture disc's
+/// radius is two cells or more. The cubic read needs V smooth over its stencil; on coarser
+/// grids V bends within a cell of the disc (the tail chase on a 0.3 r_p grid with eps 0.3 r_p
+/// read 0.6 r_p / v_pm low at 2 r_p), and they read trilinearly.
+pub fn reads_cubic(game: &Game, grid: &Grid) -> bool {
+    game.eps >= 2.0 * grid.spacing() * (1.0 - 1e-9)
 }
 
 /// Whether a landing at `(x, y)` (r_p) is read by one more step of the scheme
@@ -509,9 +550,7 @@ pub fn near_disc(game: &Game, grid: &Grid, x: f64, y: f64) -> bool {
 pub fn solve_with_boundary(
     game: Game,
     grid: Grid,
-    tau: f64,
-    tolerance: f64,
-    max_sweeps: usize,
+    sweeps: Sweeps,
     boundary: impl Fn(f64, f64, f64) -> f64 + Sync,
     mut progress: impl FnMut(usize, f64),
 ) -> Solution {
@@ -521,7 +560,13 @@ pub fn solve_with_boundary(
             let i = index % grid.n;
             let j = index / grid.n % grid.n;
             if captured(i, j) {
-                disc_value(&game, grid.position(i), grid.position(j))
+                let k = index / (grid.n * grid.n);
+                let at = (grid.position(i), grid.position(j), grid.heading(k));
+                if reads_cubic(&game, &grid) && usable(&game, at.0, at.1, at.2) {
+                    disc_slope_value(&game, at)
+                } else {
+                    disc_value(&game, at.0, at.1)
+                }
             } else {
                 NEVER
             }
@@ -538,8 +583,16 @@ pub fn solve_with_boundary(
         let (s, c) = phi.sin_cos();
         (x, y, phi, s, c)
     };
-    let scheme = Scheme::new(game, grid, tau);
-    let near = Scheme::near(game, grid, tau);
+    let Sweeps {
+        tau,
+        tolerance,
+        max_sweeps,
+        read,
+    } = sweeps;
+    let cubic = reads_cubic(&game, &grid);
+    let read = if cubic { read } else { Read::Trilinear };
+    let scheme = Scheme::new(game, grid, tau).reading(read);
+    let near = Scheme::near(game, grid, tau).reading(read);
     let steps = &scheme.steps;
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
     // The jump behind the disc's non-usable edge is kept only where the grid resolves the disc.
@@ -590,7 +643,7 @@ pub fn solve_with_boundary(
                 let at = node(index);
                 scheme.minimax(at, |p, e, next| {
                     let (nx, ny, _) = next;
-                    if game.captures(nx, ny) || inside(nx, ny) {
+                    if inside(nx, ny) {
                         near.read(old, next, NEVER)
                     } else {
                         exits.get(&(index, p, e)).copied().unwrap_or(NEVER)
@@ -614,6 +667,13 @@ pub fn solve_with_boundary(
         progress(sweep, residual);
         if residual <= tolerance && newly_finite == 0 {
             break;
+        }
+    }
+    // The disc's nodes behind its usable edge as the tables keep them.
+    for (index, v) in values.iter_mut().enumerate() {
+        let (x, y, phi, ..) = node(index);
+        if game.captures(x, y) && (!resolved || usable(&game, x, y, phi)) {
+            *v = disc_value(&game, x, y);
         }
     }
     solution.values = values;

@@ -7,7 +7,7 @@
 use std::sync::OnceLock;
 
 use hji::policy::{evader_turn, finest, turn};
-use hji::{solve, solve_with_boundary, table_set_bytes, Game, Grid, Solution, Step};
+use hji::{solve, solve_with_boundary, table_set_bytes, Game, Grid, Solution, Step, Sweeps};
 use host_tests::rng::Rng;
 use twocars::value_tables::table::{TableError, ValueTable, HEADER_LEN, MAGIC, NEVER};
 use twocars::value_tables::ValueTables;
@@ -231,9 +231,7 @@ fn nested_tables_turn_as_the_solvers() {
     let inner = solve_with_boundary(
         outer.game,
         grid,
-        grid.step_time(),
-        1e-6,
-        5_000,
+        Sweeps::on(&grid, 1e-6),
         |x, y, phi| outer.value(x, y, phi),
         |_, _| {},
     );

@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use hji::{Game, Grid};
+use hji::{Game, Grid, Sweeps};
 
 use crate::tables::solve::{solve_grid, Boundary};
 
@@ -47,8 +47,8 @@ struct Side {
 
 /// Solves `game` on `grid` with ours and with the peer and prints the comparison; the exit
 /// code.
-pub fn command(game: Game, grid: Grid, tolerance: f64) -> i32 {
-    match compare(game, grid, tolerance) {
+pub fn command(game: Game, grid: Grid, sweeps: Sweeps) -> i32 {
+    match compare(game, grid, sweeps) {
         Ok(c) => {
             print(&c);
             0
@@ -60,9 +60,9 @@ pub fn command(game: Game, grid: Grid, tolerance: f64) -> i32 {
     }
 }
 
-fn compare(game: Game, grid: Grid, tolerance: f64) -> Result<Compared, String> {
+fn compare(game: Game, grid: Grid, sweeps: Sweeps) -> Result<Compared, String> {
     let python = crate::setup::venv("hj-peer-venv", &PEER, "import hj_reachability, jax")?;
-    let (ours, seconds) = solve_grid(game, grid, tolerance, Boundary::Never);
+    let (ours, seconds) = solve_grid(game, grid, sweeps, Boundary::Never);
     let peak_mb = peak_resident_mb()?;
     let dir = crate::workspace::target_dir().join("hj-compare");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;

@@ -11,7 +11,7 @@ pub mod probe;
 pub mod reference;
 
 use hji::paper::PaperValue;
-use hji::{Game, Grid, Solution, REACHED};
+use hji::{Game, Grid, Read, Solution, Sweeps, REACHED};
 use host_tests::scenarios::states_beyond;
 
 use crate::tables::sets::NEAR_FIELD_LEVELS;
@@ -77,6 +77,9 @@ pub struct HjArgs {
     /// smooth and the width of V's jumps.
     #[arg(long)]
     compare: bool,
+    /// How the solver reads V between nodes, in the validation and `--compare`.
+    #[arg(long, value_enum, default_value_t = HjRead::Cubic)]
+    read: HjRead,
     /// Seed of `--play`'s starts.
     #[arg(long, default_value_t = 2019)]
     seed: u64,
@@ -89,6 +92,29 @@ pub struct HjArgs {
     /// box in r_p, relative headings); default the near field's three.
     #[arg(long, value_parser = level, value_delimiter = ',')]
     levels: Vec<Grid>,
+}
+
+/// `--read`: how the solver reads V between nodes (`hji::Read`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum HjRead {
+    /// Limited tricubic, the default.
+    Cubic,
+    /// Trilinear.
+    Trilinear,
+}
+
+impl HjArgs {
+    /// The solver's sweeps on `grid`: its step time, `--tolerance` and `--read`.
+    fn sweeps(&self, grid: &Grid) -> Sweeps {
+        let read = match self.read {
+            HjRead::Cubic => Read::Cubic,
+            HjRead::Trilinear => Read::Trilinear,
+        };
+        Sweeps {
+            read,
+            ..Sweeps::on(grid, self.tolerance)
+        }
+    }
 }
 
 /// Who chases in `--play`.
@@ -136,10 +162,11 @@ fn grid_of(n: usize, args: &HjArgs) -> Grid {
 }
 
 fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
+    let grid = grid_of(n, args);
     solve_grid(
         game,
-        grid_of(n, args),
-        args.tolerance,
+        grid,
+        args.sweeps(&grid),
         if args.paper_boundary {
             Boundary::Paper
         } else {
@@ -177,19 +204,24 @@ pub fn command(args: &HjArgs) -> i32 {
         return 2;
     }
     println!(
-        "# Hamilton-Jacobi-Isaacs value of the game of two cars\n\nv_em / v_pm = {:.4}, evader turn rate {:.4} rad per r_p / v_pm, capture radius {} r_p, box +-{} r_p; semi-Lagrangian value iteration, tau = half a cell at v_pm or {} r_p / v_pm, whichever is longer, a path into the disc within a step captured there; trilinear, periodic in the relative heading; {} threads.\n",
+        "# Hamilton-Jacobi-Isaacs value of the game of two cars\n\nv_em / v_pm = {:.4}, evader turn rate {:.4} rad per r_p / v_pm, capture radius {} r_p, box +-{} r_p; semi-Lagrangian value iteration, tau = half a cell at v_pm or {} r_p / v_pm, whichever is longer, a path into the disc within a step captured at its exact time of entry; V read between nodes {}, periodic in the relative heading; {} threads.\n",
         game.speed_ratio,
         game.evader_turn,
         game.eps,
         args.half,
         twocars::value_tables::table::MIN_STEP,
+        match args.read {
+            HjRead::Cubic => "by a limited tricubic",
+            HjRead::Trilinear => "trilinearly",
+        },
         rayon::current_num_threads()
     );
     if let Some(path) = &args.table {
         return write_table(game, args, path);
     }
     if args.compare {
-        return compare::command(game, grid_of(args.nodes, args), args.tolerance);
+        let grid = grid_of(args.nodes, args);
+        return compare::command(game, grid, args.sweeps(&grid));
     }
     validate(game, args)
 }

@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use hji::paper::PaperValue;
-use hji::{solve, solve_with_boundary, Game, Grid, Solution, NEVER};
+use hji::{solve_with_boundary, Game, Grid, Solution, Sweeps, NEVER};
 
 use crate::progress::Progress;
 use crate::tables::sets::FlashSet;
@@ -26,8 +26,13 @@ pub(crate) fn nested_tables(limits: [f64; 4], levels: &[Grid]) -> (Vec<Solution>
         // The cache's name: the limits, this grid and every coarser one its boundary came from.
         name.push_str(&format!("_{}-{}-{}", grid.n, grid.half, grid.headings));
         let (table, how) = cached(game, grid, &name, |grid| match tables.last() {
-            Some(coarser) => solve_grid(game, grid, 1e-4, Boundary::Table(coarser)),
-            None => solve_grid(game, grid, 1e-4, Boundary::Paper),
+            Some(coarser) => solve_grid(
+                game,
+                grid,
+                Sweeps::on(&grid, 1e-4),
+                Boundary::Table(coarser),
+            ),
+            None => solve_grid(game, grid, Sweeps::on(&grid, 1e-4), Boundary::Paper),
         });
         hows.push(format!("+-{} r_p {how}", grid.half));
         tables.push(table);
@@ -101,8 +106,10 @@ pub(crate) fn write_set(path: &std::path::Path, limits: [f64; 4], levels: &[Grid
 /// The sources a solution depends on: the solver and its time step (`value_tables::table::step_time`),
 /// its boundaries (the paper's value comes from the law) and this module's nesting of grids
 /// (not `crate::tables::sets`, which only says which grids: the cache's file names say that).
-const SOLVER_SOURCES: [&str; 7] = [
+const SOLVER_SOURCES: [&str; 9] = [
     include_str!("../../../hji/src/lib.rs"),
+    include_str!("../../../hji/src/grid.rs"),
+    include_str!("../../../hji/src/read.rs"),
     include_str!("../../../src/value_tables/table.rs"),
     include_str!("../../../hji/src/paper.rs"),
     include_str!("solve.rs"),
@@ -182,16 +189,14 @@ fn write_cache(path: &std::path::Path, stamp: u128, solution: &Solution) {
     let _ = std::fs::write(path, bytes);
 }
 
-/// Solves `game` on `grid` with its step time per sweep ([`Grid::step_time`]) until no value
-/// changes by more than `tolerance`, progress shown, a step out of the box landing on
+/// Solves `game` on `grid` by `sweeps`, progress shown, a step out of the box landing on
 /// `boundary`. The solution and the seconds taken.
 pub(crate) fn solve_grid(
     game: Game,
     grid: Grid,
-    tolerance: f64,
+    sweeps: Sweeps,
     boundary: Boundary,
 ) -> (Solution, f64) {
-    let tau = grid.step_time();
     let progress = Progress::new(
         0,
         &format!(
@@ -210,22 +215,18 @@ pub(crate) fn solve_grid(
         (Boundary::Paper, Some(paper)) => solve_with_boundary(
             game,
             grid,
-            tau,
-            tolerance,
-            20_000,
+            sweeps,
             |x, y, phi| paper.beyond_threshold(x, y, phi).unwrap_or(NEVER),
             report,
         ),
         (Boundary::Table(outer), _) => solve_with_boundary(
             game,
             grid,
-            tau,
-            tolerance,
-            20_000,
+            sweeps,
             |x, y, phi| outer.value(x, y, phi),
             report,
         ),
-        _ => solve(game, grid, tau, tolerance, 20_000, report),
+        _ => solve_with_boundary(game, grid, sweeps, |_, _, _| NEVER, report),
     };
     progress.finish();
     (solution, started.elapsed().as_secs_f64())
