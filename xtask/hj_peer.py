@@ -8,7 +8,9 @@ the evader runs at a speed s in [0, a] turning at w with |w| <= w_e s / a (a tri
 controls whose corners are the two full turns and the stop). Capture is the disc of radius
 eps. The peer solves the backward reachable tube of that disc from the signed distance to it,
 and the time to capture is the first time the tube holds the node (linear between the
-snapshots).
+snapshots). As in ours, leaving the box is never captured: the box's outermost ring of nodes is
+an obstacle the tube does not enter (hj_reachability's static obstacle; without it the peer
+extrapolates V beyond the box and captures states that ours, leaving the box, does not).
 """
 
 import argparse
@@ -77,8 +79,14 @@ def solve_peer(args):
     )
     x, y = grid.states[..., 0], grid.states[..., 1]
     values = jnp.sqrt(x * x + y * y) - args.eps
+    # Positive in the outermost ring (within a cell of the box's edge), negative inside.
+    h = 2.0 * half / (args.nodes - 1)
+    edge = jnp.maximum(jnp.abs(x), jnp.abs(y))
+    obstacle = edge - (half - h) - 0.5 * h
     settings = hj.SolverSettings.with_accuracy(
-        "very_high", hamiltonian_postprocessor=hj.solver.backwards_reachable_tube)
+        "very_high", hamiltonian_postprocessor=hj.solver.backwards_reachable_tube,
+        value_postprocessor=hj.solver.static_obstacle(obstacle) if args.box_exits == "never"
+        else hj.solver.identity)
     dynamics = TwoCars(args.speed_ratio, args.evader_turn)
     reach = np.where(np.asarray(values) <= 0.0, 0.0, np.inf)
     before = np.asarray(values)
@@ -190,6 +198,7 @@ def main():
                  "ours-peak-mb"):
         p.add_argument(f"--{name}", type=float, required=True)
     p.add_argument("--out-dt", type=float, default=0.05)
+    p.add_argument("--box-exits", choices=["never", "extrapolate"], default="never")
     p.add_argument("--ours", required=True)
     p.add_argument("--peer-out", required=True)
     args = p.parse_args()
