@@ -112,8 +112,11 @@ fn turn_colour(t: Option<f64>) -> String {
 
 /// Solves the paper's game on the near-field grid and writes the two side-by-side figures.
 pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let (tables, how) =
-        crate::tables::solve::nested_tables(PAPER_LIMITS, &crate::tables::sets::NEAR_FIELD_LEVELS);
+    let (tables, how) = crate::tables::solve::nested_tables(
+        PAPER_LIMITS,
+        &crate::tables::sets::NEAR_FIELD_LEVELS,
+        crate::tables::sets::REFERENCE_READ,
+    );
     let outer = &tables[tables.len() - 1];
     let game = outer.game;
     let half_m = outer.grid.half / PAPER_LIMITS[1];
