@@ -21,15 +21,16 @@
 //! A path that is in the disc at a look within a step or at its end was captured at the time it
 //! entered, found on its exact arc, whatever part of the edge it crossed. Nodes in the disc
 //! behind the usable part of its edge (where the pursuer can force the distance down,
-//! [`usable`]) hold V continued from outside ([`disc_value`]), so that V's zero lies on the
-//! edge; behind the rest of the edge, where V jumps (an evader there slips past), each sweep
-//! sets them to V two cells outside on their ray, so that the jump is not smeared toward zero.
-//! Both are for reading outside the disc; the first on grids that read by the cubic (two cells
-//! or more across the disc's radius, [`reads_cubic`]; coarser grids read trilinearly), the
-//! second on grids that resolve the disc (about five cells or more, [`resolves_disc`]). The pursuer turns
-//! fully either way or runs straight (u in {-1, 0, 1}); the evader turns fully either way or
-//! runs straight at full speed, or stands still ([`Game::evader_controls`]). Leaving the box
-//! counts as never captured unless a boundary value is given ([`solve_with_boundary`]).
+//! [`usable`]) keep minus their depth ([`disc_value`]), so that V's zero lies on the edge; on
+//! grids that read by the cubic (two cells or more across the disc's radius, [`reads_cubic`];
+//! coarser grids read trilinearly) they sweep with V continued from outside instead. Behind the
+//! rest of the edge, where V jumps (an evader there slips past), each sweep sets them to V two
+//! cells outside on their ray, so that the jump is not smeared toward zero, on grids that
+//! resolve the disc (about five cells or more, [`resolves_disc`]). All are for reading outside
+//! the disc. The pursuer turns fully either way or runs straight (u in {-1, 0, 1}); the evader
+//! turns fully either way or runs straight at full speed, or stands still
+//! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary value
+//! is given ([`solve_with_boundary`]).
 
 mod grid;
 pub mod paper;
