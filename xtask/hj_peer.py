@@ -1,6 +1,8 @@
 """The game of two cars' time to capture by hj_reachability (WENO5 in space, TVD-RK3 in time),
 beside ours: `cargo xtask hj --compare` runs this with our solution in a file and prints both
-solvers' figures on the same grid.
+solvers' figures on the same grid (time, memory, tail chase, agreement where V is smooth, the
+width of V's jumps, and how far V falls below r - eps, the least time to close on an evader
+that stands still).
 
 The reduced game is hji's (hji/src/lib.rs): the evader at (x, y) in the pursuer's frame with
 relative heading phi, lengths in r_p and times in r_p / v_pm; the pursuer turns at u in [-1, 1],
@@ -190,6 +192,15 @@ def ray_indices(idx, axis, start):
     return tuple(columns)
 
 
+def below_stop(v, r, eps):
+    """How far V falls below r - eps, the least time to close on an evader that stands still
+    (which it always may), over nodes outside the disc captured within the horizon: the least
+    V - (r - eps), and the share of nodes below it by more than a thousandth."""
+    reached = np.isfinite(v) & (r > eps + 1e-9)
+    gap = (v - (r - eps))[reached]
+    return float(gap.min()), float((gap < -1e-3).mean())
+
+
 def main():
     p = argparse.ArgumentParser()
     for name in ("nodes", "headings"):
@@ -215,6 +226,7 @@ def main():
 
     axis = np.linspace(-args.half, args.half, n)
     x, y = np.meshgrid(axis, axis, indexing="ij")
+    r = np.broadcast_to(np.hypot(x, y)[..., None], ours.shape)
     h = axis[1] - axis[0]
     outside = np.broadcast_to((np.hypot(x, y) > args.eps + h)[..., None], ours.shape)
     smooth = smooth_nodes(ours, outside) & smooth_nodes(peer, outside)
@@ -225,8 +237,9 @@ def main():
         "grid": f"{n} x {n} x {k}",
         "jax": jax.__version__,
         "ours": {"seconds": args.ours_seconds, "peak_mb": args.ours_peak_mb,
-                 "tail_chase": tail_chase(ours, args)},
-        "peer": {"seconds": peer_seconds, "peak_mb": peer_mb, "tail_chase": tail_chase(peer, args)},
+                 "tail_chase": tail_chase(ours, args), "below_stop": below_stop(ours, r, args.eps)},
+        "peer": {"seconds": peer_seconds, "peak_mb": peer_mb, "tail_chase": tail_chase(peer, args),
+                 "below_stop": below_stop(peer, r, args.eps)},
         "smooth_nodes": int(smooth.sum()),
         "smooth_median": float(np.median(gap)) if gap.size else None,
         "smooth_p90": float(np.quantile(gap, 0.9)) if gap.size else None,

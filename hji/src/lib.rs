@@ -15,7 +15,7 @@
 //!
 //! Capture is the disc x^2 + y^2 <= eps^2. One sweep sets, at every node outside it, V = max(0, min
 //! over u max over w of (tau + V(s_tau(s, u, w)))), s_tau the exact step ([`Step`]), V read
-//! between nodes by a limited tricubic ([`Read`], periodic in phi) or, within two cells of the
+//! between nodes by a filtered tricubic ([`Read`], periodic in phi) or, within two cells of the
 //! capture disc, by one step of three tau ([`Scheme::near`], [`Scheme::read`]), starting from
 //! V = [`NEVER`]: after k sweeps V is below it where capture within about k tau is guaranteed.
 //! A path that is in the disc at a look within a step or at its end was captured at the time it
@@ -27,7 +27,8 @@
 //! rest of the edge, where V jumps (an evader there slips past), each sweep sets them to V two
 //! cells outside on their ray, so that the jump is not smeared toward zero, on grids that
 //! resolve the disc (about five cells or more, [`resolves_disc`]). All are for reading outside
-//! the disc. The pursuer turns fully either way or runs straight (u in {-1, 0, 1}); the evader
+//! the disc. The pursuer tries [`TURNS`] turn rates evenly spaced over [-1, 1] ([`Sweeps`];
+//! the tables' players try -1, 0 and 1); the evader
 //! turns fully either way or runs straight at full speed, or stands still
 //! ([`Game::evader_controls`]). Leaving the box counts as never captured unless a boundary value
 //! is given ([`solve_with_boundary`]).
@@ -38,7 +39,7 @@ pub mod policy;
 mod read;
 
 pub use grid::{Grid, NEVER, REACHED};
-pub use read::Read;
+pub use read::{Read, FILTER};
 
 use rayon::prelude::*;
 
@@ -206,8 +207,10 @@ fn interpolate(grid: &Grid, values: &[f64], x: f64, y: f64, phi: f64) -> f64 {
 }
 
 /// Solves `game` on `grid` with time step `tau` until no value changes by more than `tolerance`
-/// and none becomes finite, or `max_sweeps`, reading between nodes by the default [`Read`];
-/// `progress(sweep, residual)` after each sweep. Leaving the box counts as never captured.
+/// and none becomes finite, or `max_sweeps`, reading between nodes by the default [`Read`],
+/// the pursuer turning fully either way or running straight as the tables' players do
+/// ([`policy`]); `progress(sweep, residual)` after each sweep. Leaving the box counts as never
+/// captured.
 pub fn solve(
     game: Game,
     grid: Grid,
@@ -221,6 +224,7 @@ pub fn solve(
         tolerance,
         max_sweeps,
         read: Read::default(),
+        turns: 3,
     };
     solve_with_boundary(game, grid, sweeps, |_, _, _| NEVER, progress)
 }
@@ -237,20 +241,32 @@ pub struct Sweeps {
     pub max_sweeps: usize,
     /// How a landing between nodes is read.
     pub read: Read,
+    /// How many turn rates the pursuer tries, evenly spaced over [-1, 1] (odd, at least 3:
+    /// straight is one of them).
+    pub turns: usize,
 }
 
 impl Sweeps {
     /// `grid`'s time step, to `tolerance` within 20,000 sweeps, read by the default
-    /// ([`Read::Cubic`]).
+    /// ([`Read::Filtered`]), the pursuer trying [`TURNS`] turn rates.
     pub fn on(grid: &Grid, tolerance: f64) -> Self {
         Sweeps {
             tau: grid.step_time(),
             tolerance,
             max_sweeps: 20_000,
             read: Read::default(),
+            turns: TURNS,
         }
     }
 }
+
+/// How many turn rates the pursuer tries by default: full either way, half either way and
+/// straight. With controls held over a step, a pursuer that follows a curve wider than its
+/// turning circle alternates full turns and straight runs, and loses time at every step: with
+/// three rates, V where it is 10 to 20 r_p / v_pm read 0.038 above hj_reachability's at
+/// 81 x 81 x 42 and 0.035 at 121 x 121 x 62 (median, the unfiltered cubic read); with five,
+/// 0.021 and 0.015.
+pub const TURNS: usize = 5;
 
 /// One step of the reduced game: the pursuer turning at `u` and the evader (speed `a`) at `w`,
 /// both held for `tau`. Both cars move on their exact arcs and the frame turns with the
@@ -351,7 +367,9 @@ pub struct Scheme {
     game: Game,
     grid: Grid,
     tau: f64,
-    /// The steps under each pursuer turn (-1, 0, 1) and evader control.
+    /// The pursuer's turn rates (rad per unit time).
+    turns: Vec<f64>,
+    /// The steps under each pursuer turn and evader control.
     steps: Vec<[Step; 4]>,
     /// The looks within a step: the same steps cut short at `m / looks` of `tau`, m = 1 ..
     sub_steps: Vec<Vec<[Step; 4]>>,
@@ -361,10 +379,21 @@ pub struct Scheme {
 }
 
 impl Scheme {
-    /// The scheme of `game` on `grid` with time step `tau` (r_p / v_pm).
+    /// The scheme of `game` on `grid` with time step `tau` (r_p / v_pm), the pursuer turning
+    /// fully either way or running straight, as the tables' players do.
     pub fn new(game: Game, grid: Grid, tau: f64) -> Self {
+        Scheme::turning(game, grid, tau, 3)
+    }
+
+    /// [`Scheme::new`] with the pursuer trying `turns` turn rates evenly spaced over [-1, 1].
+    pub fn turning(game: Game, grid: Grid, tau: f64, turns: usize) -> Self {
+        // Odd and at least three, so that full turns and straight are among them.
+        let n = turns.max(3) | 1;
+        let turns: Vec<f64> = (0..n)
+            .map(|i| 2.0 * i as f64 / (n - 1) as f64 - 1.0)
+            .collect();
         let steps_for = |t: f64| -> Vec<[Step; 4]> {
-            TURNS
+            turns
                 .iter()
                 .map(|&u| {
                     game.evader_controls()
@@ -375,14 +404,19 @@ impl Scheme {
         // A step longer than half a cell's time is looked at every half a cell's time (or
         // less): a path that enters the disc between them is captured there, not carried past.
         let looks = ((tau / (0.5 * grid.spacing())) - 1e-9).ceil().max(1.0) as usize;
+        let (steps, sub_steps) = (
+            steps_for(tau),
+            (1..looks)
+                .map(|m| steps_for(tau * m as f64 / looks as f64))
+                .collect(),
+        );
         Scheme {
             game,
             grid,
             tau,
-            steps: steps_for(tau),
-            sub_steps: (1..looks)
-                .map(|m| steps_for(tau * m as f64 / looks as f64))
-                .collect(),
+            turns,
+            steps,
+            sub_steps,
             looks,
             read: Read::Trilinear,
         }
@@ -402,6 +436,11 @@ impl Scheme {
     /// tau, and no other worst run rises by more than 0.1 point.
     pub fn near(game: Game, grid: Grid, tau: f64) -> Self {
         Scheme::new(game, grid, NEAR_STEPS * tau)
+    }
+
+    /// [`Scheme::near`] with `turns` pursuer turn rates ([`Scheme::turning`]).
+    fn near_turning(game: Game, grid: Grid, tau: f64, turns: usize) -> Self {
+        Scheme::turning(game, grid, NEAR_STEPS * tau, turns)
     }
 
     /// The scheme's value at `at` (a state and its heading's sine and cosine): the least over
@@ -455,7 +494,7 @@ impl Scheme {
         outside: f64,
         inside: f64,
     ) -> f64 {
-        let u = TURNS[p];
+        let u = self.turns[p];
         let (speed, w) = self.game.evader_controls()[e];
         let (mut outside, mut inside) = (outside, inside);
         for _ in 0..20 {
@@ -513,9 +552,6 @@ fn interpolated_landing(
         v
     }
 }
-
-/// The pursuer's turn rates the scheme tries: fully either way, and straight (rad per unit time).
-const TURNS: [f64; 3] = [-1.0, 0.0, 1.0];
 
 /// How many steps of the solver's tau one step of [`Scheme::near`] takes.
 pub const NEAR_STEPS: f64 = 3.0;
@@ -589,11 +625,12 @@ pub fn solve_with_boundary(
         tolerance,
         max_sweeps,
         read,
+        turns,
     } = sweeps;
     let cubic = reads_cubic(&game, &grid);
     let read = if cubic { read } else { Read::Trilinear };
-    let scheme = Scheme::new(game, grid, tau).reading(read);
-    let near = Scheme::near(game, grid, tau).reading(read);
+    let scheme = Scheme::turning(game, grid, tau, turns).reading(read);
+    let near = Scheme::near_turning(game, grid, tau, turns).reading(read);
     let steps = &scheme.steps;
     let inside = |x: f64, y: f64| x.abs() <= grid.half && y.abs() <= grid.half;
     // The jump behind the disc's non-usable edge is kept only where the grid resolves the disc.

@@ -2,8 +2,9 @@
 //! time, JAX on the CPU), the peer its field reaches for first, on the same game and grid. The
 //! peer runs in `xtask/hj_peer.py` from a virtual environment of pinned versions; it reads our
 //! values from a file and prints both solvers' figures: time and peak memory, the tail chase
-//! against its exact value, the agreement where V is smooth, and the width of V's jumps on rays
-//! across its barriers. Both solutions stay in `target/hj-compare/` (f64, phi slowest and x
+//! against its exact value, the agreement where V is smooth, the width of V's jumps on rays
+//! across its barriers, and how far V falls below r - eps, which an evader that stands still
+//! forces. Both solutions stay in `target/hj-compare/` (f64, phi slowest and x
 //! fastest, as `hji` lays them out; the peer's infinite where it does not capture).
 
 use std::path::PathBuf;
@@ -37,12 +38,14 @@ struct Compared {
     width_p90: [Option<f64>; 2],
 }
 
-/// One solver's cost and tail chase.
+/// One solver's cost, tail chase, and how far its V falls below r - eps (least, and the share
+/// of nodes more than a thousandth below).
 #[derive(serde::Deserialize)]
 struct Side {
     seconds: f64,
     peak_mb: f64,
     tail_chase: Vec<f64>,
+    below_stop: (f64, f64),
 }
 
 /// Solves `game` on `grid` with ours and with the peer and prints the comparison; the exit
@@ -145,6 +148,13 @@ fn print(c: &Compared) {
         c.smooth_nodes,
         c.smooth_median.map_or("-".to_string(), |v| format!("{v:.4}")),
         c.smooth_p90.map_or("-".to_string(), |v| format!("{v:.4}")),
+    );
+    println!(
+        "V - (r - eps), at least 0 since the evader may stand still: least {:+.4} (ours) and {:+.4} (peer); nodes below -0.001: {:.2} % and {:.2} %.",
+        c.ours.below_stop.0,
+        c.peer.below_stop.0,
+        100.0 * c.ours.below_stop.1,
+        100.0 * c.peer.below_stop.1,
     );
     println!(
         "Captured within {HORIZON} r_p / v_pm: {} nodes by both, {} by ours alone, {} by the peer alone; {} rays across V's barriers (their ends at least 2 r_p / v_pm apart in both).",

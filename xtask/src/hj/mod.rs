@@ -41,7 +41,8 @@ pub struct HjArgs {
     /// Sweeps stop once no value changes by more than this (r_p / v_pm) and none is new.
     #[arg(long, default_value_t = 1e-6)]
     tolerance: f64,
-    /// Solve the finest grid only and write it as the firmware's value table (u16 per node,
+    /// Solve the finest grid only, as the tables a pursuer plays are solved (read trilinearly,
+    /// the pursuer's three turns), and write it as the firmware's value table (u16 per node,
     /// `twocars::value_tables::table`) to this file.
     #[arg(long)]
     table: Option<std::path::PathBuf>,
@@ -78,8 +79,12 @@ pub struct HjArgs {
     #[arg(long)]
     compare: bool,
     /// How the solver reads V between nodes, in the validation and `--compare`.
-    #[arg(long, value_enum, default_value_t = HjRead::Cubic)]
+    #[arg(long, value_enum, default_value_t = HjRead::Filtered)]
     read: HjRead,
+    /// How many turn rates the pursuer tries per step, evenly spaced over [-1, 1] (odd, at
+    /// least 3), in the validation and `--compare`.
+    #[arg(long, default_value_t = hji::TURNS)]
+    turns: usize,
     /// Seed of `--play`'s starts.
     #[arg(long, default_value_t = 2019)]
     seed: u64,
@@ -97,21 +102,25 @@ pub struct HjArgs {
 /// `--read`: how the solver reads V between nodes (`hji::Read`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum HjRead {
-    /// Limited tricubic, the default.
+    /// Limited tricubic, filtered toward the trilinear where V bends: the default.
+    Filtered,
+    /// Limited tricubic.
     Cubic,
     /// Trilinear.
     Trilinear,
 }
 
 impl HjArgs {
-    /// The solver's sweeps on `grid`: its step time, `--tolerance` and `--read`.
+    /// The solver's sweeps on `grid`: its step time, `--tolerance`, `--read` and `--turns`.
     fn sweeps(&self, grid: &Grid) -> Sweeps {
         let read = match self.read {
+            HjRead::Filtered => Read::Filtered,
             HjRead::Cubic => Read::Cubic,
             HjRead::Trilinear => Read::Trilinear,
         };
         Sweeps {
             read,
+            turns: self.turns,
             ..Sweeps::on(grid, self.tolerance)
         }
     }
@@ -163,16 +172,16 @@ fn grid_of(n: usize, args: &HjArgs) -> Grid {
 
 fn run_grid(game: Game, n: usize, args: &HjArgs) -> (Solution, f64) {
     let grid = grid_of(n, args);
-    solve_grid(
-        game,
-        grid,
-        args.sweeps(&grid),
-        if args.paper_boundary {
-            Boundary::Paper
-        } else {
-            Boundary::Never
-        },
-    )
+    solve_grid(game, grid, args.sweeps(&grid), boundary(args))
+}
+
+/// Where a step out of the box lands: `--paper-boundary`'s paper value, or never captured.
+fn boundary(args: &HjArgs) -> Boundary<'static> {
+    if args.paper_boundary {
+        Boundary::Paper
+    } else {
+        Boundary::Never
+    }
 }
 
 /// Runs the solver on three grids and prints the validation; returns the exit code.
@@ -199,18 +208,22 @@ pub fn command(args: &HjArgs) -> i32 {
     if !(game.speed_ratio > 0.0 && game.speed_ratio < 1.0 && args.nodes >= 21 && args.eps > 0.0)
         || args.nodes % 4 != 1
         || args.headings.is_some_and(|h| h < 4 || h % 2 != 0)
+        || args.turns < 3
+        || args.turns.is_multiple_of(2)
     {
-        eprintln!("xtask hj: need v_pm > v_em > 0, --eps > 0, --nodes >= 21 with nodes - 1 a multiple of 4, and --headings even and at least 4");
+        eprintln!("xtask hj: need v_pm > v_em > 0, --eps > 0, --nodes >= 21 with nodes - 1 a multiple of 4, --headings even and at least 4, and --turns odd and at least 3");
         return 2;
     }
     println!(
-        "# Hamilton-Jacobi-Isaacs value of the game of two cars\n\nv_em / v_pm = {:.4}, evader turn rate {:.4} rad per r_p / v_pm, capture radius {} r_p, box +-{} r_p; semi-Lagrangian value iteration, tau = half a cell at v_pm or {} r_p / v_pm, whichever is longer, a path into the disc within a step captured at its exact time of entry; V read between nodes {}, periodic in the relative heading; {} threads.\n",
+        "# Hamilton-Jacobi-Isaacs value of the game of two cars\n\nv_em / v_pm = {:.4}, evader turn rate {:.4} rad per r_p / v_pm, capture radius {} r_p, box +-{} r_p; semi-Lagrangian value iteration, tau = half a cell at v_pm or {} r_p / v_pm, whichever is longer, a path into the disc within a step captured at its exact time of entry, the pursuer trying {} turn rates; V read between nodes {}, periodic in the relative heading; {} threads.\n",
         game.speed_ratio,
         game.evader_turn,
         game.eps,
         args.half,
         twocars::value_tables::table::MIN_STEP,
+        args.turns,
         match args.read {
+            HjRead::Filtered => "by a limited tricubic filtered toward the trilinear",
             HjRead::Cubic => "by a limited tricubic",
             HjRead::Trilinear => "trilinearly",
         },
@@ -270,7 +283,15 @@ fn validate(game: Game, args: &HjArgs) -> i32 {
 /// Solves the finest grid and writes its table to `path`; read back through the firmware's
 /// reader, its tail chase is printed beside the exact value.
 fn write_table(game: Game, args: &HjArgs, path: &std::path::Path) -> i32 {
-    let (s, seconds) = run_grid(game, args.nodes, args);
+    // Solved as the tables a pursuer plays are: read trilinearly, with the players' turns.
+    let grid = grid_of(args.nodes, args);
+    let played = crate::tables::sets::PLAYED;
+    let sweeps = Sweeps {
+        read: played.read,
+        turns: played.turns,
+        ..args.sweeps(&grid)
+    };
+    let (s, seconds) = solve_grid(game, grid, sweeps, boundary(args));
     let bytes = s.table_bytes();
     if let Err(e) = std::fs::write(path, &bytes) {
         eprintln!("xtask hj: {}: {e}", path.display());

@@ -222,13 +222,13 @@ pub fn command(
     limits: [f64; 4],
     tables_play: bool,
 ) -> i32 {
-    use crate::tables::sets::{NEAR_FIELD_LEVELS, PLAYED_READ, REFERENCE_READ};
+    use crate::tables::sets::{NEAR_FIELD_LEVELS, PLAYED, REFERENCE};
     use crate::tables::solve::nested_tables;
-    let (reference, reference_how) = nested_tables(limits, &NEAR_FIELD_LEVELS, REFERENCE_READ);
+    let (reference, reference_how) = nested_tables(limits, &NEAR_FIELD_LEVELS, REFERENCE);
     let (tables, how) = if levels == NEAR_FIELD_LEVELS || !tables_play {
         (reference.clone(), reference_how.clone())
     } else {
-        nested_tables(limits, levels, PLAYED_READ)
+        nested_tables(limits, levels, PLAYED)
     };
     // The firmware's reader of the same tables, quantised as they are written to flash.
     let bytes: &'static [u8] = Box::leak(table_set_bytes(&tables).into_boxed_slice());

@@ -25,13 +25,13 @@ type Plan = ([f64; 3], [f64; 2]);
 /// Solves (or reads) the tables of `limits`, plays the start `(x, y, phi)` (the evader in the
 /// pursuer's frame: r_p, r_p, rad) and prints what it found; exit code 0.
 pub fn command(start: [f64; 3], levels: &[hji::Grid], limits: [f64; 4]) -> i32 {
-    use crate::tables::sets::{NEAR_FIELD_LEVELS, PLAYED_READ, REFERENCE_READ};
+    use crate::tables::sets::{NEAR_FIELD_LEVELS, PLAYED, REFERENCE};
     use crate::tables::solve::nested_tables;
-    let (reference, _) = nested_tables(limits, &NEAR_FIELD_LEVELS, REFERENCE_READ);
+    let (reference, _) = nested_tables(limits, &NEAR_FIELD_LEVELS, REFERENCE);
     let tables = if levels == NEAR_FIELD_LEVELS {
         reference.clone()
     } else {
-        nested_tables(limits, levels, PLAYED_READ).0
+        nested_tables(limits, levels, PLAYED).0
     };
     let [_, w_pm, v_em, w_em] = limits;
     let eps = capture_radius(&reference, limits);

@@ -5,17 +5,32 @@
 
 use hji::{Grid, Read};
 
-/// How the reference near field ([`NEAR_FIELD_LEVELS`]) is read while it is solved: by the
-/// limited tricubic, whose tail chase is within 0.002 r_p / v_pm of exact at 0.1 r_p
-/// (docs/near-field.md). Plays are judged by its V(x0).
-pub(crate) const REFERENCE_READ: Read = Read::Cubic;
+/// How a set of tables is solved: how the sweeps read V between nodes, and how many turn rates
+/// the pursuer tries (`hji::Sweeps`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SolvedBy {
+    pub(crate) read: Read,
+    pub(crate) turns: usize,
+}
 
-/// How the tables a pursuer plays (the sets in flash, `--set`, `--levels`) are read while they
-/// are solved: trilinearly, as the firmware and the host's players read them. Judged against the
-/// reference's V(x0) on seeds 170,000 to 199,999 (39,000 runs per pair), tables solved by the
-/// cubic put 1 and 5 runs past +10 % at the paper's ratios and at 2, 2, 1.2, 1.2; trilinear
-/// ones 0 and 2.
-pub(crate) const PLAYED_READ: Read = Read::Trilinear;
+/// How the reference near field ([`NEAR_FIELD_LEVELS`]) is solved: read by the limited
+/// tricubic, whose tail chase is within 0.002 r_p / v_pm of exact at 0.1 r_p, the pursuer
+/// turning fully either way or running straight (docs/near-field.md). Plays are judged by its
+/// V(x0).
+pub(crate) const REFERENCE: SolvedBy = SolvedBy {
+    read: Read::Cubic,
+    turns: 3,
+};
+
+/// How the tables a pursuer plays (the sets in flash, `--set`, `--levels`) are solved: read
+/// trilinearly, as the firmware and the host's players read them, with the players' three turns.
+/// Judged against the reference's V(x0) on seeds 170,000 to 199,999 (39,000 runs per pair),
+/// tables solved by the cubic put 1 and 5 runs past +10 % at the paper's ratios and at 2, 2,
+/// 1.2, 1.2; trilinear ones 0 and 2.
+pub(crate) const PLAYED: SolvedBy = SolvedBy {
+    read: Read::Trilinear,
+    turns: 3,
+};
 
 /// The near field's tables, coarsest first: a box of +-30 r_p (15 m, just past the theorem's
 /// threshold of 14.57 m on the diagonals) at 0.5 r_p with 72 relative headings; +-6 r_p at

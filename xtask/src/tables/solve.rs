@@ -4,30 +4,31 @@
 use std::time::Instant;
 
 use hji::paper::PaperValue;
-use hji::{solve_with_boundary, Game, Grid, Read, Solution, Sweeps, NEVER};
+use hji::{solve_with_boundary, Game, Grid, Solution, Sweeps, NEVER};
 
 use crate::progress::Progress;
-use crate::tables::sets::{FlashSet, PLAYED_READ};
+use crate::tables::sets::{FlashSet, SolvedBy, PLAYED};
 
 /// The game of `limits` (v_pm, w_pm, v_em, w_em) over its near field as nested tables
 /// (`hji::policy`) on `levels`, coarsest first; returned finest first. Capture
 /// radius one r_p (0.5 m at the paper's limits). The coarsest table lands on the paper's value
 /// beyond the threshold, each finer one on the table before it; each is solved to a residual
-/// of 1e-4 reading between nodes by `read`, or read back from `target/hj-cache/` where the same
+/// of 1e-4 as `by` says, or read back from `target/hj-cache/` where the same
 /// solver sources solved it; with how.
 pub(crate) fn nested_tables(
     limits: [f64; 4],
     levels: &[Grid],
-    read: Read,
+    by: SolvedBy,
 ) -> (Vec<Solution>, String) {
     let game = Game::with_radius(limits, 1.0);
     let started = Instant::now();
     let mut tables: Vec<Solution> = Vec::new();
     let mut hows = Vec::new();
     let [v_pm, w_pm, v_em, w_em] = limits;
-    let mut name = format!("{v_pm}-{w_pm}-{v_em}-{w_em}-{read:?}");
+    let mut name = format!("{v_pm}-{w_pm}-{v_em}-{w_em}-{:?}-{}", by.read, by.turns);
     let sweeps = |grid: &Grid| Sweeps {
-        read,
+        read: by.read,
+        turns: by.turns,
         ..Sweeps::on(grid, 1e-4)
     };
     for &grid in levels {
@@ -56,7 +57,7 @@ pub(crate) fn flash_sets(sets: &[FlashSet]) -> Result<Vec<std::path::PathBuf>, S
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut paths = Vec::new();
     for set in sets {
-        let (tables, how) = nested_tables(set.limits, &set.levels, PLAYED_READ);
+        let (tables, how) = nested_tables(set.limits, &set.levels, PLAYED);
         let bytes = hji::table_set_bytes(&tables);
         let [v_pm, w_pm, v_em, w_em] = set.limits;
         let path = dir.join(format!("{v_pm}-{w_pm}-{v_em}-{w_em}.tcv"));
@@ -83,7 +84,7 @@ pub(crate) fn write_set(path: &std::path::Path, limits: [f64; 4], levels: &[Grid
         );
         return 2;
     }
-    let (tables, how) = nested_tables(limits, levels, PLAYED_READ);
+    let (tables, how) = nested_tables(limits, levels, PLAYED);
     let bytes = hji::table_set_bytes(&tables);
     if let Err(e) = std::fs::write(path, &bytes) {
         eprintln!("xtask hj: {}: {e}", path.display());

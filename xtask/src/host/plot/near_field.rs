@@ -115,7 +115,7 @@ pub(super) fn maps(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let (tables, how) = crate::tables::solve::nested_tables(
         PAPER_LIMITS,
         &crate::tables::sets::NEAR_FIELD_LEVELS,
-        crate::tables::sets::REFERENCE_READ,
+        crate::tables::sets::REFERENCE,
     );
     let outer = &tables[tables.len() - 1];
     let game = outer.game;
