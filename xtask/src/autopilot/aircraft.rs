@@ -57,10 +57,22 @@ pub fn efficiency(curvature: f64, bank_deg: f64, speed: f64) -> f64 {
     curvature / (9.80665 * bank_deg.to_radians().tan() / (speed * speed))
 }
 
-/// An aircraft's chase `o` against the law's speed `v_pm` (m/s): captured no later than the
-/// ideal Dubins pursuer + 3 s, airspeed within 10 % of v_pm and height within a 10 m band
-/// through it; the capture time.
+/// The most the unit may fall behind its link in a chase, s of the aircraft's clock: a roll
+/// response of the aircraft flown here. A unit further behind steers on states older than
+/// its bank takes to answer, and the chase says more of the emulator than of the law.
+pub const MAX_UNIT_LAG_S: f64 = 0.5;
+
+/// An aircraft's chase `o` against the law's speed `v_pm` (m/s): the unit never more than
+/// [`MAX_UNIT_LAG_S`] behind its link where that is measured; captured no later than the ideal
+/// Dubins pursuer + 3 s, airspeed within 10 % of v_pm and height within a 10 m band through
+/// it; the capture time.
 pub fn chase_held(o: &Outcome, v_pm: f64) -> Result<f64, String> {
+    if let Some(lag) = o.unit_lag.filter(|&lag| lag > MAX_UNIT_LAG_S) {
+        return Err(format!(
+            "the unit fell {lag:.2} s behind its link (more than {MAX_UNIT_LAG_S} s): \
+             its emulator did not keep up with SITL"
+        ));
+    }
     let captured = o.captured.ok_or("never captured")?;
     let (lo, hi) = o.airspeed.ok_or("no airspeed during the chase")?;
     let held = captured <= o.ideal + 3.0

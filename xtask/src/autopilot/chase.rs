@@ -132,6 +132,9 @@ pub struct Outcome {
     pub unit_stale_after: Option<f64>,
     /// The rover's time at the chase's end (capture or time-out), ms.
     pub end_ms: u32,
+    /// How far behind its link the unit fell at most, s of the autopilot's clock: the most it
+    /// held unread over the chase's byte rate to it (None where unmeasured).
+    pub unit_lag: Option<f64>,
 }
 
 /// Where the evader starts: `start`'s offsets in the frame of the rover at `rover`.
@@ -163,11 +166,13 @@ struct Marks {
     texts: usize,
     fixes: usize,
     rates: usize,
+    to_unit: usize,
 }
 
 impl Marks {
     fn now(h: &Harness) -> Marks {
         Marks {
+            to_unit: h.router.to_unit_log.len(),
             setpoints: h.setpoints.len(),
             tc_t: h.tc_t.len(),
             texts: h.texts.len(),
@@ -259,6 +264,7 @@ pub fn pursue<T: Injector>(
     field: bool,
 ) -> Result<Outcome, String> {
     let marks = Marks::now(h);
+    h.router.take_unread();
     let mode = h.mode;
     let wall = std::time::Instant::now() + Duration::from_secs_f64(h.chase_limit_s * 2.0 + 10.0);
     // Through the field, the target's fixes come late, sparse and noisy.
@@ -275,6 +281,7 @@ pub fn pursue<T: Injector>(
         h.pump_until(injector, Duration::from_millis(100), &mut |_| false)?;
     }
     let end_ms = h.now_ms();
+    let unit_lag = unit_lag(h, &marks, end_ms.wrapping_sub(began.rover.time_ms));
     // The failsafe: the target is silent from here; a rover must come to a standstill, an
     // aircraft's autopilot take its roll back.
     let failsafe_ms = match h.pursuer {
@@ -290,8 +297,21 @@ pub fn pursue<T: Injector>(
         end_ms,
         failsafe_ms,
         v_pm: began.v_pm,
+        unit_lag,
     };
     Ok(outcome(h, &marks, &ended))
+}
+
+/// The most the unit held unread since `marks` over the bytes sent it per second of the
+/// autopilot's clock through the `chase_ms` since: how late, at worst, it read its states (s).
+fn unit_lag(h: &mut Harness, marks: &Marks, chase_ms: u32) -> Option<f64> {
+    let unread = h.router.take_unread()?;
+    let sent: usize = h.router.to_unit_log[marks.to_unit..]
+        .iter()
+        .map(|(_, b)| b.len())
+        .sum();
+    let per_s = sent as f64 / (f64::from(chase_ms.max(1)) / 1000.0);
+    Some(unread as f64 / per_s.max(1.0))
 }
 
 /// A nav roll this far from the unit's last bank (deg) is the autopilot's own.
@@ -356,6 +376,7 @@ struct Ended {
     end_ms: u32,
     failsafe_ms: Option<u32>,
     v_pm: f64,
+    unit_lag: Option<f64>,
 }
 
 /// The chase `e` as the harness recorded it since `marks`.
@@ -411,6 +432,7 @@ fn outcome(h: &Harness, marks: &Marks, e: &Ended) -> Outcome {
         height: range(chase_fixes.iter().map(|f| f.height)).unwrap_or((f64::NAN, f64::NAN)),
         unit_stale_after: unit_stale.map(|t| seconds(end_ms, t)),
         end_ms,
+        unit_lag: e.unit_lag,
     }
 }
 

@@ -5,6 +5,7 @@
 //! law's limits from the measured vehicle, the unit's parameters, the report of a chase.
 
 pub mod aircraft;
+pub mod backlog;
 pub mod chase;
 pub mod evader;
 pub mod field;
@@ -180,7 +181,7 @@ pub fn report(o: &Outcome, limits: [f64; 4]) -> String {
     format!(
         "{} vs {:?}: start {:.1} m; the law's value at t = 0 {:.2} s (the unit's first TC_T {}); {captured}\n  \
          causes: speed {:.2} m/s at 1 s, {:.1} m short of v_pm t by capture (~{:.2} s of delay at v_pm); \
-         turn-rate tracking rms {:.2} rad/s ({:.2} away from the switches); {} setpoints, {} sign flips\n  \
+         turn-rate tracking rms {:.2} rad/s ({:.2} away from the switches); {} setpoints, {} sign flips; {}\n  \
          failsafe: the unit's \"target stale\" {} after capture; from its last setpoint, the autopilot's word {} and its failsafe {} (a rover at a standstill, an aircraft at its own roll)",
         o.start.name,
         o.start.evader,
@@ -194,10 +195,19 @@ pub fn report(o: &Outcome, limits: [f64; 4]) -> String {
         o.tracking_rms_settled,
         o.setpoints,
         o.flips,
+        lag_words(o),
         seconds(o.unit_stale_after),
         seconds(o.to_stop_message),
         seconds(o.to_failsafe),
     )
+}
+
+/// How far behind its link the unit fell in `o`, in words.
+pub fn lag_words(o: &Outcome) -> String {
+    o.unit_lag
+        .map_or("the unit's lag unmeasured".to_string(), |s| {
+            format!("the unit at most {s:.2} s behind its link")
+        })
 }
 
 pub fn seconds(s: Option<f64>) -> String {

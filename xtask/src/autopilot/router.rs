@@ -16,6 +16,8 @@ use mavlink::{MavlinkVersion, Message, MessageData};
 use twocars::mavlink::outgoing::Outbox;
 use twocars::mavlink::signing::Signer;
 
+use super::backlog::UnitEnd;
+
 /// MAVLink 1 and 2 start bytes.
 const STX_V1: u8 = 0xFE;
 const STX_V2: u8 = 0xFD;
@@ -177,7 +179,18 @@ pub struct Router {
     /// each write: the stream the unit parsed, for replays.
     pub to_unit_log: Vec<(u32, Vec<u8>)>,
     started: Instant,
+    /// The autopilot's messages the unit is sent (all where `None`), as a companion port's
+    /// stream rates would be set.
+    unit_messages: Option<&'static [u32]>,
+    /// The unit's end of its link, the most it has held unread since [`Router::take_unread`]
+    /// (bytes), and when it was last looked at.
+    unit_end: Option<UnitEnd>,
+    unread_peak: Option<u64>,
+    unread_sampled: Instant,
 }
+
+/// How often the router looks at what the unit holds unread (wall clock).
+pub const UNREAD_EVERY: Duration = Duration::from_millis(50);
 
 /// The host's ground-station identity.
 pub const GCS: (u8, u8) = (255, 190);
@@ -194,6 +207,7 @@ impl Router {
         let mut router = Router::alone(autopilot)?;
         unit.set_nonblocking(true).map_err(|e| e.to_string())?;
         unit.set_nodelay(true).map_err(|e| e.to_string())?;
+        router.unit_end = UnitEnd::of(&unit);
         router.unit = Some(unit);
         Ok(router)
     }
@@ -211,6 +225,10 @@ impl Router {
             serial0: None,
             to_unit_log: Vec::new(),
             started: Instant::now(),
+            unit_messages: None,
+            unit_end: None,
+            unread_peak: None,
+            unread_sampled: Instant::now(),
         })
     }
 
@@ -268,9 +286,27 @@ impl Router {
         }
     }
 
+    /// Sends the unit only these of the autopilot's messages (by id) from here on.
+    pub fn pass_to_unit(&mut self, messages: &'static [u32]) {
+        self.unit_messages = Some(messages);
+    }
+
+    /// The most bytes the unit held unread on its link since the last call (sampled every
+    /// [`UNREAD_EVERY`] as the router writes to it); `None` where unmeasured.
+    pub fn take_unread(&mut self) -> Option<u64> {
+        self.unread_peak.take()
+    }
+
     /// Passes a frame on to the other side.
     pub fn forward(&mut self, source: Source, frame: &RawFrame) -> Result<(), String> {
         match source {
+            Source::Autopilot
+                if self
+                    .unit_messages
+                    .is_some_and(|m| !m.contains(&frame.message_id)) =>
+            {
+                Ok(())
+            }
             Source::Autopilot => self.send_to_unit(&frame.bytes),
             Source::Unit => write_all(&mut self.autopilot, &frame.bytes, "autopilot"),
         }
@@ -283,7 +319,14 @@ impl Router {
             return Ok(());
         };
         self.to_unit_log.push((now, bytes.to_vec()));
-        write_all(unit, bytes, "unit")
+        write_all(unit, bytes, "unit")?;
+        if self.unread_sampled.elapsed() >= UNREAD_EVERY {
+            self.unread_sampled = Instant::now();
+            if let Some(queued) = self.unit_end.as_ref().and_then(UnitEnd::queued) {
+                self.unread_peak = Some(self.unread_peak.unwrap_or(0).max(queued));
+            }
+        }
+        Ok(())
     }
 
     /// Encodes `message` from `sender` (MAVLink 2; signed where signing is on).
