@@ -4,13 +4,14 @@
 use host_tests::autopilot::HOME;
 
 use super::sitl::{connect_serial1, setup_signing, Frame, Launch, Sitl};
+use crate::autopilot::message::UNIT_READS;
 use crate::autopilot::router::Router;
 use crate::autopilot::unit::{self, Unit};
 use crate::image::signing::SigningKey;
 
 /// The unit (the QEMU image or the companion), SITL instance 0 of `frame` at home running
 /// `speedup` times the wall clock, and the router between them: signed both ways with `key`
-/// where given.
+/// where given; for ArduPlane, passing the unit only what it reads.
 pub fn connect(
     binary: &std::path::Path,
     frame: Frame,
@@ -28,7 +29,7 @@ pub fn connect(
         speedup,
     };
     let (sitl, mut serial0) = Sitl::start(binary, launch)?;
-    let router = match key {
+    let mut router = match key {
         None => Router::new(serial0, unit)?,
         Some(key) => {
             let key = key.bytes();
@@ -38,5 +39,10 @@ pub fn connect(
             Router::new(connect_serial1(0)?, unit)?.with_signing(key, serial0)?
         }
     };
+    // ArduPlane flies at 4x, where its whole stream (about 14.5 kB/s of wall clock) outruns
+    // QEMU's UART, which takes it a byte at a time (docs/ardupilot.md).
+    if frame == Frame::Plane {
+        router.pass_to_unit(Some(&UNIT_READS));
+    }
     Ok((launched, sitl, router))
 }

@@ -14,7 +14,6 @@ use super::sitl::{self, Frame};
 use crate::autopilot::chase::{self, Outcome};
 use crate::autopilot::evader::{self, Terms};
 use crate::autopilot::harness::{Harness, Pursuer};
-use crate::autopilot::message::UNIT_READS;
 use crate::autopilot::{
     aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, TARGET_SYSTEM,
 };
@@ -66,16 +65,13 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         "ArduPlane SITL not found: give --arduplane PATH or set TWOCARS_ARDUPLANE \
          (docs/ardupilot.md says how to build it)",
     )?;
-    let (launched, _sitl, mut router) = super::link::connect(
+    let (launched, _sitl, router) = super::link::connect(
         &binary,
         Frame::Plane,
         options.speedup,
         options.companion,
         options.key.as_ref(),
     )?;
-    // At 4x the whole stream is about 14.5 kB/s of wall clock, more than QEMU's UART takes
-    // one byte at a time beside two SITL instances on two cores (docs/ardupilot.md).
-    router.pass_to_unit(&UNIT_READS);
     let evader_start = options.plane_evader.then(|| {
         plane_evader::launch(
             binary.clone(),

@@ -4,7 +4,8 @@
 
 use std::time::{Duration, Instant};
 
-use mavlink::dialects::common::{MavCmd, SET_ATTITUDE_TARGET_DATA};
+use mavlink::dialects::common::{MavCmd, HEARTBEAT_DATA, SET_ATTITUDE_TARGET_DATA};
+use mavlink::MessageData;
 
 use crate::autopilot::harness::wait_stopped;
 use crate::autopilot::harness::{Harness, NoTarget, AUTOPILOT};
@@ -20,6 +21,12 @@ pub const YAW_RATE_AND_THRUST: u8 = 1 | 2 | 128;
 /// GLOBAL_POSITION_INT's and ATTITUDE's message ids.
 const GLOBAL_POSITION_INT: f32 = 33.0;
 const ATTITUDE: f32 = 30.0;
+/// SITL's speed-up while the EKF starts, and the rover's after it. The start is a wait on the
+/// simulated clock (GPS lock, then the EKF's checks: about 40 s at 1x), and ArduPilot takes
+/// SIM_SPEEDUP at run time (MAVProxy's sitl_autospeedup module uses it so). The unit's link
+/// carries the heartbeat alone meanwhile, so that its emulator has nothing to fall behind on.
+const START_SPEEDUP: f32 = 8.0;
+const RUN_SPEEDUP: f32 = 1.0;
 
 /// Sets `name` on the autopilot and waits (5 s) for its PARAM_VALUE to say `value`.
 pub fn set_autopilot_param(h: &mut Harness, name: &str, value: f32) -> Result<(), String> {
@@ -45,8 +52,8 @@ pub struct Ready {
 }
 
 /// Waits for the autopilot's heartbeat, sets WP_SPEED (the speed at thrust 1, m/s), raises the
-/// position and attitude streams to 20 Hz, waits for the EKF to use GPS (120 s at most), then
-/// asks for GUIDED and arming until both hold (60 s at most).
+/// position and attitude streams to 20 Hz, waits for the EKF to use GPS at [`START_SPEEDUP`]
+/// (120 s at most), then at 1x asks for GUIDED and arming until both hold (60 s at most).
 pub fn make_ready(h: &mut Harness, wp_speed: f32) -> Result<Ready, String> {
     let start = Instant::now();
     if !h.pump_until(&mut NoTarget, Duration::from_secs(20), &mut |h| {
@@ -60,12 +67,16 @@ pub fn make_ready(h: &mut Harness, wp_speed: f32) -> Result<Ready, String> {
         h.router
             .send_to_autopilot(&command(MavCmd::MAV_CMD_SET_MESSAGE_INTERVAL, interval))?;
     }
+    h.router.pass_to_unit(Some(&[HEARTBEAT_DATA::ID]));
+    set_autopilot_param(h, "SIM_SPEEDUP", START_SPEEDUP)?;
     let using_gps = |h: &Harness| h.text_since(0, Source::Autopilot, "is using GPS").is_some();
     if !h.pump_until(&mut NoTarget, Duration::from_secs(120), &mut |h| {
         using_gps(h)
     })? {
         return Err("ArduPilot's EKF never used GPS (120 s)".to_string());
     }
+    set_autopilot_param(h, "SIM_SPEEDUP", RUN_SPEEDUP)?;
+    h.router.pass_to_unit(None);
     let ekf_s = start.elapsed().as_secs_f64();
     switch_mode(h, GUIDED, true, Duration::from_secs(60))?;
     Ok(Ready {

@@ -286,9 +286,10 @@ impl Router {
         }
     }
 
-    /// Sends the unit only these of the autopilot's messages (by id) from here on.
-    pub fn pass_to_unit(&mut self, messages: &'static [u32]) {
-        self.unit_messages = Some(messages);
+    /// Sends the unit only these of the autopilot's messages (by id) from here on; all of
+    /// them with `None`.
+    pub fn pass_to_unit(&mut self, messages: Option<&'static [u32]>) {
+        self.unit_messages = messages;
     }
 
     /// The most bytes the unit held unread on its link since the last call (sampled every
