@@ -13,6 +13,7 @@ use std::collections::VecDeque;
 
 use crate::adversary::{Adversary, EvaderKind, Opponent};
 use crate::kinematics::{advance, distance, wrap_pi};
+use crate::peers::{HeardFix, Peer, PeerPursuer};
 use crate::rng::Rng;
 use crate::sim::{capture_within, valid_params, SignFlips, SimParams, SimResult, SimStatus};
 use twocars::estimate::{Estimator, FieldSettings, FixNoise};
@@ -70,6 +71,27 @@ pub enum Receiver {
     },
 }
 
+/// Who pursues in the field: ours, hearing of the target through a [`Receiver`], or a peer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Pursuer {
+    /// The flight policy (f32, told the capture radius).
+    Ours(Receiver),
+    /// An autopilot's follow mode ([`crate::peers`]).
+    Peer(Peer),
+}
+
+impl From<Receiver> for Pursuer {
+    fn from(receiver: Receiver) -> Self {
+        Pursuer::Ours(receiver)
+    }
+}
+
+impl From<Peer> for Pursuer {
+    fn from(peer: Peer) -> Self {
+        Pursuer::Peer(peer)
+    }
+}
+
 /// One fix on its way: when it arrives and when it was taken (s), and the noisy state taken.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pending {
@@ -79,6 +101,8 @@ pub struct Pending {
     pub taken: f64,
     /// x, y (metres), heading (radians), with the field's noise.
     pub state: [f64; 3],
+    /// The target's velocity as its fix reports it, m/s: its speed along the noisy heading.
+    pub velocity: [f64; 2],
 }
 
 /// The fixes of one run: sampled from the target's path, noised, dropped, delayed.
@@ -129,6 +153,7 @@ impl Fixes {
                     arrival: at + m.lag,
                     taken: at,
                     state: noisy,
+                    velocity: [v * noisy[2].cos(), v * noisy[2].sin()],
                 });
             }
         }
@@ -300,18 +325,98 @@ impl Period {
     }
 }
 
-/// One chase of our pursuer (flight policy, f32, told the capture radius) against `evader`
-/// (seeded by `evader_seed`) in `field`, hearing of it through `receiver`. `sign_flips`
-/// counts the pursuer's alone.
+/// The pursuer flying a chase: ours or a peer, and the fixes it has heard.
+enum Flyer {
+    Ours(Box<FieldPursuer>),
+    Peer(PeerPursuer),
+}
+
+impl Flyer {
+    /// `None` where the limits or the field's settings are invalid.
+    fn new(params: &SimParams, field: &FieldModel, pursuer: Pursuer) -> Option<Self> {
+        match pursuer {
+            Pursuer::Ours(receiver) => {
+                FieldPursuer::new(params, field, receiver).map(|p| Flyer::Ours(Box::new(p)))
+            }
+            Pursuer::Peer(peer) => {
+                let [v_pm, w_pm, _, _] = params.limits;
+                let period = params.dt.max(field.yaw_lag);
+                Some(Flyer::Peer(PeerPursuer::new(peer, v_pm, w_pm, period)))
+            }
+        }
+    }
+
+    /// The curvature command at `t0` for the pursuer at `p`, having heard `arrived`.
+    fn command(&mut self, t0: f64, p: [f64; 3], arrived: impl Iterator<Item = Pending>) -> f64 {
+        match self {
+            Flyer::Ours(ours) => ours.command(t0, p, arrived),
+            Flyer::Peer(peer) => {
+                for fix in arrived {
+                    peer.hear(&HeardFix {
+                        arrival: fix.arrival,
+                        taken: fix.taken,
+                        position: [fix.state[0], fix.state[1]],
+                        velocity: fix.velocity,
+                    });
+                }
+                peer.command(t0, p)
+            }
+        }
+    }
+}
+
+/// Loops of a chase: a pass within three capture radii, then a turn of more than pi before
+/// capture.
+#[derive(Clone, Copy, Debug)]
+pub struct Loops {
+    /// Distances at the last two periods' ends, metres.
+    last: [f64; 2],
+    /// The pursuer's signed turn since the last pass, radians; `None` until a pass.
+    turned: Option<f64>,
+    /// Loops counted.
+    pub count: u64,
+}
+
+impl Default for Loops {
+    fn default() -> Self {
+        Loops {
+            last: [f64::INFINITY; 2],
+            turned: None,
+            count: 0,
+        }
+    }
+}
+
+impl Loops {
+    /// Records a period's end: the players' distance `d` (m), the pursuer's heading change
+    /// over the period `turn` (rad), the capture radius `eps` (m).
+    pub fn record(&mut self, d: f64, turn: f64, eps: f64) {
+        let [before, last] = self.last;
+        if last < 3.0 * eps && last <= before && d > last {
+            self.turned = Some(0.0);
+        }
+        if let Some(turned) = self.turned.as_mut() {
+            *turned += turn;
+            if turned.abs() > std::f64::consts::PI {
+                self.count += 1;
+                self.turned = None;
+            }
+        }
+        self.last = [last, d];
+    }
+}
+
+/// One chase of `pursuer` against `evader` (seeded by `evader_seed`) in `field`. `sign_flips`
+/// counts the pursuer's alone; `loops` counts its loops ([`Loops`]).
 pub fn chase(
     params: &SimParams,
     evader: EvaderKind,
     evader_seed: u64,
     field: &FieldModel,
-    receiver: Receiver,
+    pursuer: impl Into<Pursuer>,
 ) -> SimResult {
     let (p, e) = (params.pursuer, params.evader);
-    let pursuer = FieldPursuer::new(params, field, receiver);
+    let pursuer = Flyer::new(params, field, pursuer.into());
     let adversary = Adversary::new(
         Opponent::Evader(evader),
         params.limits,
@@ -329,6 +434,7 @@ pub fn chase(
     let mut result = SimResult::empty(SimStatus::Timeout, distance(p, e));
     let mut fixes = Fixes::new(*field);
     let (mut w_actual, mut flips) = (0.0_f64, SignFlips::default());
+    let mut loops = Loops::default();
     let steps = (params.t_max / dt).ceil() as u64;
     for k in 0..steps {
         let t0 = k as f64 * dt;
@@ -346,11 +452,35 @@ pub fn chase(
             evader: (v_e, w_e),
             eps,
         };
+        let heading = p[2];
         if let Some(t) = period.fly(&mut p, &mut w_actual, &mut e, &mut result.d_min) {
             result.status = SimStatus::Captured;
             result.t_capture = t;
             return result;
         }
+        loops.record(distance(p, e), wrap_pi(p[2] - heading), eps);
+        result.loops = loops.count;
     }
     result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Loops;
+
+    #[test]
+    fn a_pass_then_a_full_turn_is_a_loop_and_a_turn_without_a_pass_is_not() {
+        let eps = 0.1;
+        let mut loops = Loops::default();
+        // Closing far out, turning: no pass within 3 eps, no loop.
+        for d in [2.0, 1.5, 1.0, 1.2, 1.4] {
+            loops.record(d, 1.0, eps);
+        }
+        assert_eq!(loops.count, 0);
+        // A pass at 0.2 (within 0.3), then 3.5 rad of turn over five periods.
+        for d in [0.5, 0.2, 0.4, 0.6, 0.8, 0.7, 0.5] {
+            loops.record(d, 0.7, eps);
+        }
+        assert_eq!(loops.count, 1);
+    }
 }

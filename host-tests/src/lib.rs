@@ -7,6 +7,7 @@ pub mod field;
 pub mod kinematics;
 pub mod link;
 pub mod mavlink_spec;
+pub mod peers;
 pub mod reference;
 pub mod rng;
 pub mod scenarios;

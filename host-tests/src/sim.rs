@@ -75,6 +75,9 @@ pub struct SimResult {
     /// The sign flips counted while the players were closer than the theorem's threshold
     /// 2 r_e + 2 pi r_e v_pm / v_em (the near field).
     pub near_field_sign_flips: u64,
+    /// Loops of the pursuer: a pass within three capture radii, then a turn of more than pi
+    /// before capture (counted by the field's chase, [`crate::field::Loops`]; 0 elsewhere).
+    pub loops: u64,
     /// Both trajectories, one (t, pursuer, evader) per step, if recording was asked for.
     pub trajectory: Vec<(f64, [f64; 3], [f64; 3])>,
 }
@@ -97,6 +100,7 @@ impl SimResult {
             switches: 0,
             sign_flips: 0,
             near_field_sign_flips: 0,
+            loops: 0,
             trajectory: Vec::new(),
         }
     }

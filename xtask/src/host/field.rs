@@ -3,6 +3,11 @@
 //! estimator, each chase against the same start with exact, instant states and a pursuer that
 //! turns as told.
 //!
+//! Every start is also chased by the peers a user would fly instead (`host_tests::peers`): PX4
+//! follow-target's filter with proportional navigation, and ArduPilot AP_Follow's dead-reckoned
+//! pure pursuit, each at every value of its own parameter's sweep; a row reports each peer at
+//! the value whose p90 is least there.
+//!
 //! The grid (in the pursuer's full turn T = 2 pi / (v_pm w_pm) and r_p = 1 / w_pm): lag
 //! {0, 0.1, 0.2} T, position noise sigma {0, 0.1, 0.2} r_p with heading noise sigma / 1 m rad,
 //! fixes at every period or 5 per T; the pursuer's yaw-rate lag tau = 0.1 T, the capture radius
@@ -10,6 +15,7 @@
 
 use host_tests::adversary::EvaderKind;
 use host_tests::field::{chase, FieldModel, Receiver};
+use host_tests::peers::Peer;
 use host_tests::rng::Rng;
 use host_tests::sim::{theorem_threshold, SimParams, SimResult, SimStatus};
 use host_tests::starts::random_start;
@@ -89,7 +95,23 @@ fn start(rng: &mut Rng, limits: [f64; 4], dt: f64) -> SimParams {
     random_start(rng, limits, d0, dt, CAPTURE_RADII * r_p)
 }
 
-/// One start's chases: ideal, exact, through the raw fixes, through the estimator.
+/// The peers' sweeps at `limits`: each peer at each value of its parameter.
+pub fn peer_sweeps(limits: [f64; 4]) -> [Vec<Peer>; 2] {
+    let turn = std::f64::consts::TAU / (limits[0] * limits[1]);
+    [
+        Peer::TEXTBOOK_SWEEP
+            .iter()
+            .map(|&responsiveness| Peer::Textbook { responsiveness })
+            .collect(),
+        Peer::FOLLOW_SWEEP_TURNS
+            .iter()
+            .map(|&turns| Peer::Follow { lead: turns * turn })
+            .collect(),
+    ]
+}
+
+/// One start's chases: ideal, exact, through the raw fixes, through the estimator, and the
+/// peers'.
 pub struct Chases {
     /// Exact, instant states; the pursuer turns as told.
     pub ideal: SimResult,
@@ -99,6 +121,8 @@ pub struct Chases {
     pub raw: SimResult,
     /// The field's fixes through the estimator.
     pub estimated: SimResult,
+    /// Each peer's chases, one per value of its sweep ([`peer_sweeps`]).
+    pub peers: [Vec<SimResult>; 2],
 }
 
 impl Chases {
@@ -153,7 +177,14 @@ pub fn sweep(
                 ..params
             };
             let own_lead = own_lead_taus * field.yaw_lag;
+            let peers = peer_sweeps(limits).map(|sweep| {
+                sweep
+                    .into_iter()
+                    .map(|peer| chase(&params, evader, evader_seed, &field, peer))
+                    .collect()
+            });
             Some(Chases {
+                peers,
                 raw: chase(&params, evader, evader_seed, &field, Receiver::Raw),
                 estimated: chase(
                     &params,
@@ -214,12 +245,17 @@ pub fn discretization(
         .collect()
 }
 
-/// Figures of one receiver over a set of chases.
+/// Figures of one pursuer over a set of chases.
+#[derive(Clone, Copy, Debug)]
 pub struct Figures {
     /// Never captured.
     pub never: usize,
     /// p90 of the excess, fraction.
     pub p90: f64,
+    /// p99 of the excess, fraction.
+    pub p99: f64,
+    /// Loops per chase, the mean.
+    pub loops: f64,
     /// Share of chases past +10 %.
     pub past_10: f64,
     /// Median of the pursuer's sign flips.
@@ -228,7 +264,11 @@ pub struct Figures {
 
 impl Figures {
     /// `pick`'s figures over `chases`, against `base`.
-    pub fn of(chases: &[Chases], pick: Pick, base: Pick) -> Self {
+    pub fn of<F, B>(chases: &[Chases], pick: F, base: B) -> Self
+    where
+        F: for<'a> Fn(&'a Chases) -> &'a SimResult,
+        B: for<'a> Fn(&'a Chases) -> &'a SimResult,
+    {
         let mut excess: Vec<f64> = chases
             .iter()
             .map(|c| Chases::excess(pick(c), base(c)))
@@ -242,38 +282,100 @@ impl Figures {
                 .filter(|c| pick(c).status != SimStatus::Captured)
                 .count(),
             p90: quantile_f64(&excess, 0.9),
+            p99: quantile_f64(&excess, 0.99),
+            loops: chases.iter().map(|c| pick(c).loops as f64).sum::<f64>()
+                / chases.len().max(1) as f64,
             past_10: excess.iter().filter(|e| **e > 0.10).count() as f64
                 / chases.len().max(1) as f64,
             flips_p50: quantile_f64(&flips, 0.5),
         }
     }
 
+    /// Peer `index`'s figures at the value of its sweep whose p90 (then p99) is least, and
+    /// that value's position in the sweep.
+    pub fn best_peer(chases: &[Chases], index: usize) -> (usize, Self) {
+        let values = chases.first().map_or(0, |c| c.peers[index].len());
+        (0..values)
+            .map(|i| (i, Figures::of(chases, |c| &c.peers[index][i], |c| &c.exact)))
+            .min_by(|(_, a), (_, b)| a.p90.total_cmp(&b.p90).then(a.p99.total_cmp(&b.p99)))
+            .unwrap_or((0, Figures::of(&[], |c| &c.exact, |c| &c.exact)))
+    }
+
+    /// Whether these figures meet `cell`'s bound: all captured, p90 within it, median flips
+    /// at most 5.
+    pub fn meets(&self, cell: &Cell) -> bool {
+        self.never == 0 && self.p90 <= cell.bound() && self.flips_p50 <= 5.0
+    }
+
     fn cell(&self) -> String {
         format!(
-            "{:+.1} % / {:.0} % / {} / {:.0}",
+            "{:+.1} % / {:+.1} % / {:.0} % / {} / {:.0} / {:.2}",
             100.0 * self.p90,
+            100.0 * self.p99,
             100.0 * self.past_10,
             self.never,
-            self.flips_p50
+            self.flips_p50,
+            self.loops
         )
     }
 }
 
+/// Which fixes a sweep covers: `None` for every cell, else only those with fixes every period
+/// (`Some(false)`) or 5 per T (`Some(true)`).
+pub type Sparse = Option<bool>;
+
+/// What the sweep's rows add up to.
+#[derive(Default)]
+struct Tally {
+    rows: usize,
+    missed: usize,
+    peer_ahead: usize,
+    peer_meets_alone: usize,
+    p99_storm: usize,
+}
+
+impl Tally {
+    /// Counts one row: ours and the peers' best.
+    fn add(&mut self, cell: &Cell, ours: &Figures, peers: &[Figures]) -> [bool; 3] {
+        let met = ours.meets(cell);
+        let ahead = peers.iter().any(|p| p.p90 < ours.p90 - 0.02);
+        let best_p99 = peers.iter().map(|p| p.p99).fold(f64::INFINITY, f64::min);
+        let storm = ours.p99 > 1.0 && ours.p99 > best_p99;
+        self.rows += 1;
+        self.missed += usize::from(!met);
+        self.peer_ahead += usize::from(ahead);
+        self.peer_meets_alone += usize::from(!met && peers.iter().any(|p| p.meets(cell)));
+        self.p99_storm += usize::from(storm);
+        [met, ahead, storm]
+    }
+}
+
 /// Prints the sweep: one row per limit set, cell and evader.
-pub fn command(runs: usize, seed: u64, dt: f64, evaders: &[EvaderKind], own_lead_taus: f64) -> i32 {
+pub fn command(
+    runs: usize,
+    seed: u64,
+    dt: f64,
+    evaders: &[EvaderKind],
+    own_lead_taus: f64,
+    sparse: Sparse,
+) -> i32 {
     let started = std::time::Instant::now();
-    let grid = Cell::grid();
+    let grid: Vec<Cell> = Cell::grid()
+        .into_iter()
+        .filter(|c| sparse.is_none_or(|s| s == c.fixes_per_turn.is_some()))
+        .collect();
     println!(
         "# The field: {runs} seeded starts per row (seed {seed}), dt = {dt} s, capture radius \
          {CAPTURE_RADII} r_p, yaw-rate lag {YAW_LAG_TURNS} T, own lead {own_lead_taus} tau\n"
     );
-    println!("Each figure: capture time over the same start with exact, instant states and the same lagging pursuer (exact states: over the pursuer that turns as told): p90 / share past +10 % / never captured / median sign flips of the pursuer.\n");
-    println!("| limits | fixes | lag (T) | sigma (r_p) | evader | exact states | raw fixes | estimator | bound | met |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("Each figure: capture time over the same start with exact, instant states and the same lagging pursuer (exact states: over the pursuer that turns as told): p90 / p99 / share past +10 % / never captured / median sign flips / loops per chase of the pursuer. The peers: PX4 follow-target's filter with proportional navigation (textbook, responsiveness r) and AP_Follow's dead-reckoned pure pursuit (follow, lead in s), each at its sweep's value with the least p90.\n");
+    println!("| limits | fixes | lag (T) | sigma (r_p) | evader | exact states | raw fixes | estimator | textbook | follow | bound | met | peer ahead by > 2 points |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let total = LIMIT_SETS.len() * grid.len() * evaders.len() * runs;
-    let progress = Progress::new(total as u64, "field chases, 3 each");
-    let mut failed = 0;
+    let progress = Progress::new(total as u64, "field chases, 12 each");
+    let mut tally = Tally::default();
     for limits in LIMIT_SETS {
+        let sweeps = peer_sweeps(limits);
         for cell in &grid {
             for &evader in evaders {
                 let chases = sweep(cell, limits, evader, runs, seed, dt, own_lead_taus);
@@ -284,10 +386,16 @@ pub fn command(runs: usize, seed: u64, dt: f64, evaders: &[EvaderKind], own_lead
                 let lagging = Figures::of(&chases, exact, |c| &c.ideal);
                 let raw = Figures::of(&chases, |c| &c.raw, exact);
                 let est = Figures::of(&chases, |c| &c.estimated, exact);
-                let met = est.never == 0 && est.p90 <= cell.bound() && est.flips_p50 <= 5.0;
-                failed += usize::from(!met);
+                let best = [0, 1].map(|i| Figures::best_peer(&chases, i));
+                let peer = |i: usize| {
+                    let (at, figures) = &best[i];
+                    let value = sweeps[i].get(*at).map_or(String::new(), |p| p.parameter());
+                    format!("{} ({value})", figures.cell())
+                };
+                let peers = [best[0].1, best[1].1];
+                let [met, ahead, _] = tally.add(cell, &est, &peers);
                 println!(
-                    "| {} | {} | {} | {} | {} | {} | {} | {} | +{:.0} % | {} |",
+                    "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | +{:.0} % | {} | {} |",
                     limits.map(|v| v.to_string()).join(", "),
                     cell.fixes_per_turn
                         .map_or("every period".to_string(), |n| format!("{n} per T")),
@@ -297,15 +405,25 @@ pub fn command(runs: usize, seed: u64, dt: f64, evaders: &[EvaderKind], own_lead
                     lagging.cell(),
                     raw.cell(),
                     est.cell(),
+                    peer(0),
+                    peer(1),
                     100.0 * cell.bound(),
-                    if met { "yes" } else { "no" }
+                    if met { "yes" } else { "no" },
+                    if ahead { "yes" } else { "no" },
                 );
             }
         }
     }
     progress.finish();
     println!(
-        "\n{failed} rows miss their bound ({:.1} s on {} threads)",
+        "\n{} of {} rows miss their bound, {} of them where a peer meets it; a peer's p90 beats \
+         ours by more than 2 points in {} rows; our p99 is past +100 % and worse than the best \
+         peer's in {} rows ({:.1} s on {} threads)",
+        tally.missed,
+        tally.rows,
+        tally.peer_meets_alone,
+        tally.peer_ahead,
+        tally.p99_storm,
         started.elapsed().as_secs_f64(),
         rayon::current_num_threads()
     );

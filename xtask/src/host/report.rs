@@ -357,6 +357,20 @@ pub struct ReportArgs {
     /// yaw-rate lags tau.
     #[arg(long, default_value_t = 1.0)]
     own_lead: f64,
+    /// With `--field`: only the cells with a fix every period, or 5 per full turn.
+    #[arg(long, value_enum, default_value = "all")]
+    fixes: FixesArg,
+}
+
+/// The field's cells by their fixes.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum FixesArg {
+    /// Every cell.
+    All,
+    /// A fix every control period.
+    Every,
+    /// 5 fixes per full turn.
+    Sparse,
 }
 
 /// The suite's names and `all`.
@@ -400,7 +414,19 @@ pub fn command(args: &ReportArgs) -> i32 {
             None | Some("all") => EvaderKind::FIELD.to_vec(),
             Some(name) => EvaderKind::from_name(name).into_iter().collect(),
         };
-        return super::field::command(args.runs, args.seed, args.dt, &evaders, args.own_lead);
+        let sparse = match args.fixes {
+            FixesArg::All => None,
+            FixesArg::Every => Some(false),
+            FixesArg::Sparse => Some(true),
+        };
+        return super::field::command(
+            args.runs,
+            args.seed,
+            args.dt,
+            &evaders,
+            args.own_lead,
+            sparse,
+        );
     }
     let o = match parse(args) {
         Ok(o) => o,

@@ -1,6 +1,7 @@
 //! The field's figures (docs/field.md): the capture time's excess against the transport lag
-//! and against the fixes' noise, per evader, with and without the estimator; and against the
-//! control period, the paper's open question of what sampling does to optimality.
+//! and against the fixes' noise, per evader, through the estimator and for the peers (each at
+//! its sweep's best value per point); and against the control period, the paper's open
+//! question of what sampling does to optimality.
 
 use std::path::{Path, PathBuf};
 
@@ -33,8 +34,14 @@ fn p90(chases: &[Chases], pick: Pick, top: f64) -> f64 {
     (100.0 * Figures::of(chases, pick, |c| &c.exact).p90).min(top)
 }
 
+/// p90 of the excess (per cent, clamped) of peer `index` at its sweep's best value.
+fn peer_p90(chases: &[Chases], index: usize, top: f64) -> f64 {
+    (100.0 * Figures::best_peer(chases, index).1.p90).min(top)
+}
+
 /// One figure of p90 excess against one of the field's settings: `cells` along the x axis at
-/// `xs`, the estimator's line solid and the raw fixes' dashed, per evader.
+/// `xs`, per evader the estimator's line solid, the textbook peer's dashed and the follow
+/// peer's dotted; the raw fixes' figures are printed, not drawn.
 fn against(
     dir: &Path,
     file: &str,
@@ -51,13 +58,13 @@ fn against(
             .iter()
             .map(|cell| sweep(cell, LIMIT_SETS[0], evader, RUNS, SEED, 0.01, 1.0))
             .collect();
-        let line = |pick: Pick| -> Vec<(f64, f64)> {
-            xs.iter()
-                .zip(&runs)
-                .map(|(&x, chases)| (x, p90(chases, pick, top)))
-                .collect()
+        let line = |of: &dyn Fn(&[Chases]) -> f64| -> Vec<(f64, f64)> {
+            xs.iter().zip(&runs).map(|(&x, c)| (x, of(c))).collect()
         };
-        let (estimated, raw) = (line(|c| &c.estimated), line(|c| &c.raw));
+        let estimated = line(&|c| p90(c, |c| &c.estimated, top));
+        let raw = line(&|c| p90(c, |c| &c.raw, top));
+        let textbook = line(&|c| peer_p90(c, 0, top));
+        let follow = line(&|c| peer_p90(c, 1, top));
         let row = |points: &[(f64, f64)]| {
             points
                 .iter()
@@ -71,8 +78,15 @@ fn against(
             row(&estimated)
         );
         println!("| {file} | {} | raw fixes | {} |", evader.name(), row(&raw));
+        println!(
+            "| {file} | {} | textbook | {} |",
+            evader.name(),
+            row(&textbook)
+        );
+        println!("| {file} | {} | follow | {} |", evader.name(), row(&follow));
         fig.polyline(&estimated, colour, 2.0, "none");
-        fig.polyline(&raw, colour, 1.0, "5 4");
+        fig.polyline(&textbook, colour, 1.0, "6 4");
+        fig.polyline(&follow, colour, 1.0, "1 3");
     }
     fig.axes(
         (0.05, 20.0),
@@ -81,7 +95,8 @@ fn against(
         title,
     );
     fig.legend(&[
-        "solid: through the estimator; dashed: the raw fixes; clamped at 100 %",
+        "solid: ours, through the estimator; dashed: PX4's filter with PN; dotted: AP_Follow's pursuit",
+        "each peer at its sweep's best value per point; clamped at 100 %",
         "law blue, straight green, circle-left red, bang-bang purple, zigzag ochre",
         &format!("paper's limits, {RUNS} starts a point, tau 0.1 T, capture radius 0.3 r_p"),
     ]);
