@@ -281,3 +281,86 @@ fn decisions_between_fixes_coast_and_are_counted() {
     let counters = estimator.counters();
     assert_eq!((counters.target_fixes, counters.coasted), (3, 27));
 }
+
+#[test]
+fn sparse_noisy_fixes_of_a_straight_target_are_chased_without_orbits() {
+    // 5 fixes per full turn T (0.314 s), 0.1 T late, sigma 0.2 r_p on position and 0.1 rad on
+    // heading; the pursuer answers its yaw-rate setpoint with tau 0.1 T; capture at 0.3 r_p.
+    let turn = std::f64::consts::TAU / 4.0;
+    let field = |seed| FieldModel {
+        lag: 0.1 * turn,
+        fix_interval: turn / 5.0,
+        position_sigma: 0.1,
+        heading_sigma: 0.1,
+        yaw_lag: 0.1 * turn,
+        seed,
+        ..FieldModel::EXACT
+    };
+    let mut rng = Rng::new(23);
+    let (mut excess, mut loops) = (Vec::new(), 0);
+    for _ in 0..20 {
+        let params = start(&mut rng);
+        let (seed, noise) = (rng.next_u64(), rng.next_u64());
+        let lagging = FieldModel {
+            yaw_lag: 0.1 * turn,
+            ..FieldModel::EXACT
+        };
+        let exact = chase(&params, EvaderKind::Straight, seed, &lagging, Receiver::Raw);
+        let est = chase(
+            &params,
+            EvaderKind::Straight,
+            seed,
+            &field(noise),
+            Receiver::Estimator {
+                own_lead: 0.1 * turn,
+            },
+        );
+        assert_eq!(est.status, host_tests::sim::SimStatus::Captured);
+        excess.push((est.t_capture - exact.t_capture) / exact.t_capture);
+        loops += est.loops;
+    }
+    excess.sort_by(f64::total_cmp);
+    let p90 = excess[17];
+    assert!(p90 <= 0.25, "p90 of the excess {:+.1} %", 100.0 * p90);
+    assert!(loops <= 1, "{loops} loops in 20 chases");
+}
+
+#[test]
+fn a_steady_target_is_carried_straight_and_a_turning_one_on_its_arc() {
+    // A car of 1 m/s and 1 rad/s fixed every 0.314 s with 0.1 m and 0.1 rad of noise; each
+    // decision carries it 0.5 s past its last fix.
+    let noise = FixNoise {
+        position: 0.1,
+        heading: 0.1,
+    };
+    let stale = 10_000_000;
+    for turn_rate in [0.0, 1.0] {
+        let mut track = Track::new(1.0, 1.0, noise).expect("valid");
+        let mut rng = Rng::new(3);
+        let mut turns = Vec::new();
+        for k in 0..60 {
+            let t = 0.314 * f64::from(k);
+            let truth = advance([0.0, 0.0, 0.0], 1.0, turn_rate, t);
+            let noisy = [
+                truth[0] + 0.1 * rng.normal(),
+                truth[1] + 0.1 * rng.normal(),
+                host_tests::kinematics::wrap_pi(truth[2] + 0.1 * rng.normal()),
+            ];
+            let at = fix(noisy, t);
+            track.update(&at, stale).expect("taken");
+            if k >= 10 {
+                let (now, _) = track.at(at.time_us, stale).expect("fresh");
+                let (later, _) = track.at(at.time_us + 500_000, stale).expect("fresh");
+                turns.push(f64::from(later[2] - now[2]));
+            }
+        }
+        turns.sort_by(f64::total_cmp);
+        let turning = turns.iter().filter(|t| t.abs() > 1e-6).count();
+        if turn_rate == 0.0 {
+            assert!(turning <= 5, "carried on an arc {turning} times of 50");
+        } else {
+            let median = turns[25];
+            assert!((median - 0.5).abs() < 0.15, "carried {median} rad in 0.5 s");
+        }
+    }
+}

@@ -93,6 +93,12 @@ const MANOEUVRE_AGE: f32 = 64.0;
 /// Microseconds per second.
 const US: f32 = 1.0e6;
 
+/// How many sigmas of the turn rate's noise ([`Track::at`]) a track's turn rate is shrunk by
+/// toward 0 where it carries the car: a car that runs straight is carried straight, not on
+/// the arc its heading's noise draws, and a car that turns is carried at what of its turn
+/// stands out of the noise.
+pub const STEADY_SIGMAS: f32 = 2.0;
+
 /// What a track holds at its last fix's time, in the law's units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Estimate<S> {
@@ -104,6 +110,9 @@ struct Estimate<S> {
     speed: S,
     /// Turn rate, radians per time unit, within +-v_max w_max.
     turn_rate: S,
+    /// One sigma of the turn rate the heading's noise leaves in it, radians per time unit,
+    /// at most 2 v_max w_max: within [`STEADY_SIGMAS`] of it the car is carried straight.
+    turn_spread: S,
     /// One sigma of the position just after the last fix.
     spread: S,
     /// One sigma of the heading just after the last fix, radians.
@@ -210,7 +219,23 @@ fn along_arc<S: Scalar>(theta: S, run: S, turned: S) -> (S, S) {
 impl<S: Scalar> Estimate<S> {
     /// Carried `t` (law time units) ahead on its arc.
     fn after(&self, t: S) -> [S; 3] {
-        let turned = self.turn_rate * t;
+        self.after_turning(self.turn_rate, t)
+    }
+
+    /// The turn rate a car is carried at: the estimate's where it stands out of its noise by
+    /// more than [`STEADY_SIGMAS`], else 0 (a steady car).
+    fn steady_turn_rate(&self) -> S {
+        let band = S::from_f32(STEADY_SIGMAS) * self.turn_spread;
+        if self.turn_rate.abs() > band {
+            self.turn_rate
+        } else {
+            S::zero()
+        }
+    }
+
+    /// Carried `t` ahead on the arc of `turn_rate`.
+    fn after_turning(&self, turn_rate: S, t: S) -> [S; 3] {
+        let turned = turn_rate * t;
         let (dx, dy) = along_arc(self.theta, self.speed * t, turned);
         [
             self.x + dx,
@@ -408,10 +433,30 @@ impl<S: Scalar> Track<S> {
             theta: heading,
             speed: speed.max(S::zero()).min(self.speed_max),
             turn_rate: turn_rate.max(-self.turn_rate_max).min(self.turn_rate_max),
+            turn_spread: self.turn_spread(alpha_h, beta_h, interval),
             spread: self.position_noise * alpha.sqrt(),
             heading_spread: self.heading_noise * alpha_h.sqrt(),
             time_us: fix.time_us,
         }
+    }
+
+    /// One sigma of the turn rate the heading's noise leaves after a fix `interval` after the
+    /// last, filtered by (`alpha`, `beta`): sigma_h sqrt(2 beta^2 / (alpha (4 - 2 alpha -
+    /// beta))) / interval, the alpha-beta filter's steady-state rate noise (Kalata), at most
+    /// 2 v_max w_max. 0 without noise, so that exact fixes are carried as they were.
+    fn turn_spread(&self, alpha: S, beta: S, interval: S) -> S {
+        if self.heading_noise <= S::zero() {
+            return S::zero();
+        }
+        let two = S::from_f32(2.0);
+        // 4 - 2 alpha - beta >= 1 - beta >= 0 for alpha, beta <= 1 (Benedict-Bordner).
+        let den = alpha * (S::from_f32(4.0) - two * alpha - beta);
+        let bound = two * self.turn_rate_max;
+        if den <= S::zero() {
+            return bound;
+        }
+        let ratio = (two * beta * beta / den).sqrt();
+        rate_within(self.heading_noise * ratio, interval, bound)
     }
 
     fn restart(&mut self, fix: &Fix<S>) {
@@ -423,6 +468,7 @@ impl<S: Scalar> Track<S> {
             theta: theta.wrap_signed(),
             speed: self.speed_max,
             turn_rate: S::zero(),
+            turn_spread: S::zero(),
             spread: self.position_noise,
             heading_spread: self.heading_noise,
             time_us: fix.time_us,
@@ -446,7 +492,7 @@ impl<S: Scalar> Track<S> {
         let held = age.abs().min(S::from_f32(MANOEUVRE_AGE));
         let manoeuvre = S::from_f32(0.5) * self.speed_max * self.turn_rate_max * held * held;
         let circles = last.heading_spread * self.speed_max / self.turn_rate_max;
-        let carried = last.after(age);
+        let carried = last.after_turning(last.steady_turn_rate(), age);
         if !in_range(carried[0], carried[1]) {
             return None;
         }

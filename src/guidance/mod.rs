@@ -23,7 +23,7 @@ use crate::num::f32_math::{sin_cos, wrap_signed};
 use crate::num::Scalar;
 use crate::status::Status;
 use crate::value_tables::ValueTables;
-use homing::{HomingMemory, HomingTerms, Situation};
+use homing::{lead_pursuit, HomingMemory, HomingTerms, Situation};
 
 /// How many of the estimates' uncertainties (metres) a choice of circles must be beaten by
 /// before the pursuer changes it ([`Guidance::decide_estimated`]).
@@ -33,6 +33,11 @@ pub const HYSTERESIS_SIGMAS: f32 = 1.0;
 /// estimated bearing does not reverse its turn ([`Guidance::decide_estimated`]): near the
 /// evader u / d grows past any bearing noise.
 pub const NOISE_CONE: f32 = core::f32::consts::FRAC_PI_4;
+
+/// Within this many of the pursuer's turning radii of the evader the pursuer does not hold a
+/// course that misses it ([`Guidance::decide_estimated`]): past the evader, a pursuer that
+/// held straight on noise loops a full turn to come back.
+pub const TERMINAL_RADII: f32 = 2.0;
 
 /// Which feedback a [`Guidance`] applies: [`Policy::Flight`] is the one to fly (the default);
 /// [`Policy::Paper`] is the reference.
@@ -71,6 +76,9 @@ pub struct Guidance<S> {
     /// This decision's hysteresis, seconds: the estimates' uncertainty as capture time
     /// ([`Guidance::decide_estimated`]); 0 on exact states.
     margin: S,
+    /// This decision's estimates' uncertainty, its [`HYSTERESIS_SIGMAS`] multiple in the law's
+    /// lengths ([`Guidance::decide_estimated`]); 0 on exact states.
+    uncertainty: S,
     /// The side of the pursuer's last turn on estimated states (anticlockwise if `true`).
     side: Option<bool>,
 }
@@ -123,6 +131,7 @@ impl<S: Scalar> Guidance<S> {
             homing_terms: HomingTerms::new(&law.limits, dt, tie_floor, period.pursuer),
             tables: None,
             margin: S::zero(),
+            uncertainty: S::zero(),
             side: None,
         })
     }
@@ -250,7 +259,12 @@ impl<S: Scalar> Guidance<S> {
     /// - the pursuer turns to the other side than its last turn only where the evader's
     ///   bearing is outside the cone of half-angle [`HYSTERESIS_SIGMAS`] u / d about its nose
     ///   (d the players' distance; at most [`NOISE_CONE`]) and it is told more than that angle
-    ///   needs in a period (at most w_pm); otherwise it runs straight.
+    ///   needs in a period (at most w_pm); otherwise it runs straight;
+    /// - but within [`TERMINAL_RADII`] of its turning radius it does not run straight where
+    ///   that passes the evader by more than the capture radius, or the evader falls behind;
+    /// - and below the theorem's threshold, with u past a quarter of the capture radius, the
+    ///   flight policy's pursuer flies lead pursuit of the estimated evader's collision point
+    ///   (docs/field.md, "The command that does not chatter").
     ///
     /// With u = 0 the decision is [`Guidance::decide`]'s.
     ///
@@ -272,8 +286,15 @@ impl<S: Scalar> Guidance<S> {
         } else {
             uncertainty * per_metre
         };
+        // Not NaN: an uncertainty that is not a number is the largest there is.
+        self.uncertainty = if uncertainty.is_number() {
+            uncertainty.max(S::zero())
+        } else {
+            S::from_f32(S::MAX_COORDINATE)
+        };
         let mut decision = self.decide(&pursuer, &evader);
         self.margin = S::zero();
+        self.uncertainty = S::zero();
         if self.noise_reversal(estimated, uncertainty, decision.command.pursuer) {
             decision.command.pursuer = S::zero();
         }
@@ -308,9 +329,38 @@ impl<S: Scalar> Guidance<S> {
         } else {
             uncertainty / distance
         };
+        if self.straight_misses(estimated, distance) {
+            return false;
+        }
         let bearing = (S::atan2(dy, dx) - heading).wrap_signed();
         let gate = (self.period.pursuer * cone).min(self.law.limits.pursuer.w_max());
         bearing.abs() <= cone || w.abs() < gate
+    }
+
+    /// Whether, with the players `distance` apart (law units) within [`TERMINAL_RADII`] of
+    /// the pursuer's turning radius, running straight passes the estimated target by more than
+    /// the capture radius (both at full speed along their headings, the law's model), or the
+    /// target is already falling behind: a held course there is a miss, and a miss is a loop.
+    fn straight_misses(&self, estimated: &Estimated<S>, distance: S) -> bool {
+        let limits = &self.law.limits;
+        if distance * limits.pursuer.w_max() >= S::from_f32(TERMINAL_RADII) {
+            return false;
+        }
+        let [px, py, own_heading] = estimated.own;
+        let [ex, ey, target_heading] = estimated.target;
+        let (dx, dy) = (ex - px, ey - py);
+        let (sp, cp) = own_heading.sin_cos();
+        let (se, ce) = target_heading.sin_cos();
+        let (vp, ve) = (limits.pursuer.v_max(), limits.evader.v_max());
+        // The target's velocity relative to the pursuer's.
+        let (vx, vy) = (ve * ce - vp * cp, ve * se - vp * sp);
+        if dx * vx + dy * vy >= S::zero() {
+            return true;
+        }
+        // The miss distance is |r x v| / |v|; compared squared, both sides within a few radii.
+        let cross = dx * vy - dy * vx;
+        let capture = self.homing_terms.capture;
+        cross * cross > capture * capture * (vx * vx + vy * vy)
     }
 
     /// Evaluates the law for this period and returns the evaluation with the sampled command.
@@ -448,6 +498,11 @@ impl<S: Scalar> Guidance<S> {
             limits: &self.law.limits.pursuer,
             law: command.pursuer,
         };
-        command.pursuer = self.homing.pursuer_command(&now, terms);
+        if self.uncertainty > terms.lead_pursuit_floor() {
+            self.homing = HomingMemory::FRESH;
+            command.pursuer = lead_pursuit(&now, terms, self.period.pursuer);
+        } else {
+            command.pursuer = self.homing.pursuer_command(&now, terms);
+        }
     }
 }
