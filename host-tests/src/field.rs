@@ -63,8 +63,9 @@ impl FieldModel {
 pub enum Receiver {
     /// Its last fix as its present state.
     Raw,
-    /// Through the estimator, told the field's noise and lag, carrying both states `own_lead`
-    /// seconds ahead.
+    /// Through the estimator, told the field's noise, each fix with the time it was taken and
+    /// its speed (as GLOBAL_POSITION_INT carries them), carrying both states `own_lead` seconds
+    /// ahead.
     Estimator {
         /// [`FieldSettings::own_lead`], seconds.
         own_lead: f64,
@@ -239,10 +240,15 @@ impl FieldPursuer {
         let now = micros(t0);
         for fix in arrived {
             self.last_fix = Some(fix.state);
-            let narrow = fix.state.map(|v| v as f32);
+            let located = twocars::estimate::Fix {
+                state: fix.state.map(|v| v as f32),
+                time_us: micros(fix.taken),
+            };
+            // The fix's velocity, as GLOBAL_POSITION_INT carries it: its length is the speed.
+            let [vx, vy] = fix.velocity;
             let _ = self
                 .estimator
-                .target_fix_received(narrow, micros(fix.arrival));
+                .target_fix_with_speed(&located, vx.hypot(vy) as f32);
         }
         let _ = self.estimator.own_fix(&twocars::estimate::Fix {
             state: p.map(|v| v as f32),

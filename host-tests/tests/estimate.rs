@@ -364,3 +364,77 @@ fn a_steady_target_is_carried_straight_and_a_turning_one_on_its_arc() {
         }
     }
 }
+
+#[test]
+fn a_fix_that_carries_its_speed_sets_the_tracks_speed() {
+    // A car of v_max 1 m/s running straight at 0.3 m/s, fixed every 0.314 s with 0.1 m and
+    // 0.1 rad of noise; each fix is carried 0.5 s on. From positions alone the track starts
+    // at v_max and learns 0.3 m/s over many fixes; from the fixes' speed it has it at once.
+    let noise = FixNoise {
+        position: 0.1,
+        heading: 0.1,
+    };
+    let stale = 10_000_000;
+    let error_after = |with_speed: bool| {
+        let mut track = Track::new(1.0, 1.0, noise).expect("valid");
+        let mut rng = Rng::new(5);
+        let mut worst: f64 = 0.0;
+        for k in 0..12 {
+            let t = 0.314 * f64::from(k);
+            let truth = advance([0.0, 0.0, 0.0], 0.3, 0.0, t);
+            let noisy = [
+                truth[0] + 0.1 * rng.normal(),
+                truth[1] + 0.1 * rng.normal(),
+                truth[2] + 0.1 * rng.normal(),
+            ];
+            let at = fix(noisy, t);
+            if with_speed {
+                track.update_with_speed(&at, 0.3, stale).expect("taken");
+                let (speed, _) = track.rates().expect("a track");
+                assert_eq!(speed, 0.3, "fix {k}");
+            } else {
+                track.update(&at, stale).expect("taken");
+            }
+            let (later, _) = track.at(at.time_us + 500_000, stale).expect("fresh");
+            let ahead = advance([0.0, 0.0, 0.0], 0.3, 0.0, t + 0.5);
+            worst = worst.max(f64::from(later[0]) - ahead[0]);
+        }
+        worst
+    };
+    let measured = error_after(true);
+    let differenced = error_after(false);
+    assert!(
+        measured < 0.25,
+        "carried {measured:.2} m ahead with the speed"
+    );
+    assert!(
+        differenced > 2.0 * measured,
+        "{differenced:.2} m ahead from positions alone, {measured:.2} m with the speed"
+    );
+}
+
+#[test]
+fn a_fix_speed_beyond_the_limit_is_the_limit_and_a_bad_one_is_refused() {
+    let mut track = Track::new(1.0, 1.0, FixNoise::default()).expect("valid");
+    let start = fix([0.0, 0.0, 0.0], 1.0);
+    track.update_with_speed(&start, 3.0, SECOND).expect("taken");
+    assert_eq!(track.rates(), Some((1.0, 0.0)));
+    let next = fix([0.2, 0.0, 0.0], 1.2);
+    for bad in [f32::NAN, f32::INFINITY, -0.1] {
+        assert_eq!(
+            track.update_with_speed(&next, bad, SECOND),
+            Err(Refused::NonFinite),
+            "{bad}"
+        );
+    }
+    assert_eq!(track.rates(), Some((1.0, 0.0)), "unchanged by a refusal");
+    let limits = PAPER_LIMITS.map(|v| v as f32);
+    let mut estimator = Estimator::new(limits, FieldSettings::exact(1.0)).expect("valid");
+    assert_eq!(
+        estimator.target_fix_with_speed(&start, f32::NAN),
+        Err(Refused::NonFinite)
+    );
+    assert_eq!(estimator.counters().refused, 1);
+    estimator.target_fix_with_speed(&start, 0.5).expect("taken");
+    assert_eq!(estimator.target().rates(), Some((0.5, 0.0)));
+}

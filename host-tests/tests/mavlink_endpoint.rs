@@ -911,3 +911,43 @@ fn a_fast_unit_clock_is_read_at_the_autopilots_rate() {
     let (alike, fast) = (tc_t(1), tc_t(10));
     assert!((fast - alike).abs() < 2e-3, "{fast} against {alike}");
 }
+
+/// A target's GLOBAL_POSITION_INT velocity is its track's speed: a target running north at
+/// 4 m/s (v_em 10 m/s), its fixes 0.5 s apart and said to carry 2 m of noise, steers the
+/// pursuer as fixes of where it is every 100 ms would. With vx = vy = 0 (a sender that fills
+/// no velocity) the track takes its speed from the positions, starting at v_em.
+#[test]
+fn a_targets_velocity_is_its_tracks_speed() {
+    let tc_t = |every_ms: u32, sigma: f32, reported: bool| {
+        let mut link = Link::new();
+        link.scale_tenfold();
+        assert_eq!(param(&link.set("TC_TGT_SIG", sigma)[0]).1, sigma);
+        let mut upper = f32::NAN;
+        for k in 0..15_u32 {
+            let t = 100 * k;
+            link.now_ms = t;
+            if t % every_ms == 0 {
+                let north = 80.0 + 4.0 * f64::from(t) / 1000.0;
+                let speed = if reported { 4.0 } else { 0.0 };
+                link.position(TARGET, t, [north, 60.0, 0.0], speed);
+            }
+            let sent = link.position(OWN, t, [0.0, 0.0, 0.4], 20.0);
+            if let Some(v) = of(&sent, NAMED_VALUE_FLOAT).first() {
+                upper = named(v).1;
+            }
+        }
+        upper
+    };
+    let every_fix = tc_t(100, 0.0, true);
+    let with_speed = tc_t(500, 2.0, true);
+    let without = tc_t(500, 2.0, false);
+    assert!(every_fix.is_finite());
+    assert!(
+        (with_speed - every_fix).abs() < 1e-3 * every_fix,
+        "{with_speed} vs {every_fix} from a fix every period"
+    );
+    assert!(
+        (without - every_fix).abs() > 0.01 * every_fix,
+        "without the velocity: {without} vs {every_fix}"
+    );
+}

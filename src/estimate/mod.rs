@@ -10,6 +10,8 @@
 //! - a target fix that carries its own time ([`Estimator::target_fix`]) is placed there; one
 //!   that does not ([`Estimator::target_fix_received`]) is placed at its arrival less the
 //!   known transport lag [`FieldSettings::target_lag`];
+//! - a fix that carries the target's speed ([`Estimator::target_fix_with_speed`]) sets the
+//!   track's speed; one that does not leaves it to the positions' differences;
 //! - between fixes, and through dropouts up to [`FieldSettings::timeout`], the track coasts on
 //!   its arc; beyond it the estimate is stale and no decision is made ([`Stale`]);
 //! - the own state is carried [`FieldSettings::own_lead`] ahead, and the target with it, so
@@ -269,9 +271,26 @@ impl<S: Scalar> Estimator<S> {
     /// # Errors
     /// As [`Track::update`]; counted in [`EstimatorCounters::refused`].
     pub fn target_fix(&mut self, fix: &Fix) -> Result<(), Refused> {
-        let taken = self
-            .in_frame(fix)
-            .and_then(|local| self.target.update(&local, self.stale_us));
+        self.take_target(fix, None)
+    }
+
+    /// Takes a target fix (metres) that carries the time the target was there and its speed
+    /// over ground, m/s: the length of GLOBAL_POSITION_INT's (vx, vy) or FOLLOW_TARGET's
+    /// velocity. The track then carries the target at that speed ([`Track::update_with_speed`]),
+    /// not at one differenced from sparse, noisy positions.
+    ///
+    /// # Errors
+    /// As [`Track::update_with_speed`]; counted in [`EstimatorCounters::refused`].
+    pub fn target_fix_with_speed(&mut self, fix: &Fix, speed: f32) -> Result<(), Refused> {
+        self.take_target(fix, Some(speed))
+    }
+
+    fn take_target(&mut self, fix: &Fix, speed: Option<f32>) -> Result<(), Refused> {
+        let stale_us = self.stale_us;
+        let taken = self.in_frame(fix).and_then(|local| match speed {
+            Some(speed) => self.target.update_with_speed(&local, speed, stale_us),
+            None => self.target.update(&local, stale_us),
+        });
         if taken.is_ok() {
             self.counters.target_fixes = self.counters.target_fixes.saturating_add(1);
         }

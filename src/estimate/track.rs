@@ -7,7 +7,8 @@
 //!
 //! - position x, y by alpha r and heading by alpha_h r_theta;
 //! - speed by beta (r along the heading) / T and turn rate by beta_h r_theta / T,
-//!   T being the time since the last fix.
+//!   T being the time since the last fix; where the fix carries the car's speed
+//!   ([`Track::update_with_speed`]), speed is that.
 //!
 //! The gains follow from the tracking index lambda = a T^2 / sigma (Kalata's steady state of
 //! the piecewise-constant-acceleration model): a the largest acceleration the car has
@@ -136,6 +137,8 @@ pub struct Track<S = f32> {
     per_second: f32,
     /// Law time units per microsecond (normalised backends; SI divides by 1e6).
     units_per_us: f32,
+    /// Metres per second per law speed unit (1 on SI backends).
+    speed_unit: f32,
     estimate: Option<Estimate<S>>,
     outliers: u8,
 }
@@ -303,6 +306,7 @@ impl<S: Scalar> Track<S> {
             heading_noise: S::from_f32(noise.heading),
             per_second,
             units_per_us: per_second / US,
+            speed_unit: units.metres_per_second,
             estimate: None,
             outliers: 0,
         })
@@ -348,6 +352,36 @@ impl<S: Scalar> Track<S> {
     /// [`Refused`] says why the fix was not taken; the track is then unchanged but for its
     /// count of outliers in a row.
     pub fn update(&mut self, fix: &Fix<S>, stale_us: u32) -> Result<(), Refused> {
+        self.take(fix, None, stale_us)
+    }
+
+    /// Takes a fix that carries the car's speed over ground, metres per second (finite, not
+    /// negative; above v_max taken as v_max): the track's speed is then that speed, not one
+    /// differenced from positions. A GPS's Doppler speed is good to a few cm/s where a
+    /// speed from two fixes a fifth of a turn apart carries their noise twice over, so it
+    /// is taken whole, not weighed.
+    ///
+    /// # Errors
+    /// As [`Track::update`]; a speed NaN, infinite or negative is [`Refused::NonFinite`].
+    pub fn update_with_speed(
+        &mut self,
+        fix: &Fix<S>,
+        speed: f32,
+        stale_us: u32,
+    ) -> Result<(), Refused> {
+        if !(speed.is_finite() && speed >= 0.0) {
+            return Err(Refused::NonFinite);
+        }
+        self.take(fix, Some(speed), stale_us)
+    }
+
+    /// The speed `metres_per_second` (finite, not negative) in law units, within v_max.
+    fn measured_speed(&self, metres_per_second: f32) -> S {
+        S::from_f32(metres_per_second / self.speed_unit).min(self.speed_max)
+    }
+
+    fn take(&mut self, fix: &Fix<S>, speed: Option<f32>, stale_us: u32) -> Result<(), Refused> {
+        let speed = speed.map(|s| self.measured_speed(s));
         let [x, y, theta] = fix.state;
         if !(x.is_number() && y.is_number() && theta.is_number()) {
             return Err(Refused::NonFinite);
@@ -361,7 +395,7 @@ impl<S: Scalar> Track<S> {
             });
         }
         let Some(last) = self.estimate else {
-            self.restart(fix);
+            self.restart(fix, speed);
             return Ok(());
         };
         let elapsed = fix.time_us.wrapping_sub(last.time_us) as i32;
@@ -369,7 +403,7 @@ impl<S: Scalar> Track<S> {
             return Err(Refused::OutOfOrder);
         }
         if elapsed as u32 > stale_us {
-            self.restart(fix);
+            self.restart(fix, speed);
             return Ok(());
         }
         let interval = self.between(last.time_us, fix.time_us);
@@ -383,13 +417,17 @@ impl<S: Scalar> Track<S> {
             // Fixes said to be exact are the truth: the model was wrong (a target faster than
             // v_max, another source), and the track restarts at once.
             if self.outliers > OUTLIERS_TO_RESTART || self.position_noise <= S::zero() {
-                self.restart(fix);
+                self.restart(fix, speed);
                 return Ok(());
             }
             return Err(Refused::Outlier);
         }
         self.outliers = 0;
-        self.estimate = Some(self.corrected(&last, fix, [px, py, ptheta], interval));
+        let mut corrected = self.corrected(&last, fix, [px, py, ptheta], interval);
+        if let Some(speed) = speed {
+            corrected.speed = speed;
+        }
+        self.estimate = Some(corrected);
         Ok(())
     }
 
@@ -459,14 +497,15 @@ impl<S: Scalar> Track<S> {
         rate_within(self.heading_noise * ratio, interval, bound)
     }
 
-    fn restart(&mut self, fix: &Fix<S>) {
+    /// Restarts at `fix`, at its `speed` (law units) or v_max, not turning.
+    fn restart(&mut self, fix: &Fix<S>, speed: Option<S>) {
         let [x, y, theta] = fix.state;
         self.outliers = 0;
         self.estimate = Some(Estimate {
             x,
             y,
             theta: theta.wrap_signed(),
-            speed: self.speed_max,
+            speed: speed.unwrap_or(self.speed_max),
             turn_rate: S::zero(),
             turn_spread: S::zero(),
             spread: self.position_noise,

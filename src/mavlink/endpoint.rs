@@ -147,13 +147,14 @@ pub struct EndpointCounters {
     pub fixes_refused: u32,
 }
 
-/// A vehicle's last fix: degE7, heading (rad, clockwise from north), the sender's clock and
-/// ours (ms).
+/// A vehicle's last fix: degE7, heading (rad, clockwise from north), speed over ground (m/s,
+/// where the message carries it), the sender's clock and ours (ms).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Fix {
     lat: i32,
     lon: i32,
     heading: f32,
+    speed: Option<f32>,
     sent_ms: u32,
     arrived_ms: u32,
 }
@@ -669,7 +670,8 @@ impl Session {
                 .theirs(own.arrived_ms.wrapping_sub(fix.arrived_ms));
             let arrival_ms = own.sent_ms.wrapping_sub(before);
             // Refusals are counted by the estimator.
-            let _ = tracking.target([x, y, fix.heading], fix.sent_ms, arrival_ms, fresh);
+            let state = [x, y, fix.heading];
+            let _ = tracking.target(state, fix.speed, fix.sent_ms, arrival_ms, fresh);
         }
     }
 
@@ -900,10 +902,17 @@ fn position_fix(m: &GLOBAL_POSITION_INT_DATA, now_ms: u32) -> Option<Fix> {
     } else {
         heading_from_cdeg(m.hdg)
     }?;
+    // (0, 0) is what a sender that fills no velocity sends: the track's positions tell the
+    // speed then (a target that is still is found still by them as well).
+    let speed = (m.vx != 0 || m.vy != 0).then(|| {
+        let (vx, vy) = (f32::from(m.vx), f32::from(m.vy));
+        crate::num::f32_math::sqrt(vx * vx + vy * vy) / 100.0
+    });
     Some(Fix {
         lat: m.lat,
         lon: m.lon,
         heading,
+        speed,
         sent_ms: m.time_boot_ms,
         arrived_ms: now_ms,
     })
@@ -937,13 +946,18 @@ fn follow_fix(m: &FOLLOW_TARGET_DATA, now_ms: u32) -> Option<Fix> {
         .then(|| yaw_from_quaternion(m.attitude_q))
         .flatten();
     let [north, east, _] = m.vel;
-    let velocity = (caps & FOLLOW_VELOCITY != 0)
+    let moving = caps & FOLLOW_VELOCITY != 0;
+    let velocity = moving
         .then(|| course(north, east, MIN_COURSE_SPEED_CM_S / 100.0))
         .flatten();
+    let speed = moving
+        .then(|| crate::num::f32_math::sqrt(north * north + east * east))
+        .filter(|s| s.is_finite());
     Some(Fix {
         lat: m.lat,
         lon: m.lon,
         heading: attitude.or(velocity)?,
+        speed,
         sent_ms: m.timestamp as u32,
         arrived_ms: now_ms,
     })

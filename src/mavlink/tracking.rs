@@ -57,12 +57,14 @@ impl Tracking {
         self.estimator.own_fix(&Fix { state, time_us })
     }
 
-    /// A target fix stamped `sent_ms` on its sender's clock, arriving at `arrival_ms` on the
-    /// autopilot's clock; `fresh_track` starts a new track at it (the last fix is stale, or
-    /// the target jumped and a second fix agreed).
+    /// A target fix, with its speed over ground (m/s) where the message carries one, stamped
+    /// `sent_ms` on its sender's clock, arriving at `arrival_ms` on the autopilot's clock;
+    /// `fresh_track` starts a new track at it (the last fix is stale, or the target jumped and
+    /// a second fix agreed).
     pub fn target(
         &mut self,
         state: [f32; 3],
+        speed: Option<f32>,
         sent_ms: u32,
         arrival_ms: u32,
         fresh_track: bool,
@@ -76,7 +78,11 @@ impl Tracking {
         self.offset_ms = Some(least);
         let time_ms = sent_ms.wrapping_add(least as u32).wrapping_sub(self.lag_ms);
         let time_us = time_ms.wrapping_mul(US_PER_MS);
-        self.estimator.target_fix(&Fix { state, time_us })
+        let fix = Fix { state, time_us };
+        match speed {
+            Some(speed) => self.estimator.target_fix_with_speed(&fix, speed),
+            None => self.estimator.target_fix(&fix),
+        }
     }
 
     /// Both states for the setpoint of the own fix at `own_ms` on the autopilot's clock.
