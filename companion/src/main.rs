@@ -9,6 +9,7 @@
 //! ```
 
 mod link;
+mod params;
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -45,10 +46,19 @@ struct Args {
     /// hexadecimal digits), the autopilot given the same one.
     #[arg(long, value_name = "FILE")]
     signing_key: Option<PathBuf>,
-    /// Set a parameter before the first frame, as a PARAM_SET would (TC_V_PM=3); repeatable,
-    /// applied in order. Parameters live in memory: give them at each start.
+    /// Set a parameter before the first frame (TC_V_PM=3); repeatable. All of them, with
+    /// those of --params, are checked and set as one set, so their order does not matter.
+    /// Parameters live in memory: give them at each start.
     #[arg(long = "param", value_name = "NAME=VALUE", value_parser = parse_param)]
     params: Vec<(String, f32)>,
+    /// Set the parameters of this file (the autopilots' .parm form: NAME VALUE or NAME,VALUE
+    /// a line, # comments) before the first frame; --param values override them.
+    #[arg(long = "params", value_name = "FILE")]
+    params_file: Option<PathBuf>,
+    /// Check the arguments and the parameters, print the parameters as set and exit, without
+    /// opening the link.
+    #[arg(long)]
+    check: bool,
 }
 
 fn parse_param(text: &str) -> Result<(String, f32), String> {
@@ -65,7 +75,7 @@ fn signing_clock_now() -> u64 {
     timestamp_from_unix_us(since_unix.as_micros() as u64)
 }
 
-/// The endpoint the arguments ask for: signing, then the parameters in order.
+/// The endpoint the arguments ask for: signing, then the parameters as one set.
 fn endpoint(args: &Args) -> Result<Endpoint, String> {
     let mut endpoint = Endpoint::new();
     if let Some(path) = &args.signing_key {
@@ -76,11 +86,16 @@ fn endpoint(args: &Args) -> Result<Endpoint, String> {
         ))?;
         endpoint = endpoint.with_signing(key, LINK_ID, signing_clock_now());
     }
-    for (name, value) in &args.params {
-        endpoint
-            .set_param(name.as_bytes(), *value)
-            .map_err(|refusal| format!("{name} = {value}: {}", refusal.text()))?;
-    }
+    let mut given = match &args.params_file {
+        Some(path) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            params::parse_parm(&text).map_err(|e| format!("{}: {e}", path.display()))?
+        }
+        None => Vec::new(),
+    };
+    given.extend(args.params.iter().cloned());
+    params::set(&mut endpoint, &given)?;
     Ok(endpoint)
 }
 
@@ -127,6 +142,10 @@ fn main() -> std::process::ExitCode {
     let args = Args::parse();
     let run = || -> Result<(), String> {
         let mut endpoint = endpoint(&args)?;
+        if args.check {
+            print!("{}", params::listing(endpoint.params()));
+            return Ok(());
+        }
         let (mut link, name) = open(&args)?;
         let params = endpoint.params();
         println!(

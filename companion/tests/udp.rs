@@ -224,7 +224,10 @@ fn a_bad_parameter_or_no_link_is_refused_with_a_reason() {
         .unwrap();
     assert!(!out.status.success());
     let said = String::from_utf8_lossy(&out.stderr);
-    assert!(said.contains("TC_V_PM = 0.5: TC: limits invalid"), "{said}");
+    assert!(
+        said.contains("TC_V_PM = 0.5, TC_W_PM = 2, TC_V_EM = 1, TC_W_EM = 1: TC: limits invalid"),
+        "{said}"
+    );
     let out = Command::new(BINARY).output().unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("give one link"));

@@ -324,6 +324,18 @@ impl Endpoint {
         self.session.apply_param(i, value)
     }
 
+    /// Sets the parameters `values` (index, value) as one set, without a reply: a host that
+    /// configures its endpoint before the link starts (the companion's `--param` and
+    /// `--params`), in whatever order they were written ([`Params::set_all`]).
+    ///
+    /// # Errors
+    /// As [`Params::set_all`]; every old value stays.
+    pub fn set_params(&mut self, values: &[(usize, f32)]) -> Result<(), (Option<usize>, Refusal)> {
+        self.session.params.set_all(values)?;
+        self.session.rebuild_guidance();
+        Ok(())
+    }
+
     /// What the endpoint counted.
     pub fn counters(&self) -> EndpointCounters {
         let mut counters = self.session.counters;

@@ -169,20 +169,45 @@ impl Params {
     /// # Errors
     /// The [`Refusal`].
     pub fn set(&mut self, index: usize, value: f32) -> Result<(), Refusal> {
+        self.set_all(&[(index, value)])
+            .map_err(|(_, refusal)| refusal)
+    }
+
+    /// Whether `value` is in range (finite, within the parameter's bounds, whole where it must
+    /// be) for the parameter at `index`, alone.
+    ///
+    /// # Errors
+    /// [`Refusal::UnknownName`] or [`Refusal::OutOfRange`].
+    pub fn admissible(index: usize, value: f32) -> Result<(), Refusal> {
         let spec = SPECS.get(index).ok_or(Refusal::UnknownName)?;
         let whole = value == libm::truncf(value);
         if !(value >= spec.min && value <= spec.max) || (spec.integer && !whole) {
             return Err(Refusal::OutOfRange);
         }
+        Ok(())
+    }
+
+    /// Sets every (index, value) of `values` together, later ones over earlier ones, if each is
+    /// admissible and the set is valid together (the limits, lag and lead below the timeout);
+    /// otherwise keeps every old value. The order they are given in does not matter: a set of
+    /// limits that is valid as a whole is taken even where one of them alone would not be.
+    ///
+    /// # Errors
+    /// The first value out of range, with its place in `values`; or, with no place, the
+    /// [`Refusal`] of the set as a whole.
+    pub fn set_all(&mut self, values: &[(usize, f32)]) -> Result<(), (Option<usize>, Refusal)> {
         let mut next = *self;
-        if let Some(slot) = next.values.get_mut(index) {
-            *slot = value;
+        for (place, &(index, value)) in values.iter().enumerate() {
+            Self::admissible(index, value).map_err(|refusal| (Some(place), refusal))?;
+            if let Some(slot) = next.values.get_mut(index) {
+                *slot = value;
+            }
         }
-        next.limits().ok_or(Refusal::InvalidLimits)?;
+        next.limits().ok_or((None, Refusal::InvalidLimits))?;
         let timeout = next.get(index::TIMEOUT).unwrap_or(0.0);
         let below = |i| next.get(i).is_some_and(|v| v < timeout);
         if !(below(index::TGT_LAG) && below(index::LEAD)) {
-            return Err(Refusal::LagBeyondTimeout);
+            return Err((None, Refusal::LagBeyondTimeout));
         }
         *self = next;
         Ok(())
