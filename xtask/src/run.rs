@@ -72,7 +72,8 @@ pub struct RunArgs {
     ardurover: Option<std::path::PathBuf>,
     /// With `--link mavlink`: the target's fixes 200 ms late, 5 a second, with GPS noise of
     /// 0.2 r_p, through the unit's estimator; with `--link ardupilot`: 300 ms late, 5 a
-    /// second, 1 m and 5 degrees, wind and GPS noise on the rover (docs/field.md).
+    /// second, 1 m and 5 degrees, wind and GPS noise on the rover (docs/field.md); with
+    /// `--vehicle plane` 2 a second, and with `--plane-evader` both aircraft in wind.
     #[arg(long)]
     field: bool,
     /// With `--link ardupilot` or `px4` (rovers): the evader a second ArduPilot Rover SITL
@@ -205,6 +206,7 @@ fn ardupilot(args: &RunArgs, key: Option<SigningKey>) -> i32 {
             companion: args.companion,
             speedup: args.speedup,
             plane_evader: args.plane_evader,
+            field: args.field,
             key,
         });
     }

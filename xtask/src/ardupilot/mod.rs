@@ -21,10 +21,11 @@ use host_tests::autopilot::HOME;
 
 use crate::autopilot::chase::{self, Outcome};
 use crate::autopilot::evader::Terms;
+use crate::autopilot::field::Radio;
 use crate::autopilot::harness::{Harness, NoTarget};
 use crate::autopilot::router::Source;
 use crate::autopilot::{
-    configure_unit, field, law_limits, report, set_unit_params, starts, starts_against, Measured,
+    configure_unit, law_limits, report, set_unit_params, starts, starts_against, Measured,
     CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
 };
 use crate::image::signing::SigningKey;
@@ -40,7 +41,7 @@ pub struct Options {
     pub ardurover: Option<PathBuf>,
     /// One short chase instead of the whole set (what `cargo xtask test` flies).
     pub short: bool,
-    /// The target's fixes late, sparse and noisy ([`field`]), the unit told so, and wind and
+    /// The target's fixes late, sparse and noisy ([`Radio::ROVER`]), the unit told so, and wind and
     /// GPS noise on the rover.
     pub field: bool,
     /// The chases against the simulated evader.
@@ -53,25 +54,15 @@ pub struct Options {
     pub key: Option<SigningKey>,
 }
 
-/// The field: the unit told the target's lag and noise; wind and GPS noise on the rover
-/// (SIM_WIND_SPD 3 m/s, SIM_GPS1_NOISE 0.5 m).
+/// The field: the unit told the rovers' radio's lag and noise; wind and GPS noise on the
+/// rover (SIM_WIND_SPD 3 m/s, SIM_GPS1_NOISE 0.5 m).
 fn configure_field(h: &mut Harness) -> Result<(), String> {
-    set_unit_params(
-        h,
-        &[
-            ("TC_TGT_LAG", field::LAG_S),
-            ("TC_TGT_SIG", field::SIGMA_M),
-            ("TC_TGT_SIGH", field::SIGMA_HEADING),
-        ],
-    )?;
+    set_unit_params(h, &Radio::ROVER.unit_params())?;
     vehicle::set_autopilot_param(h, "SIM_WIND_SPD", 3.0)?;
     vehicle::set_autopilot_param(h, "SIM_GPS1_NOISE", 0.5)?;
     println!(
-        "the field: target fixes {} s late, every {} s, sigma {} m and {} rad; SIM_WIND_SPD 3 m/s, SIM_GPS1_NOISE 0.5 m",
-        field::LAG_S,
-        field::INTERVAL_S,
-        field::SIGMA_M,
-        field::SIGMA_HEADING
+        "the field: {}; SIM_WIND_SPD 3 m/s, SIM_GPS1_NOISE 0.5 m",
+        Radio::ROVER.line()
     );
     Ok(())
 }
@@ -130,7 +121,14 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
     if options.simulated {
         for (i, start) in starts(limits, options.short).into_iter().enumerate() {
             let seed = 7 + i as u64;
-            let outcome = chase::fly(&mut h, start, limits, CAPTURE_RADIUS, seed, options.field)?;
+            let outcome = chase::fly(
+                &mut h,
+                start,
+                limits,
+                CAPTURE_RADIUS,
+                seed,
+                options.field.then_some(Radio::ROVER),
+            )?;
             println!("{}", report(&outcome, limits));
             outcomes.push(outcome);
         }
@@ -187,7 +185,7 @@ fn fly_against_rover(
             Terms {
                 eps: CAPTURE_RADIUS,
                 seed,
-                field: options.field,
+                field: options.field.then_some(Radio::ROVER),
             },
         )?;
         println!(

@@ -11,8 +11,10 @@ use super::aircraft::{self, MEASURED_BANK_DEG};
 use super::plane_evader::{self, Banked, PlaneSteer};
 use super::rover_evader::pump;
 use super::sitl::{self, Frame};
+use super::vehicle::set_autopilot_param;
 use crate::autopilot::chase::{self, Outcome};
 use crate::autopilot::evader::{self, Terms};
+use crate::autopilot::field::Radio;
 use crate::autopilot::harness::{Harness, Pursuer};
 use crate::autopilot::{
     aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, TARGET_SYSTEM,
@@ -29,6 +31,9 @@ const CHASE_LIMIT_S: f64 = 600.0;
 /// (docs/ardupilot.md).
 pub const SPEEDUP: u32 = 4;
 
+/// The wind both aircraft fly in with `--field`: SIM_WIND_SPD and SIM_WIND_TURB, m/s.
+pub const WIND: (f32, f32) = (6.0, 2.0);
+
 /// `cargo xtask run --link ardupilot --vehicle plane`'s options.
 #[derive(Debug, Clone)]
 pub struct Options {
@@ -44,6 +49,9 @@ pub struct Options {
     /// The evader a second ArduPlane SITL flown by the suite's evaders, in place of the
     /// simulated one.
     pub plane_evader: bool,
+    /// The target's fixes through [`Radio::AIRCRAFT`], the unit told so; against the evader's
+    /// aircraft, both in the same wind ([`WIND`]).
+    pub field: bool,
     /// The unit's link signed both ways with this key.
     pub key: Option<crate::image::signing::SigningKey>,
 }
@@ -117,9 +125,16 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
     set_unit_params(&mut h, &[("TC_VEHICLE", 3.0), ("TC_BANK_EFF", efficiency)])?;
     configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;
     h.bank_turn = (limits[0] as f32, efficiency as f32);
+    let radio = options.field.then_some(Radio::AIRCRAFT);
+    if let Some(radio) = radio {
+        configure_field(&mut h, evader.as_mut(), radio)?;
+    }
     let (outcomes, evader_speeds) = match &mut evader {
-        None => (fly_simulated(&mut h, limits, options.short)?, Vec::new()),
-        Some(e) => fly_against_plane(&mut h, e, limits, options.short)?,
+        None => (
+            fly_simulated(&mut h, limits, options.short, radio)?,
+            Vec::new(),
+        ),
+        Some(e) => fly_against_plane(&mut h, e, limits, options.short, radio)?,
     };
     drop(launched);
     Ok(Flown {
@@ -137,11 +152,40 @@ pub fn find(explicit: Option<&std::path::Path>) -> Option<PathBuf> {
     sitl::find(Frame::Plane, explicit)
 }
 
+/// The field: the unit told the radio's lag and noise; against the evader's aircraft, both
+/// aircraft in the same wind, so that the game holds in the air's frame.
+fn configure_field(
+    h: &mut Harness,
+    evader: Option<&mut plane_evader::EvaderPlane>,
+    radio: Radio,
+) -> Result<(), String> {
+    set_unit_params(h, &radio.unit_params())?;
+    let Some(evader) = evader else {
+        println!("the field: {}", radio.line());
+        return Ok(());
+    };
+    let (speed, turbulence) = WIND;
+    for aircraft in [&mut *h, &mut evader.harness] {
+        set_autopilot_param(aircraft, "SIM_WIND_SPD", speed)?;
+        set_autopilot_param(aircraft, "SIM_WIND_TURB", turbulence)?;
+    }
+    println!(
+        "the field: {}; both aircraft in SIM_WIND_SPD {speed} m/s, SIM_WIND_TURB {turbulence} m/s",
+        radio.line()
+    );
+    Ok(())
+}
+
 /// The chases against the simulated evader.
-fn fly_simulated(h: &mut Harness, limits: [f64; 4], short: bool) -> Result<Vec<Outcome>, String> {
+fn fly_simulated(
+    h: &mut Harness,
+    limits: [f64; 4],
+    short: bool,
+    radio: Option<Radio>,
+) -> Result<Vec<Outcome>, String> {
     let mut outcomes = Vec::new();
     for (i, start) in starts(limits, short).into_iter().enumerate() {
-        let outcome = chase::fly(h, start, limits, CAPTURE_RADIUS, 7 + i as u64, false)?;
+        let outcome = chase::fly(h, start, limits, CAPTURE_RADIUS, 7 + i as u64, radio)?;
         println!(
             "{}\n  {}",
             report(&outcome, limits),
@@ -159,6 +203,7 @@ fn fly_against_plane(
     evader: &mut plane_evader::EvaderPlane,
     limits: [f64; 4],
     short: bool,
+    radio: Option<Radio>,
 ) -> Result<(Vec<Outcome>, Vec<f64>), String> {
     let mut steer = PlaneSteer::of(evader);
     let (mut outcomes, mut speeds) = (Vec::new(), Vec::new());
@@ -171,20 +216,39 @@ fn fly_against_plane(
         let terms = Terms {
             eps: CAPTURE_RADIUS,
             seed: 7 + i as u64,
-            field: false,
+            field: radio,
         };
+        let fixes = evader.harness.fixes.len();
         let (outcome, [peak, mean]) =
             evader::chase(h, &mut evader.harness, &mut steer, start, limits, terms)?;
         println!(
-            "{}\n  {}\n  the evader's aircraft: ground speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s)",
+            "{}\n  {}\n  the evader's aircraft: ground speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s); {}",
             report(&outcome, limits),
             energy_line(&outcome, limits),
-            limits[2]
+            limits[2],
+            crab_line(&evader.harness.fixes[fixes..])
         );
         outcomes.push(outcome);
         speeds.push(mean);
     }
     Ok((outcomes, speeds))
+}
+
+/// How far the wind turns an aircraft's yaw, which the unit steers by, off its course over
+/// ground, over `fixes`: the mean and the largest, degrees.
+fn crab_line(fixes: &[crate::autopilot::harness::RoverFix]) -> String {
+    let crabs: Vec<f64> = fixes
+        .iter()
+        .filter(|f| f.speed > 1.0)
+        .map(|f| {
+            host_tests::kinematics::wrap_pi(f.state[2] - f.course)
+                .abs()
+                .to_degrees()
+        })
+        .collect();
+    let mean = crabs.iter().sum::<f64>() / crabs.len().max(1) as f64;
+    let most = crabs.iter().copied().fold(0.0, f64::max);
+    format!("its yaw (the unit's heading) off its course over ground by {mean:.1} deg on average, {most:.1} at most")
 }
 
 /// `cargo xtask run --link ardupilot --vehicle plane`; the exit code.

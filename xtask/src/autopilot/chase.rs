@@ -14,7 +14,7 @@ use host_tests::sim::{simulate_with, Setup, SimParams, SimStatus};
 use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 use twocars::{Policy, Variant};
 
-use super::field::Delayed;
+use super::field::{Delayed, Radio};
 use super::harness::wait_stopped;
 use super::harness::{Harness, Injector, Pursuer, RoverFix};
 use super::router::Source;
@@ -183,14 +183,14 @@ impl Marks {
 }
 
 /// Flies `start` from where the rover stands; `limits` are the law's (v_pm, w_pm, v_em, w_em);
-/// with `field` the target's fixes come through [`Delayed`].
+/// with a `field` the target's fixes come through it ([`Delayed`]).
 pub fn fly(
     h: &mut Harness,
     start: Start,
     limits: [f64; 4],
     eps: f64,
     seed: u64,
-    field: bool,
+    field: Option<Radio>,
 ) -> Result<Outcome, String> {
     let rover = h.rover.ok_or("no fix from the rover")?;
     let evader0 = place(rover.state, &start);
@@ -254,26 +254,26 @@ impl Began {
     }
 }
 
-/// Forwards until `target` is caught or out of time (its fixes through [`Delayed`] with
+/// Forwards until `target` is caught or out of time (its fixes through [`Delayed`] with a
 /// `field`), then times the failsafe; the outcome.
 pub fn pursue<T: Injector>(
     h: &mut Harness,
     target: T,
     began: &Began,
     seed: u64,
-    field: bool,
+    field: Option<Radio>,
 ) -> Result<Outcome, String> {
     let marks = Marks::now(h);
     h.router.take_unread();
     let mode = h.mode;
     let wall = std::time::Instant::now() + Duration::from_secs_f64(h.chase_limit_s * 2.0 + 10.0);
     // Through the field, the target's fixes come late, sparse and noisy.
-    let mut delayed = Delayed::new(target, seed);
+    let mut delayed = Delayed::new(target, field.unwrap_or(Radio::ROVER), seed);
     while delayed.on() {
         if std::time::Instant::now() > wall {
             return Err("the chase outran its wall-clock limit".to_string());
         }
-        let injector: &mut dyn Injector = if field {
+        let injector: &mut dyn Injector = if field.is_some() {
             &mut delayed
         } else {
             delayed.inner_mut()

@@ -82,12 +82,12 @@ impl Injector for VehicleTarget<'_> {
 }
 
 /// How a chase against an evader vehicle is judged and run: the capture radius (m), the
-/// strategy's seed, and whether the target's fixes go through the field.
+/// strategy's seed, and the radio the target's fixes come through, if not exact.
 #[derive(Clone, Copy, Debug)]
 pub struct Terms {
     pub eps: f64,
     pub seed: u64,
-    pub field: bool,
+    pub field: Option<super::field::Radio>,
 }
 
 /// Flies `start.evader` on the vehicle behind `evader` (steered by `steer`) against the

@@ -29,6 +29,9 @@ pub struct RoverFix {
     pub state: [f64; 3],
     /// Ground speed, m/s.
     pub speed: f64,
+    /// Course over ground from the velocity (rad, clockwise from north): the heading less the
+    /// wind's crab.
+    pub course: f64,
     /// Height above home, m.
     pub height: f64,
 }
@@ -265,6 +268,7 @@ impl Harness {
             time_ms: p.time_boot_ms,
             state: [north, east, heading],
             speed: vn.hypot(ve),
+            course: ve.atan2(vn),
             height: f64::from(p.relative_alt) / 1000.0,
         }
     }

@@ -110,7 +110,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         let modes = h.modes.len();
         let seed = 7 + i as u64;
         let outcome = match &evader {
-            None => chase::fly(&mut h, start, limits, CAPTURE_RADIUS, seed, false)?,
+            None => chase::fly(&mut h, start, limits, CAPTURE_RADIUS, seed, None)?,
             Some(binary) => {
                 // PX4 leaves OFFBOARD a second after the last setpoint: the ground station
                 // holds the rover while the evader starts.
@@ -123,7 +123,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
                     Terms {
                         eps: CAPTURE_RADIUS,
                         seed,
-                        field: false,
+                        field: None,
                     },
                 )?;
                 println!(

@@ -136,7 +136,7 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         let (texts, modes) = (h.texts.len(), h.modes.len());
         let seed = 7 + i as u64;
         let outcome = match &mut evader {
-            None => chase::fly(&mut h, start, limits, CAPTURE_RADIUS, seed, false)?,
+            None => chase::fly(&mut h, start, limits, CAPTURE_RADIUS, seed, None)?,
             Some(e) => chase_plane(&mut h, &mut held, e, start, limits, seed)?,
         };
         println!(
@@ -188,7 +188,7 @@ fn chase_plane(
     let terms = Terms {
         eps: CAPTURE_RADIUS,
         seed,
-        field: false,
+        field: None,
     };
     let (outcome, [peak, mean]) =
         evader::chase(h, &mut evader.harness, &mut steer, start, limits, terms)?;

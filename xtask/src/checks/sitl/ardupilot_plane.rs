@@ -23,6 +23,7 @@ pub fn record(record: &mut impl FnMut(&str, Result<String, String>)) {
         companion: false,
         speedup: SPEEDUP,
         plane_evader: false,
+        field: false,
         key: None,
     });
     record(
@@ -35,6 +36,7 @@ pub fn record(record: &mut impl FnMut(&str, Result<String, String>)) {
         companion: false,
         speedup: SPEEDUP,
         plane_evader: true,
+        field: false,
         key: None,
     });
     record(
