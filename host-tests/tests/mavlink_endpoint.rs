@@ -951,3 +951,53 @@ fn a_targets_velocity_is_its_tracks_speed() {
         "without the velocity: {without} vs {every_fix}"
     );
 }
+
+/// The own vehicle's speed and turn rate under setpoints, each second, against TC_V_PM and
+/// v_pm w_pm (20 m/s, 4 rad/s here): 25 m/s is said within 2 s, once; 15 m/s after 3 s (a
+/// rover reaching speed is not); 5 rad/s of turn within 2 s; 20 m/s and 3 rad/s never.
+#[test]
+fn an_own_vehicle_off_its_speed_or_turn_rate_is_said_once() {
+    let said = |speed: f64, turn_rate: f64| {
+        let mut link = Link::new();
+        link.scale_tenfold();
+        let mut texts = Vec::new();
+        for k in 0..60_u32 {
+            let t = 100 * k;
+            link.now_ms = t;
+            link.position(TARGET, t, [300.0, 60.0, 0.0], 0.0);
+            let heading = 0.4 + turn_rate * f64::from(t) / 1000.0;
+            let sent = link.position(OWN, t, [0.0, 0.0, heading], speed);
+            texts.extend(
+                of(&sent, STATUSTEXT)
+                    .into_iter()
+                    .map(|s| (t, status(s)))
+                    .filter(|(_, (_, text))| text.contains("own")),
+            );
+        }
+        (texts, link.endpoint.counters().own_departures)
+    };
+    let (faster, count) = said(25.0, 0.0);
+    assert_eq!(count, 1);
+    assert_eq!(faster.len(), 1, "{faster:?}");
+    let (t, (severity, text)) = &faster[0];
+    assert!(*t <= 2_100, "said at {t} ms");
+    assert_eq!(
+        (*severity, text.as_str()),
+        (WARNING, "TC: own speed over TC_V_PM by >10%")
+    );
+    let (slower, _) = said(15.0, 0.0);
+    assert_eq!(slower.len(), 1, "{slower:?}");
+    assert!((3_000..=3_100).contains(&slower[0].0), "{slower:?}");
+    assert_eq!(slower[0].1 .1, "TC: own speed under TC_V_PM by >10%");
+    let (turning, _) = said(20.0, 5.0);
+    assert_eq!(turning.len(), 1, "{turning:?}");
+    assert!(turning[0].0 <= 2_100, "{turning:?}");
+    assert_eq!(turning[0].1 .1, "TC: own turn rate over v_pm*w_pm by >10%");
+    for (speed, turn_rate) in [(20.0, 0.0), (21.5, 3.0), (18.5, -3.0)] {
+        let (none, count) = said(speed, turn_rate);
+        assert!(
+            none.is_empty() && count == 0,
+            "{speed} m/s, {turn_rate} rad/s: {none:?}"
+        );
+    }
+}

@@ -27,6 +27,7 @@
 
 use ::mavlink::dialects::common::{MavSeverity, FOLLOW_TARGET_DATA, GLOBAL_POSITION_INT_DATA};
 
+use super::departure::DepartureWatch;
 use super::energy::{Energy, EnergyHold, Flight};
 use super::frame::{Frame, FrameReader};
 use super::messages::{decode, extra_crc, Message};
@@ -145,6 +146,9 @@ pub struct EndpointCounters {
     pub target_coasted: u32,
     /// Fixes the estimator refused (either vehicle): out of order or outliers of the track.
     pub fixes_refused: u32,
+    /// Times the own vehicle was said to depart from TC_V_PM or v_pm w_pm
+    /// ([`super::departure`]).
+    pub own_departures: u32,
 }
 
 /// A vehicle's last fix: degE7, heading (rad, clockwise from north), speed over ground (m/s,
@@ -210,6 +214,8 @@ struct Session {
     /// The autopilot's last VFR_HUD airspeed (m/s) and when it arrived (our ms).
     airspeed: Option<(f32, u32)>,
     energy: EnergyHold,
+    /// The own vehicle's speed and turn rate under setpoints, against TC_V_PM and v_pm w_pm.
+    departure: DepartureWatch,
     target: Option<Target>,
     health: Health,
     last_status: Status,
@@ -251,6 +257,7 @@ impl Endpoint {
             own: None,
             flight: None,
             airspeed: None,
+            departure: DepartureWatch::default(),
             energy: EnergyHold::new(),
             target: None,
             health: Health::Starting,
@@ -731,8 +738,41 @@ impl Session {
         }
         self.track(&fix);
         match self.evaluate(now_ms) {
-            Ok(decision) => self.setpoint(&decision, fix.heading, now_ms, send),
-            Err(halt) => self.halt(halt, send),
+            Ok(decision) => {
+                self.setpoint(&decision, fix.heading, now_ms, send);
+                self.watch_departure(&fix, now_ms, send);
+            }
+            Err(halt) => {
+                self.departure.reset();
+                self.halt(halt, send);
+            }
+        }
+    }
+
+    /// The own fix under setpoints into the departure watch: its speed the autopilot's
+    /// airspeed where one came within TC_TIMEOUT (an aircraft's wind is not its own), else
+    /// its ground speed.
+    fn watch_departure(&mut self, fix: &Fix, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
+        // The limits validated when the guidance was built: not again per fix.
+        let limits = self.guidance.map(|g| g.law().limits);
+        let (Some((flight, _)), Some(limits)) = (self.flight, limits) else {
+            return;
+        };
+        let timeout = self.params.timeout_ms();
+        let speed = match self.airspeed {
+            Some((airspeed, at)) if now_ms.wrapping_sub(at) <= timeout => airspeed,
+            _ => flight.airspeed,
+        };
+        let v_pm = limits.pursuer.v_max();
+        let turn_rate = limits.pursuer.max_turn_rate();
+        let said = self
+            .departure
+            .own_fix(fix.sent_ms, speed, fix.heading, v_pm, turn_rate);
+        if let Some(departure) = said {
+            self.counters.own_departures = self.counters.own_departures.wrapping_add(1);
+            let severity = MavSeverity::MAV_SEVERITY_WARNING;
+            self.outbox
+                .status_text(self.sysid(), severity, departure.text(), send);
         }
     }
 

@@ -4,6 +4,7 @@
 //! ([`params`]), the frames we send, and the state machine that joins them ([`endpoint`]). The
 //! board shells feed it bytes and a clock (`service`, with the `firmware` feature).
 
+pub mod departure;
 pub mod endpoint;
 pub mod energy;
 #[doc(hidden)]
