@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use host_tests::link::{self, Reply, ReplyDecoder};
 use twocars::protocol::message::Counters;
 
-use crate::firmware::{qemu, rp2040js};
+use crate::firmware::{defmt_log, qemu, rp2040js};
 use crate::image::{Image, Machine};
 
 fn free_port() -> Result<u16, String> {
@@ -30,7 +30,8 @@ fn free_port() -> Result<u16, String> {
 /// guest until one client connects; killed on drop.
 pub struct Launched {
     emulator: Child,
-    decoder: Option<Child>,
+    /// The thread printing the image's defmt log, which ends with the emulator's stdout.
+    decoder: Option<std::thread::JoinHandle<()>>,
     /// The UART's port.
     pub port: u16,
 }
@@ -39,9 +40,9 @@ impl Drop for Launched {
     fn drop(&mut self) {
         let _ = self.emulator.kill();
         let _ = self.emulator.wait();
-        if let Some(mut d) = self.decoder.take() {
-            let _ = d.kill();
-            let _ = d.wait();
+        // The emulator's end closes its stdout, which ends the decoder's thread.
+        if let Some(d) = self.decoder.take() {
+            let _ = d.join();
         }
     }
 }
@@ -61,13 +62,9 @@ pub fn launch(elf: &Path, board: Image, show_logs: bool) -> Result<Launched, Str
         .spawn()
         .map_err(|e| format!("{}: {e}", machine.name()))?;
     let logs = show_logs && board.logs_with_defmt();
-    let decoder = match (logs, emulator.stdout.take(), qemu::defmt_print()) {
-        (true, Some(out), Some(tool)) => Command::new(tool)
-            .arg("-e")
-            .arg(elf)
-            .stdin(out)
-            .stdout(std::process::Stdio::inherit())
-            .spawn()
+    let decoder = match (logs, emulator.stdout.take()) {
+        (true, Some(out)) => defmt_log::spawn(elf, out)
+            .map_err(|e| eprintln!("xtask: the image's log is not decoded: {e}"))
             .ok(),
         _ => None,
     };
@@ -209,8 +206,8 @@ impl Emulator {
         let launched = &mut self.launched;
         loop {
             if let Some(status) = launched.emulator.try_wait().map_err(|e| e.to_string())? {
-                if let Some(mut d) = launched.decoder.take() {
-                    let _ = d.wait();
+                if let Some(d) = launched.decoder.take() {
+                    let _ = d.join();
                 }
                 return Ok(status);
             }

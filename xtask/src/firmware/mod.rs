@@ -3,6 +3,7 @@
 //! images, and the value tables an image carries. Building the images is [`crate::image`].
 
 pub mod closed_loop;
+mod defmt_log;
 pub mod emulator;
 pub mod mavlink;
 pub mod mavlink_field;

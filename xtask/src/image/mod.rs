@@ -132,7 +132,7 @@ impl Image {
             _ => 0,
         }
     }
-    /// Whether the image logs with defmt over semihosting (`qemu-log`), for `defmt-print`.
+    /// Whether the image logs with defmt over semihosting (`qemu-log`), which xtask decodes.
     pub(crate) fn logs_with_defmt(self) -> bool {
         matches!(self, Image::Qemu | Image::QemuTables)
     }
