@@ -235,6 +235,10 @@ impl StateMsg {
         Ok(m)
     }
 
+    /// Inlined into each version's parse, so that the message is built where it goes: out
+    /// of line, its 32 bytes were returned and moved on by five library memcpy calls, about
+    /// 1,000 instructions a State frame on the Cortex-M4F.
+    #[inline(always)]
     fn parse_common(r: &mut Reader<'_>) -> Result<Self, WireError> {
         let time_ms = r.u32()?;
         Ok(StateMsg {
