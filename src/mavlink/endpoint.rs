@@ -629,7 +629,7 @@ impl Session {
             .target
             .filter(|last| now_ms.wrapping_sub(last.fix.arrived_ms) <= timeout);
         // The limits validated when the guidance was built: not again per fix.
-        let limits = self.guidance.map(|g| g.law().limits);
+        let limits = self.guidance.as_ref().map(|g| g.law().limits);
         let jumped = match (live, self.origin, limits) {
             (Some(last), Some(origin), Some(limits)) => {
                 let run_s = now_ms.wrapping_sub(last.fix.arrived_ms) as f32 / 1000.0;
@@ -754,7 +754,7 @@ impl Session {
     /// its ground speed.
     fn watch_departure(&mut self, fix: &Fix, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
         // The limits validated when the guidance was built: not again per fix.
-        let limits = self.guidance.map(|g| g.law().limits);
+        let limits = self.guidance.as_ref().map(|g| g.law().limits);
         let (Some((flight, _)), Some(limits)) = (self.flight, limits) else {
             return;
         };
