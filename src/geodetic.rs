@@ -73,6 +73,9 @@ impl LocalFrame {
         } else if east_units < -HALF_TURN_DEGE7 {
             east_units += 2 * HALF_TURN_DEGE7;
         }
+        // Both within +-180 degrees (1.8e9 degE7), so i32 holds them: its conversion to f32
+        // is one instruction on an FPU, where i64's is a library call.
+        let (north_units, east_units) = (north_units as i32, east_units as i32);
         Some((
             north_units as f32 * self.north_per_unit,
             east_units as f32 * self.east_per_unit,
@@ -91,8 +94,9 @@ impl LocalFrame {
     }
 }
 
-/// Whether a fix's latitude is within +-90 degrees and its longitude within +-180.
-fn valid_fix(lat: i32, lon: i32) -> bool {
+/// Whether a fix's latitude is within +-90 degrees and its longitude within +-180: integer
+/// comparisons alone, cheap enough to check every fix on arrival.
+pub fn valid_fix(lat: i32, lon: i32) -> bool {
     i64::from(lat).abs() <= HALF_TURN_DEGE7 / 2 && i64::from(lon).abs() <= HALF_TURN_DEGE7
 }
 

@@ -95,3 +95,37 @@ fn invalid_periods_are_refused() {
         );
     }
 }
+
+#[test]
+fn a_new_period_is_a_fresh_guidance_that_keeps_its_memory() {
+    let law = |dt: f32| {
+        let limits = Limits::new(2.0, 2.0, 1.0, 1.0).expect("paper limits");
+        Guidance::new(
+            Law::new(limits, Variant::Paper),
+            dt,
+            twocars::Policy::Flight,
+        )
+        .and_then(|g| g.with_capture_radius(0.3))
+        .expect("valid")
+    };
+    // Without memory, a guidance moved to 0.05 s is one built at 0.05 s.
+    let mut moved = law(0.01);
+    moved.set_period(0.05).expect("valid period");
+    assert_eq!(moved, law(0.05));
+    // With memory (a choice made, the near field entered), a round trip gives it back.
+    let mut g = law(0.01);
+    for k in 0..50 {
+        let t = k as f32 * 0.01;
+        let _ = g.step(&state(2.0 * t, 0.0, 0.0), &state(1.0 + t, 0.5, 0.3));
+    }
+    let before = g;
+    assert_ne!(before, law(0.01), "the chase leaves memory to keep");
+    g.set_period(0.05).expect("valid period");
+    assert_ne!(g, before);
+    g.set_period(0.01).expect("valid period");
+    assert_eq!(g, before);
+    // A refused period leaves the guidance as it was.
+    assert!(g.set_period(f32::NAN).is_err());
+    assert_eq!(g, before);
+    assert_eq!(before.with_period(0.01), Ok(before));
+}

@@ -38,7 +38,7 @@ use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN, LINK_ID, PROVI
 use super::tracking::{ClockRate, Tracking};
 use crate::estimate::Stale;
 use crate::geodetic::{
-    course, heading_from_cdeg, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
+    course, heading_from_cdeg, valid_fix, yaw_from_quaternion, LocalFrame, HEADING_UNKNOWN,
 };
 use crate::guidance::{Guidance, Policy};
 use crate::law::capture::Variant;
@@ -665,17 +665,16 @@ impl Session {
         }
     }
 
-    /// The own fix into its track, then the target's fix waiting for it (module docs of
-    /// `tracking`), placed on the autopilot's clock by this own fix: its time less our clock
-    /// from the target fix's arrival to its own, at the autopilot clock's rate. With no target track, the last confirmed fix
+    /// The own fix (at `(x, y)` in the plane, metres north and east) into its track, then the
+    /// target's fix waiting for it (module docs of `tracking`), placed on the autopilot's
+    /// clock by this own fix: its time less our clock from the target fix's arrival to its
+    /// own, at the autopilot clock's rate. With no target track, the last confirmed fix
     /// starts one (a fix that came before the first own fix, or before the plane moved).
-    fn track(&mut self, own: &Fix) {
+    fn track(&mut self, own: &Fix, (x, y): (f32, f32)) {
         let (Some(origin), Some(tracking)) = (self.origin, self.tracking.as_mut()) else {
             return;
         };
-        if let Some((x, y)) = origin.to_local(own.lat, own.lon) {
-            let _ = tracking.own([x, y, own.heading], own.sent_ms);
-        }
+        let _ = tracking.own([x, y, own.heading], own.sent_ms);
         if self.pending_target.is_none() && !tracking.has_target() {
             self.pending_target = self.target.filter(|t| t.confirmed).map(|t| (t.fix, true));
         }
@@ -724,19 +723,20 @@ impl Session {
         // The plane about the first own fix, moved to the own fix once that is REANCHOR_M
         // away: the projection's error grows with the square of the distance, the law only
         // reads the pursuer-target geometry.
-        let far = |origin: &LocalFrame| {
-            origin
-                .to_local(fix.lat, fix.lon)
-                .is_none_or(|(n, e)| n * n + e * e > REANCHOR_M * REANCHOR_M)
-        };
-        if self.origin.as_ref().is_none_or(far) {
+        let near = self
+            .origin
+            .and_then(|origin| origin.to_local(fix.lat, fix.lon))
+            .filter(|(n, e)| n * n + e * e <= REANCHOR_M * REANCHOR_M);
+        let local = near.unwrap_or_else(|| {
             self.origin = LocalFrame::new(fix.lat, fix.lon);
             // The tracks were in the old plane: the target's last fix starts a new one.
             if let Some(tracking) = self.tracking.as_mut() {
                 tracking.clear();
             }
-        }
-        self.track(&fix);
+            // The fix is the new plane's reference.
+            (0.0, 0.0)
+        });
+        self.track(&fix, local);
         match self.evaluate(now_ms) {
             Ok(decision) => {
                 self.setpoint(&decision, fix.heading, now_ms, send);
@@ -784,9 +784,10 @@ impl Session {
             return;
         }
         let period = self.guidance_period(interval_ms);
-        if let Some(next) = self.guidance.and_then(|g| g.with_period(period).ok()) {
-            self.guidance = Some(next);
-            self.period_ms = interval_ms;
+        if let Some(guidance) = self.guidance.as_mut() {
+            if guidance.set_period(period).is_ok() {
+                self.period_ms = interval_ms;
+            }
         }
     }
 
@@ -808,16 +809,12 @@ impl Session {
         if let Some(halt) = self.stale(now_ms) {
             return Err(halt);
         }
-        let (Some(own), Some(target), Some(origin)) = (self.own, self.target, self.origin) else {
+        let (Some(own), Some(target), Some(_)) = (self.own, self.target, self.origin) else {
             return Err(Halt::NoTarget);
         };
         if !target.confirmed {
             return Err(Halt::TargetJump);
         }
-        origin.to_local(own.lat, own.lon).ok_or(Halt::OwnFix)?;
-        origin
-            .to_local(target.fix.lat, target.fix.lon)
-            .ok_or(Halt::TargetFix)?;
         let (Some(guidance), Some(tracking)) = (self.guidance.as_mut(), self.tracking.as_mut())
         else {
             return Err(Halt::Law(Status::InvalidLimits));
@@ -944,7 +941,7 @@ impl Session {
 /// Whether (`lat`, `lon`) is a fix: within +-90 and +-180 degrees and not (0, 0), an
 /// autopilot's "no fix yet".
 fn valid_position(lat: i32, lon: i32) -> bool {
-    (lat, lon) != (0, 0) && LocalFrame::new(lat, lon).is_some()
+    (lat, lon) != (0, 0) && valid_fix(lat, lon)
 }
 
 /// The fix of a GLOBAL_POSITION_INT: heading from `hdg`, or the course from `vx`, `vy` when it

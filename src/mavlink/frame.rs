@@ -80,8 +80,8 @@ pub struct FrameReader {
     /// The frame being read, and the byte after it (an unknown frame's confirmation).
     buffer: [u8; MAX_FRAME + 1],
     length: usize,
-    /// The whole length of the frame being buffered once its header is read (0 before): the
-    /// bytes before it need no look.
+    /// The bytes the buffered frame needs before the next look: its header's next part, then
+    /// its whole length (0: look at the next byte). The bytes before it need no look.
     expected: usize,
     /// The length of the frame at the buffer's front that the last `push` handed out: dropped
     /// by the next.
@@ -198,12 +198,14 @@ impl FrameReader {
     /// Classifies the buffered bytes.
     fn examine(&mut self, extra_crc: &impl Fn(u32) -> Option<u8>) -> Buffered {
         let b = self.buffer.get(..self.length).unwrap_or(&[]);
-        let (Some(&stx), Some(&payload)) = (b.first(), b.get(1)) else {
+        // Where a part of the header is missing, `expected` says how many bytes the next look
+        // needs: a frame is looked at four times, not at every byte of its header.
+        let Some(&stx) = b.first() else {
             return Buffered::Partial;
         };
-        let payload = usize::from(payload);
         let (version, header, signature, message_id) = if stx == STX_V2 {
             let Some(&flags) = b.get(2) else {
+                self.expected = 3;
                 return Buffered::Partial;
             };
             if flags & !IFLAG_SIGNED != 0 {
@@ -212,16 +214,20 @@ impl FrameReader {
             }
             let signature = if flags & IFLAG_SIGNED != 0 { 13 } else { 0 };
             let Some(id) = b.get(7..10) else {
+                self.expected = 10;
                 return Buffered::Partial;
             };
             let id = u32::from_le_bytes([id[0], id[1], id[2], 0]);
             (Version::V2, 10, signature, id)
         } else {
             let Some(&id) = b.get(5) else {
+                self.expected = 6;
                 return Buffered::Partial;
             };
             (Version::V1, 6, 0, u32::from(id))
         };
+        // Present: the header's bytes are.
+        let payload = usize::from(b.get(1).copied().unwrap_or(0));
         let total = header + payload + 2 + signature;
         if b.len() < total {
             self.expected = total;

@@ -26,7 +26,7 @@ pub const MAX_PARAM_VALUE: usize = HEADER + 25 + 2 + SIGNATURE_LEN;
 
 /// Our sequence number, and our signer where signing is on; frames go to a `send` closure
 /// (the UART's transmit queue).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Outbox {
     sequence: u8,
     /// Frames written.
@@ -35,7 +35,26 @@ pub struct Outbox {
     pub signer: Option<Signer>,
     /// The signing clock now: 10 us since 2015-01-01 (the endpoint keeps it).
     pub timestamp: u64,
+    /// Where the short messages of every period (SET_ATTITUDE_TARGET, NAMED_VALUE_FLOAT) are
+    /// written: kept, as a buffer on the stack is cleared first (a [`MAX_OUT`] one costs
+    /// about 130 instructions on the M4F). Every byte sent is written anew.
+    short: [u8; SHORT_OUT],
 }
+
+impl Default for Outbox {
+    fn default() -> Self {
+        Outbox {
+            sequence: 0,
+            frames: 0,
+            signer: None,
+            timestamp: 0,
+            short: [0; SHORT_OUT],
+        }
+    }
+}
+
+/// The frame buffer of a short message, signed.
+const SHORT_OUT: usize = 64;
 
 impl Outbox {
     /// A frame of `message` from (`system`, [`COMPONENT`]) handed to `send`.
@@ -47,44 +66,25 @@ impl Outbox {
     /// the bench's script).
     pub fn send_as<M: MessageData>(
         &mut self,
-        (system, component): (u8, u8),
+        from: (u8, u8),
         message: &M,
         send: &mut dyn FnMut(&[u8]),
     ) {
-        let mut frame = [0u8; MAX_OUT];
-        let (header, rest) = frame.split_at_mut(HEADER);
-        let Some(payload) = rest.get_mut(..MAX_PAYLOAD) else {
-            return;
+        let header = Header {
+            flags: u8::from(self.signer.is_some()),
+            sequence: self.sequence,
+            from,
         };
-        let length = message.ser(MavlinkVersion::V2, payload).min(MAX_PAYLOAD);
-        let id = M::ID.to_le_bytes();
-        let flags = u8::from(self.signer.is_some());
-        header.copy_from_slice(&[
-            STX_V2,
-            length as u8,
-            flags,
-            0,
-            self.sequence,
-            system,
-            component,
-            id[0],
-            id[1],
-            id[2],
-        ]);
-        let end = HEADER + length;
-        let crc = ::mavlink::calculate_crc(frame.get(1..end).unwrap_or(&[]), M::EXTRA_CRC);
-        if let Some(slot) = frame.get_mut(end..end + 2) {
-            slot.copy_from_slice(&crc.to_le_bytes());
+        let signer = self.signer.as_mut().map(|s| (s, self.timestamp));
+        // A constant per message type: each instance keeps one of the two.
+        if HEADER + M::ENCODED_LEN + 2 + SIGNATURE_LEN <= SHORT_OUT {
+            let total = write_frame(&mut self.short, header, message, signer);
+            send(self.short.get(..total).unwrap_or(&[]));
+        } else {
+            let mut frame = [0; MAX_OUT];
+            let total = write_frame(&mut frame, header, message, signer);
+            send(frame.get(..total).unwrap_or(&[]));
         }
-        let mut total = end + 2;
-        if let Some(signer) = self.signer.as_mut() {
-            let block = signer.sign(frame.get(..total).unwrap_or(&[]), self.timestamp);
-            if let Some(slot) = frame.get_mut(total..total + SIGNATURE_LEN) {
-                slot.copy_from_slice(&block);
-                total += SIGNATURE_LEN;
-            }
-        }
-        send(frame.get(..total).unwrap_or(&[]));
         self.sequence = self.sequence.wrapping_add(1);
         self.frames = self.frames.wrapping_add(1);
     }
@@ -154,4 +154,62 @@ impl Outbox {
         };
         self.send(system, &message, send);
     }
+}
+
+/// A frame's header fields but its length and message id.
+#[derive(Clone, Copy)]
+struct Header {
+    flags: u8,
+    sequence: u8,
+    /// System and component.
+    from: (u8, u8),
+}
+
+/// Writes `message`'s frame into `frame` (room for it signed), signed by `signer` at its
+/// timestamp where given: the frame's length.
+fn write_frame<M: MessageData>(
+    frame: &mut [u8],
+    header: Header,
+    message: &M,
+    signer: Option<(&mut Signer, u64)>,
+) -> usize {
+    let Some((head, rest)) = frame.split_at_mut_checked(HEADER) else {
+        return 0;
+    };
+    let room = rest
+        .len()
+        .saturating_sub(2 + SIGNATURE_LEN)
+        .min(MAX_PAYLOAD);
+    let Some(payload) = rest.get_mut(..room) else {
+        return 0;
+    };
+    let length = message.ser(MavlinkVersion::V2, payload).min(room);
+    let id = M::ID.to_le_bytes();
+    let (system, component) = header.from;
+    head.copy_from_slice(&[
+        STX_V2,
+        length as u8,
+        header.flags,
+        0,
+        header.sequence,
+        system,
+        component,
+        id[0],
+        id[1],
+        id[2],
+    ]);
+    let end = HEADER + length;
+    let crc = ::mavlink::calculate_crc(frame.get(1..end).unwrap_or(&[]), M::EXTRA_CRC);
+    if let Some(slot) = frame.get_mut(end..end + 2) {
+        slot.copy_from_slice(&crc.to_le_bytes());
+    }
+    let mut total = end + 2;
+    if let Some((signer, timestamp)) = signer {
+        let block = signer.sign(frame.get(..total).unwrap_or(&[]), timestamp);
+        if let Some(slot) = frame.get_mut(total..total + SIGNATURE_LEN) {
+            slot.copy_from_slice(&block);
+            total += SIGNATURE_LEN;
+        }
+    }
+    total
 }
