@@ -76,6 +76,48 @@ fn noise_is_filtered_to_well_below_the_fixes() {
 }
 
 #[test]
+fn a_steady_links_terms_are_those_of_its_interval() {
+    // Two tracks take the same noisy fixes 0.2 s apart; one has seen fixes 0.15 s apart
+    // first and been cleared. Each fix's gains are its interval's, so they agree throughout.
+    let noise = FixNoise {
+        position: 0.1,
+        heading: 0.05,
+    };
+    let mut fresh = Track::new(1.0, 1.0, noise).expect("valid");
+    let mut seasoned = fresh;
+    let mut rng = Rng::new(11);
+    let mut noisy = |t: f64| {
+        [
+            t + 0.1 * rng.normal(),
+            0.1 * rng.normal(),
+            0.05 * rng.normal(),
+        ]
+    };
+    let mut before = 0.0;
+    for k in 0..5 {
+        let t = 0.15 * k as f64;
+        seasoned.update(&fix(noisy(t), t), SECOND).expect("taken");
+        before = seasoned
+            .at((t * 1e6) as u32 + 100_000, SECOND)
+            .expect("fresh")
+            .1;
+    }
+    seasoned.clear();
+    let mut carried = Vec::new();
+    for k in 0..20 {
+        let t = 10.0 + 0.2 * k as f64;
+        let f = fix(noisy(t), t);
+        fresh.update(&f, SECOND).expect("taken");
+        seasoned.update(&f, SECOND).expect("taken");
+        let now = f.time_us + 100_000;
+        assert_eq!(fresh.at(now, SECOND), seasoned.at(now, SECOND), "fix {k}");
+        carried.push(fresh.at(now, SECOND).expect("fresh").1);
+    }
+    // The other interval's terms leave another spread: reused, they would show.
+    assert!((carried[19] - before).abs() > 1e-3, "{before} {carried:?}");
+}
+
+#[test]
 fn bad_fixes_are_refused_and_a_vehicle_that_moved_is_found_again() {
     let noise = FixNoise {
         position: 0.1,

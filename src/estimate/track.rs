@@ -122,6 +122,26 @@ struct Estimate<S> {
     time_us: u32,
 }
 
+/// What a fix's correction takes from the interval since the last fix alone: the gains and
+/// the spreads they leave. A link that sends at a steady rate repeats its interval, and these
+/// are then taken from the last fix's, not formed again (on the Cortex-M0 most of a fix's
+/// divisions and square roots).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Steady<S> {
+    /// The interval they are for, microseconds.
+    interval_us: u32,
+    /// Position and speed gains.
+    alpha: S,
+    beta: S,
+    /// Heading and turn-rate gains.
+    alpha_h: S,
+    beta_h: S,
+    /// [`Estimate::spread`], [`Estimate::heading_spread`], [`Estimate::turn_spread`].
+    spread: S,
+    heading_spread: S,
+    turn_spread: S,
+}
+
 /// A vehicle's filtered state between fixes ([module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Track<S = f32> {
@@ -139,7 +159,12 @@ pub struct Track<S = f32> {
     units_per_us: f32,
     /// Metres per second per law speed unit (1 on SI backends).
     speed_unit: f32,
+    /// The heading channel's acceleration, 2 v_max w_max / [`REVERSAL_SECONDS`], radians per
+    /// law time unit squared.
+    heading_acceleration: S,
     estimate: Option<Estimate<S>>,
+    /// The last fix's interval terms.
+    steady: Option<Steady<S>>,
     outliers: u8,
 }
 
@@ -295,20 +320,27 @@ impl<S: Scalar> Track<S> {
                 && (1.0 / 64.0..=32.0).contains(&per_second)
                 && position <= S::MAX_COORDINATE
                 && noise.heading <= 4.0);
-        (limits_ok && noise_ok && envelope).then(|| Track {
-            speed_max: S::from_f32(speed),
-            turn_rate_max: if S::NORMALISED {
-                S::from_f32(turn_rate)
-            } else {
-                S::from_f32(v_max) * S::from_f32(w_max)
-            },
-            position_noise: S::from_f32(position),
-            heading_noise: S::from_f32(noise.heading),
-            per_second,
-            units_per_us: per_second / US,
-            speed_unit: units.metres_per_second,
-            estimate: None,
-            outliers: 0,
+        (limits_ok && noise_ok && envelope).then(|| {
+            let mut track = Track {
+                speed_max: S::from_f32(speed),
+                turn_rate_max: if S::NORMALISED {
+                    S::from_f32(turn_rate)
+                } else {
+                    S::from_f32(v_max) * S::from_f32(w_max)
+                },
+                position_noise: S::from_f32(position),
+                heading_noise: S::from_f32(noise.heading),
+                per_second,
+                units_per_us: per_second / US,
+                speed_unit: units.metres_per_second,
+                heading_acceleration: S::zero(),
+                estimate: None,
+                steady: None,
+                outliers: 0,
+            };
+            let reversal = S::from_f32(REVERSAL_SECONDS * per_second);
+            track.heading_acceleration = S::from_f32(2.0) * track.turn_rate_max / reversal;
+            track
         })
     }
 
@@ -423,7 +455,8 @@ impl<S: Scalar> Track<S> {
             return Err(Refused::Outlier);
         }
         self.outliers = 0;
-        let mut corrected = self.corrected(&last, fix, [px, py, ptheta], interval);
+        let steady = self.steady(elapsed as u32, interval);
+        let mut corrected = self.corrected(&last, fix, [px, py, ptheta], interval, &steady);
         if let Some(speed) = speed {
             corrected.speed = speed;
         }
@@ -431,24 +464,51 @@ impl<S: Scalar> Track<S> {
         Ok(())
     }
 
-    /// `last` corrected by `fix` against its prediction `[px, py, ptheta]` `interval` on.
+    /// The interval terms for fixes `interval_us` (`interval` law units) apart: the last
+    /// fix's where it was the same interval.
+    fn steady(&mut self, interval_us: u32, interval: S) -> Steady<S> {
+        if let Some(steady) = self.steady.filter(|s| s.interval_us == interval_us) {
+            return steady;
+        }
+        let lateral = self.speed_max * self.turn_rate_max;
+        let (alpha, beta) = gains(lateral, interval, self.position_noise);
+        let (alpha_h, beta_h) = gains(self.heading_acceleration, interval, self.heading_noise);
+        let steady = Steady {
+            interval_us,
+            alpha,
+            beta,
+            alpha_h,
+            beta_h,
+            spread: self.position_noise * alpha.sqrt(),
+            heading_spread: self.heading_noise * alpha_h.sqrt(),
+            turn_spread: self.turn_spread(alpha_h, beta_h, interval),
+        };
+        self.steady = Some(steady);
+        steady
+    }
+
+    /// `last` corrected by `fix` against its prediction `[px, py, ptheta]` `interval` on,
+    /// with that interval's `steady` terms.
     fn corrected(
         &self,
         last: &Estimate<S>,
         fix: &Fix<S>,
         predicted: [S; 3],
         interval: S,
+        steady: &Steady<S>,
     ) -> Estimate<S> {
         let [x, y, theta] = fix.state;
         let [px, py, ptheta] = predicted;
         let (rx, ry) = (x - px, y - py);
         let r_theta = (theta - ptheta).wrap_signed();
         let one = S::one();
-        let lateral = self.speed_max * self.turn_rate_max;
-        let (alpha, beta) = gains(lateral, interval, self.position_noise);
-        let reversal = S::from_f32(REVERSAL_SECONDS * self.per_second);
-        let turn_acceleration = S::from_f32(2.0) * self.turn_rate_max / reversal;
-        let (alpha_h, beta_h) = gains(turn_acceleration, interval, self.heading_noise);
+        let Steady {
+            alpha,
+            beta,
+            alpha_h,
+            beta_h,
+            ..
+        } = *steady;
         // Written so that alpha = 1 (no noise) gives the fix itself, bit for bit.
         let heading = if alpha_h >= one {
             theta.wrap_signed()
@@ -471,9 +531,9 @@ impl<S: Scalar> Track<S> {
             theta: heading,
             speed: speed.max(S::zero()).min(self.speed_max),
             turn_rate: turn_rate.max(-self.turn_rate_max).min(self.turn_rate_max),
-            turn_spread: self.turn_spread(alpha_h, beta_h, interval),
-            spread: self.position_noise * alpha.sqrt(),
-            heading_spread: self.heading_noise * alpha_h.sqrt(),
+            turn_spread: steady.turn_spread,
+            spread: steady.spread,
+            heading_spread: steady.heading_spread,
             time_us: fix.time_us,
         }
     }
