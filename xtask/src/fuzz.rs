@@ -5,7 +5,7 @@
 //! prints executions, corpus size and failures per target. `cargo xtask test` runs a short
 //! smoke run of each; the long run is recorded in `docs/reliability.md`.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use crate::progress::Progress;
@@ -44,26 +44,73 @@ pub struct FuzzRun {
     pub failed: bool,
 }
 
-fn cargo_fuzz_available() -> bool {
-    Command::new("cargo")
-        .args(["fuzz", "--version"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
+/// The flags `cargo fuzz run -s none -O` (cargo-fuzz 0.13) builds a target with: libFuzzer's
+/// coverage instrumentation, `cfg(fuzzing)`, no sanitizer. Set here so that the targets
+/// build with the pinned toolchain's cargo alone: installing cargo-fuzz from source costs a
+/// bare machine about 3.5 minutes.
+const RUSTFLAGS: [&str; 9] = [
+    "-Cpasses=sancov-module",
+    "-Cllvm-args=-sanitizer-coverage-level=4",
+    "-Cllvm-args=-sanitizer-coverage-inline-8bit-counters",
+    "-Cllvm-args=-sanitizer-coverage-pc-table",
+    "-Cllvm-args=-sanitizer-coverage-trace-compares",
+    "--cfg=fuzzing",
+    "-Cllvm-args=-simplifycfg-branch-fold-threshold=0",
+    // The sancov passes keep ThinLTO from importing across units: one unit, as cargo-fuzz.
+    "-Ccodegen-units=1",
+    // Linux only in cargo-fuzz; the targets run on the host.
+    "-Cllvm-args=-sanitizer-coverage-stack-depth",
+];
+
+/// The host's target triple, from `rustc -vV`.
+fn host_triple() -> Result<String, String> {
+    let out = Command::new("rustc")
+        .arg("-vV")
+        .output()
+        .map_err(|e| format!("rustc -vV: {e}"))?;
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .find_map(|l| l.strip_prefix("host: "))
+        .map(str::to_string)
+        .ok_or_else(|| "rustc -vV gave no host".to_string())
 }
 
-/// Installs cargo-fuzz when missing; false if that fails.
-pub fn ensure_cargo_fuzz() -> bool {
-    if cargo_fuzz_available() {
-        return true;
+/// Builds every fuzz target for the host with [`RUSTFLAGS`] (release, line tables, as
+/// cargo-fuzz does); each target's executable.
+pub fn build_targets() -> Result<Vec<(String, PathBuf)>, String> {
+    let triple = host_triple()?;
+    let mut flags = RUSTFLAGS.to_vec();
+    if !triple.contains("-linux-") {
+        flags.pop();
     }
-    eprintln!("xtask: installing cargo-fuzz (cargo install cargo-fuzz --locked)");
-    let ok = Command::new("cargo")
-        .args(["install", "cargo-fuzz", "--version", "0.13.2", "--locked"])
-        .status()
-        .is_ok_and(|s| s.success());
-    ok && cargo_fuzz_available()
+    let mut rustflags = flags.join(" ");
+    if let Ok(user) = std::env::var("RUSTFLAGS") {
+        rustflags = format!("{rustflags} {user}");
+    }
+    let out = Command::new("cargo")
+        .current_dir(root().join("fuzz"))
+        // --target: the flags then reach the targets, not the build scripts.
+        .args(["build", "--release", "--bins", "--target", &triple])
+        .args(["--config", "profile.release.debug=\"line-tables-only\""])
+        .args(["--message-format", "json-render-diagnostics"])
+        .env("RUSTFLAGS", rustflags)
+        .stderr(Stdio::inherit())
+        .output()
+        .map_err(|e| format!("cargo build of the fuzz targets: {e}"))?;
+    if !out.status.success() {
+        return Err("the fuzz targets did not build".to_string());
+    }
+    let mut built = Vec::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let Ok(message) = serde_json::from_str::<serde_json::Value>(line) else {
+            continue;
+        };
+        let name = message["target"]["name"].as_str();
+        if let (Some(name), Some(exe)) = (name, message["executable"].as_str()) {
+            built.push((name.to_string(), PathBuf::from(exe)));
+        }
+    }
+    Ok(built)
 }
 
 fn seeds(target: &str) -> Vec<Vec<u8>> {
@@ -237,25 +284,40 @@ pub fn write_seeds() -> Result<(), String> {
     Ok(())
 }
 
-/// Runs one target with `budget`.
-pub fn run_target(target: &'static str, budget: Budget) -> Result<FuzzRun, String> {
+/// Runs one target, built by [`build_targets`] as `built`, with `budget`.
+pub fn run_target(
+    target: &'static str,
+    built: &[(String, PathBuf)],
+    budget: Budget,
+) -> Result<FuzzRun, String> {
     let fuzz = root().join("fuzz");
+    let exe = built
+        .iter()
+        .find(|(name, _)| name == target)
+        .map(|(_, exe)| exe)
+        .ok_or_else(|| format!("the fuzz target {target} was not built"))?;
     let corpus = fuzz.join("corpus").join(target);
-    std::fs::create_dir_all(&corpus).map_err(|e| e.to_string())?;
+    let artifacts = fuzz.join("artifacts").join(target);
+    for dir in [&corpus, &artifacts] {
+        std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
+    }
     let limit = match budget {
         Budget::Seconds(s) => format!("-max_total_time={s}"),
         Budget::Runs(n) => format!("-runs={n}"),
     };
-    let output = Command::new("cargo")
+    let mut prefix = std::ffi::OsString::from("-artifact_prefix=");
+    prefix.push(&artifacts);
+    prefix.push("/");
+    let output = Command::new(exe)
         .current_dir(&fuzz)
-        .args(["fuzz", "run", "-s", "none", "-O", target])
+        .arg(prefix)
+        .args([&limit, "-print_final_stats=1"])
         .arg(&corpus)
         .arg(fuzz.join("seeds").join(target))
-        .args(["--", &limit, "-print_final_stats=1"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .output()
-        .map_err(|e| format!("cargo fuzz: {e}"))?;
+        .map_err(|e| format!("{}: {e}", exe.display()))?;
     let log = String::from_utf8_lossy(&output.stderr);
     let stat = |name: &str| -> u64 {
         log.lines()
@@ -268,6 +330,7 @@ pub fn run_target(target: &'static str, budget: Budget) -> Result<FuzzRun, Strin
     let failed = !output.status.success();
     if failed {
         eprintln!("{}", failure_summary(&log));
+        eprintln!("replay: {} <the test unit written above>", exe.display());
     }
     Ok(FuzzRun {
         target,
@@ -278,15 +341,11 @@ pub fn run_target(target: &'static str, budget: Budget) -> Result<FuzzRun, Strin
 }
 
 /// The lines of libFuzzer's log that say how to reproduce a failure.
-const REPRODUCE: [&str; 4] = [
-    "INFO: Seed:",
-    "Test unit written to",
-    "Base64:",
-    "cargo fuzz run",
-];
+const REPRODUCE: [&str; 3] = ["INFO: Seed:", "Test unit written to", "Base64:"];
 
-/// What reproduces a failure from libFuzzer's log: its seed, the panic message, the crashing
-/// input (path and Base64) and the reproduction command; the whole tail when none is found.
+/// What reproduces a failure from libFuzzer's log: its seed, the panic message and the
+/// crashing input (path and Base64; the target's executable run on that path replays it);
+/// the whole tail when none is found.
 fn failure_summary(log: &str) -> String {
     let lines: Vec<&str> = log.lines().collect();
     let mut keep: Vec<&str> = Vec::new();
@@ -346,17 +405,20 @@ pub fn command(args: &FuzzArgs) -> i32 {
     if targets.is_empty() {
         targets = TARGETS.to_vec();
     }
-    if !ensure_cargo_fuzz() {
-        eprintln!("xtask fuzz: cargo-fuzz is not available");
-        return 1;
-    }
+    let built = match build_targets() {
+        Ok(built) => built,
+        Err(e) => {
+            eprintln!("xtask fuzz: {e}");
+            return 1;
+        }
+    };
     let mut ok = true;
     println!("| target | budget | executions | corpus | failures |");
     println!("|---|---|---|---|---|");
     let progress = Progress::new(targets.len() as u64, "fuzz targets");
     for target in targets {
         progress.step(&format!("fuzzing {target} ({budget:?})"));
-        let result = run_target(target, budget);
+        let result = run_target(target, &built, budget);
         progress.inc();
         match result {
             Ok(r) => {

@@ -183,7 +183,7 @@ struct Suite {
 
 impl Suite {
     /// The value tables the tables images carry, solved the first time a step needs them
-    /// (about two minutes on two cores, then read from target/hj-cache), as `PATH`-joined files.
+    /// (about two minutes on two cores, then read from the caches), as `PATH`-joined files.
     fn tables(&mut self) -> Option<String> {
         if self.tables.is_none() {
             println!("== xtask test: the value tables of the tables images");
@@ -314,10 +314,17 @@ pub fn run(args: &TestArgs) -> i32 {
         };
         asked && !args.skip.contains(&step.name)
     };
-    let ok = STEPS
-        .iter()
-        .filter(chosen)
-        .all(|step| (step.run)(&mut suite));
+    let mut times = Vec::new();
+    let mut ok = true;
+    for step in STEPS.iter().filter(chosen) {
+        let step_started = Instant::now();
+        ok = (step.run)(&mut suite);
+        times.push((step.name, step_started.elapsed().as_secs_f64()));
+        if !ok {
+            break;
+        }
+    }
+    print_times(&times);
     if ok {
         println!(
             "== xtask test: all steps passed in {:.0} s",
@@ -327,6 +334,16 @@ pub fn run(args: &TestArgs) -> i32 {
     // The closing line CI reads.
     println!("{} passed, {} failed", suite.passed, suite.failed);
     i32::from(!ok)
+}
+
+/// Each step's time, longest first, so that where the suite's time goes is read at its end.
+fn print_times(times: &[(&str, f64)]) {
+    let mut sorted = times.to_vec();
+    sorted.sort_by(|a, b| b.1.total_cmp(&a.1));
+    println!("== xtask test: time by step, longest first");
+    for (name, seconds) in sorted {
+        println!("==   {name:<16} {seconds:7.1} s");
+    }
 }
 
 fn format(suite: &mut Suite) -> bool {
@@ -521,17 +538,20 @@ fn named_tests(suite: &mut Suite, title: &str, run: impl FnOnce(&mut Tally)) -> 
     suite.count((tally.passed, tally.failed))
 }
 
-/// Each libFuzzer target for 10 s from its seed corpus (`cargo-fuzz` installed the first time).
+/// Each libFuzzer target for 10 s from its seed corpus.
 fn fuzz(suite: &mut Suite) -> bool {
     println!("== xtask test: fuzz smoke run, 10 s per target from the seed corpora");
     let fuzzing = Instant::now();
-    if !crate::fuzz::ensure_cargo_fuzz() {
-        eprintln!("== xtask test: cargo-fuzz is not available");
-        suite.failed += 1;
-        return false;
-    }
+    let built = match crate::fuzz::build_targets() {
+        Ok(built) => built,
+        Err(e) => {
+            eprintln!("== xtask test: {e}");
+            suite.failed += 1;
+            return false;
+        }
+    };
     let ok = crate::fuzz::TARGETS.iter().all(|target| {
-        match crate::fuzz::run_target(target, crate::fuzz::Budget::Seconds(10)) {
+        match crate::fuzz::run_target(target, &built, crate::fuzz::Budget::Seconds(10)) {
             Ok(r) if !r.failed && r.executions > 0 => {
                 println!(
                     "test fuzz::{target} ... ok ({} executions, corpus {})",

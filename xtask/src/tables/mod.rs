@@ -1,5 +1,5 @@
 //! The game's value tables as xtask makes them: which limits on which grids ([`sets`]), solved
-//! with the `hji` crate and kept in `target/hj-cache/` ([`solve`]). `cargo xtask hj`, the images
+//! with the `hji` crate and kept in `target/hj-cache/` and the machine's cache ([`solve`]). `cargo xtask hj`, the images
 //! that carry tables and the plots read them here.
 
 pub mod sets;

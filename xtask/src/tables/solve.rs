@@ -131,21 +131,48 @@ fn solver_stamp() -> u128 {
     u128::from(hasher.finish()) | 1
 }
 
-/// `solve(grid)`, or its solution read back from `target/hj-cache/NAME.bin` where the same
-/// solver sources wrote it; with how.
+/// The machine's cache of solutions, beside the checkout's: `$XDG_CACHE_HOME/twocars/hj-cache`
+/// (or `~/.cache/...`), so that a fresh clone on the same machine (CI's) does not solve again
+/// what the same solver sources solved before. `None` without a home.
+fn machine_cache() -> Option<std::path::PathBuf> {
+    let base = std::env::var_os("XDG_CACHE_HOME")
+        .map(std::path::PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| std::path::Path::new(&h).join(".cache")))?;
+    Some(base.join("twocars/hj-cache"))
+}
+
+/// `solve(grid)`, or its solution read back from `target/hj-cache/NAME.bin` or the machine's
+/// cache where the same solver sources wrote it; with how.
 fn cached(
     game: Game,
     grid: Grid,
     name: &str,
     solve: impl FnOnce(Grid) -> (Solution, f64),
 ) -> (Solution, String) {
-    let cache = crate::workspace::target_dir().join(format!("hj-cache/near-field-{name}.bin"));
+    let file = format!("near-field-{name}.bin");
+    let caches: Vec<std::path::PathBuf> = [
+        Some(crate::workspace::target_dir().join("hj-cache")),
+        machine_cache(),
+    ]
+    .into_iter()
+    .flatten()
+    .map(|dir| dir.join(&file))
+    .collect();
     let stamp = solver_stamp();
-    if let Some(solution) = read_cache(&cache, stamp, game, grid) {
-        return (solution, "read from target/hj-cache".to_string());
+    for cache in &caches {
+        if let Some(solution) = read_cache(cache, stamp, game, grid) {
+            for other in caches.iter().filter(|c| *c != cache) {
+                if read_cache(other, stamp, game, grid).is_none() {
+                    write_cache(other, stamp, &solution);
+                }
+            }
+            return (solution, format!("read from {}", cache.display()));
+        }
     }
     let (solution, seconds) = solve(grid);
-    write_cache(&cache, stamp, &solution);
+    for cache in &caches {
+        write_cache(cache, stamp, &solution);
+    }
     let how = format!(
         "{} sweeps in {seconds:.0} s, residual {:.1e}",
         solution.sweeps, solution.residual
