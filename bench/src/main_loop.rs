@@ -57,6 +57,8 @@ struct Script<'a> {
     out: &'a mut [u8],
     len: usize,
     sequence: u16,
+    /// The protocol version of every frame.
+    version: u8,
 }
 
 impl Script<'_> {
@@ -77,7 +79,7 @@ impl Script<'_> {
         payload: impl FnOnce(&mut Writer<'_>) -> Option<()>,
     ) -> Option<()> {
         let rest = self.out.get_mut(self.len..)?;
-        self.len += encode_frame_as(VERSION_1, message_type, sequence, payload, rest)?;
+        self.len += encode_frame_as(self.version, message_type, sequence, payload, rest)?;
         Some(())
     }
 
@@ -104,15 +106,24 @@ impl Script<'_> {
     }
 }
 
-/// The session's script written into `out`, with or without its states, for a unit with or
-/// without the bench's value tables; its length, or `None` if `out` is shorter than
-/// [`SCRIPT_CAPACITY`] needs.
+/// The session's script written into `out` in protocol version 1, with or without its states,
+/// for a unit with or without the bench's value tables; its length, or `None` if `out` is
+/// shorter than [`SCRIPT_CAPACITY`] needs.
 pub fn script(with_states: bool, tables: bool, out: &mut [u8]) -> Option<usize> {
+    script_as(VERSION_1, with_states, tables, out)
+}
+
+/// [`script`] in protocol `version` (1 or [`twocars::protocol::frame::VERSION`]): from version 2 the Configure carries
+/// the field's settings (exact: the states go through the unit's estimator as they come) and
+/// each State its evader fix's time.
+pub fn script_as(version: u8, with_states: bool, tables: bool, out: &mut [u8]) -> Option<usize> {
     let mut script = Script {
         out,
         len: 0,
         sequence: 0,
+        version,
     };
+    let v1 = version == VERSION_1;
     let policies: &[u8] = if tables { &[2] } else { &[0, 1] };
     for &policy in policies {
         let configure = Configure {
@@ -124,11 +135,17 @@ pub fn script(with_states: bool, tables: bool, out: &mut [u8]) -> Option<usize> 
             policy,
             field: FieldConfig::EXACT,
         };
-        script.frame(kind::CONFIGURE, |w| configure.emit_v1(w))?;
+        script.frame(kind::CONFIGURE, |w| {
+            if v1 {
+                configure.emit_v1(w)
+            } else {
+                configure.emit(w)
+            }
+        })?;
         if with_states {
             for (i, (pursuer, evader)) in states(tables).enumerate() {
                 let state = StateMsg::exact(10 * i as u32, pursuer, evader);
-                script.frame(kind::STATE, |w| state.emit_v1(w))?;
+                script.frame(kind::STATE, |w| emit_state(v1, &state, w))?;
             }
         }
     }
@@ -139,11 +156,20 @@ pub fn script(with_states: bool, tables: bool, out: &mut [u8]) -> Option<usize> 
         evader: [5.0, 5.0, f32::NAN],
         ..state
     };
-    script.frame(kind::STATE, |w| lost.emit_v1(w))?;
-    script.frame_with_bad_crc(kind::STATE, |w| state.emit_v1(w))?;
+    script.frame(kind::STATE, |w| emit_state(v1, &lost, w))?;
+    script.frame_with_bad_crc(kind::STATE, |w| emit_state(v1, &state, w))?;
     script.frame(kind::READ_COUNTERS, |_| Some(()))?;
     script.frame(kind::SHUTDOWN, |_| Some(()))?;
     Some(script.len)
+}
+
+/// `state`'s payload in protocol version 1 (`v1`) or the current one.
+fn emit_state(v1: bool, state: &StateMsg, w: &mut Writer<'_>) -> Option<()> {
+    if v1 {
+        state.emit_v1(w)
+    } else {
+        state.emit(w)
+    }
 }
 
 /// A UART without FIFO whose receiver delivers a script and whose transmitter keeps a digest of

@@ -1,7 +1,8 @@
 //! The serial loop's bench on the target: the session of [`crate::main_loop`] served by the
 //! firmware's serial path (the UART interrupt's handler and `twocars::serial::service` over the
-//! queues, fed by a scripted UART), with and without the bench states, one line per session:
-//! `loop <with states> <ticks> <stack bytes> <replies> <digest> <accepted> <refused>`.
+//! queues, fed by a scripted UART), with and without the bench states, in protocol versions 1
+//! and 2 (version 1 alone with the value tables), one line per session: `loop <version> <with
+//! states> <ticks> <stack bytes> <replies> <digest> <accepted> <refused>`.
 
 use core::hint::black_box;
 
@@ -10,7 +11,7 @@ use twocars::serial::Line;
 use twocars::value_tables::ValueTables;
 
 use super::probe;
-use crate::main_loop::{script, Outcome, SCRIPT_CAPACITY};
+use crate::main_loop::{script_as, Outcome, SCRIPT_CAPACITY};
 
 /// Serves the session with `serve` (the unit's backend, its `tables`), with the bench states and
 /// without, printing one `loop` line each, and exits.
@@ -24,9 +25,12 @@ pub fn run(
     let Some(line) = cortex_m::singleton!(: Line = Line::new()) else {
         probe::fail();
     };
-    for with_states in [true, false] {
-        let Some(script) =
-            script(with_states, !tables.is_empty(), &mut bytes).and_then(|n| bytes.get(..n))
+    // Protocol version 1 with the states and without, then version 2 (not with the tables).
+    let sessions = [(1, true), (1, false), (2, true), (2, false)];
+    let count = if tables.is_empty() { 4 } else { 2 };
+    for (version, with_states) in sessions.into_iter().take(count) {
+        let Some(script) = script_as(version, with_states, !tables.is_empty(), &mut bytes)
+            .and_then(|n| bytes.get(..n))
         else {
             hprintln!("script does not fit");
             continue;
@@ -41,7 +45,8 @@ pub fn run(
             continue;
         }
         hprintln!(
-            "loop {} {} {} {} {:08x} {} {}",
+            "loop {} {} {} {} {} {:08x} {} {}",
+            version,
             u8::from(with_states),
             ticks,
             stack,

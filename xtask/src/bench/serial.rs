@@ -3,17 +3,19 @@
 
 use twocars::num::fixed::Fixed;
 use twocars::Scalar;
-use twocars_bench::main_loop::{script, serve_script_on, Outcome, SCRIPT_CAPACITY};
+use twocars_bench::main_loop::{script_as, serve_script_on, Outcome, SCRIPT_CAPACITY};
 
 use crate::bench::image::{build_and_print, M0, M4F};
 
 /// The session of `twocars_bench::main_loop` served on the host, by a unit with `tables`.
 fn host_session<S: Scalar>(
+    version: u8,
     with_states: bool,
     tables: &'static [twocars::value_tables::ValueTables<'static>],
 ) -> Result<Outcome, String> {
     let mut bytes = [0u8; SCRIPT_CAPACITY];
-    let n = script(with_states, !tables.is_empty(), &mut bytes).ok_or("the script does not fit")?;
+    let n = script_as(version, with_states, !tables.is_empty(), &mut bytes)
+        .ok_or("the script does not fit")?;
     let outcome = serve_script_on::<S>(&mut twocars::serial::Line::new(), &bytes[..n], tables);
     if !outcome.shutdown {
         return Err("the host's session ended without its Shutdown".to_string());
@@ -29,6 +31,11 @@ pub struct LoopMeasured {
     /// Command encoded and written (the session with the states minus the one without, over
     /// its State frames).
     pub per_state: f64,
+    /// The same in protocol version 2 (the states through the unit's estimator), where the
+    /// image serves it.
+    pub per_state_v2: Option<f64>,
+    /// The loop's stack high-water mark in the version-2 session, bytes.
+    pub stack_v2: u64,
     /// Instructions of the session without the states (two Configures, four refused inputs,
     /// ReadCounters, Shutdown).
     pub rest: f64,
@@ -68,16 +75,18 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
     };
     let tables = image == LoopImage::M4fTables;
     let (out, _) = build_and_print(cpu, bin)?;
-    let mut ticks = [None, None];
-    let mut stack = 0;
+    // Ticks by [version 1, version 2][without, with the states].
+    let mut ticks = [[None, None], [None, None]];
+    let (mut stack, mut stack_v2) = (0, 0);
     let mut replies = 0;
     for line in out.lines() {
         let fields: Vec<&str> = line.split_whitespace().collect();
-        let ["loop", with, t, s, r, d, a, x] = fields.as_slice() else {
+        let ["loop", v, with, t, s, r, d, a, x] = fields.as_slice() else {
             continue;
         };
         let bad = || format!("bad line {line}");
         let with_states = *with == "1";
+        let version: u8 = v.parse().map_err(|_| bad())?;
         let got = Outcome {
             // The image prints a line only for a session that ended at its Shutdown.
             shutdown: true,
@@ -87,41 +96,68 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
             refused: x.parse().map_err(|_| bad())?,
         };
         let want = match image {
-            LoopImage::M4fFloat => host_session::<f32>(with_states, &[])?,
-            LoopImage::M0Fixed => host_session::<Fixed>(with_states, &[])?,
-            LoopImage::M4fTables => host_session::<f32>(with_states, bench_tables()?)?,
+            LoopImage::M4fFloat => host_session::<f32>(version, with_states, &[])?,
+            LoopImage::M0Fixed => host_session::<Fixed>(version, with_states, &[])?,
+            LoopImage::M4fTables => host_session::<f32>(version, with_states, bench_tables()?)?,
         };
         if got != want {
             return Err(format!(
-                "serial loop (with states: {with_states}): {} {got:?}, host {want:?}",
+                "serial loop (version {version}, with states: {with_states}): {} {got:?}, \
+                 host {want:?}",
                 cpu.name
             ));
         }
-        ticks[usize::from(with_states)] = Some(t.parse::<f64>().map_err(|_| bad())?);
-        if with_states {
+        let slot = ticks
+            .get_mut(usize::from(version.saturating_sub(1)))
+            .ok_or_else(bad)?;
+        slot[usize::from(with_states)] = Some(t.parse::<f64>().map_err(|_| bad())?);
+        if with_states && version != 1 {
+            stack_v2 = s.parse().map_err(|_| bad())?;
+        }
+        if with_states && version == 1 {
             stack = s.parse().map_err(|_| bad())?;
             replies = got.replies;
         }
     }
-    let (Some(without), Some(with)) = (ticks[0], ticks[1]) else {
+    let [[Some(without), Some(with)], v2] = ticks else {
         return Err(format!(
             "the serial loop's image did not report both sessions:\n{out}"
         ));
     };
     let per_instruction = cpu.ticks_per_instruction;
+    let frames = twocars_bench::main_loop::state_frames(tables) as f64;
     Ok(LoopMeasured {
-        per_state: (with - without)
-            / per_instruction
-            / twocars_bench::main_loop::state_frames(tables) as f64,
+        per_state: (with - without) / per_instruction / frames,
+        per_state_v2: match v2 {
+            [Some(without), Some(with)] => Some((with - without) / per_instruction / frames),
+            _ => None,
+        },
+        stack_v2,
         rest: without / per_instruction,
         stack,
         replies,
     })
 }
 
+/// The version-2 sentence of a loop's paragraph: what a State frame costs through the unit's
+/// estimator.
+fn version_2(l: &LoopMeasured) -> String {
+    l.per_state_v2.map_or(String::new(), |v2| {
+        format!(
+            " In protocol version 2 (the Configure with exact field settings, each State with \
+             its evader fix's time: the states go through the unit's estimator, both tracks \
+             taken and carried to the frame's time), the same session costs **{v2:.0} \
+             instructions per State frame**, {:+.0} for the estimator's path; stack {} B.",
+            v2 - l.per_state,
+            l.stack_v2
+        )
+    })
+}
+
 /// The serial loop's paragraph of the report for `image`.
 pub(crate) fn section(image: LoopImage) -> Result<String, String> {
     let l = measure_loop(image)?;
+    let v2 = version_2(&l);
     Ok(match image {
         LoopImage::M4fFloat => format!(
             "Main loop (Cortex-M4F, f32; `serial` image: the firmware's serial path, the \
@@ -136,14 +172,14 @@ pub(crate) fn section(image: LoopImage) -> Result<String, String> {
              over its State frames); **stack \
              {} B** (the unit, its buffers and the law below the loop's frame, as in the \
              firmware's `main`; the queues are statics; an interrupt adds its exception frame, 104 B with the FPU \
-             context (108 B when realigned), and its handler's).",
+             context (108 B when realigned), and its handler's).{v2}",
             l.replies, l.per_state, l.rest, l.stack
         ),
         LoopImage::M0Fixed => format!(
             "Main loop (Cortex-M0, fixed point; the same session on the micro:bit, `serial_fixed` \
              with the Q17.14 law, the wire's f32 values converted with integers only, {} \
              replies, all equal to the same unit's on the host): **{:.0} instructions per \
-             State frame** (the session without its State frames: {:.0}); **stack {} B**.",
+             State frame** (the session without its State frames: {:.0}); **stack {} B**.{v2}",
             l.replies, l.per_state, l.rest, l.stack
         ),
         LoopImage::M4fTables => format!(
