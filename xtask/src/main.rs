@@ -75,14 +75,17 @@ impl Cmd {
     /// What the command needs on this machine.
     fn needs(&self) -> Option<setup::Needs> {
         let all = setup::Needs {
-            toolchain: true,
+            toolchain: setup::Toolchain::All,
             qemu: true,
         };
         match self {
             Cmd::Test(_) | Cmd::Bench | Cmd::Profile => Some(all),
-            Cmd::Run(args) if !args.host_only => Some(all),
+            Cmd::Run(args) if !args.host_only => Some(setup::Needs {
+                toolchain: setup::Toolchain::Target(args.target()),
+                qemu: true,
+            }),
             Cmd::Build(_) => Some(setup::Needs {
-                toolchain: true,
+                toolchain: setup::Toolchain::All,
                 qemu: false,
             }),
             _ => None,

@@ -284,6 +284,14 @@ fn parse(args: &RunArgs) -> Result<RunOptions, String> {
     Ok(o)
 }
 
+impl RunArgs {
+    /// The Rust target of the image this run builds (a MAVLink link's image is the same
+    /// core's).
+    pub fn target(&self) -> &'static str {
+        board_and_options(self).0.target()
+    }
+}
+
 /// The board `args` asks for, and the law's options there: the policy its image plays by
 /// default, and the numeric backend of its law, which the host simulates too.
 fn board_and_options(args: &RunArgs) -> (Image, Options) {

@@ -10,17 +10,25 @@ use std::process::Command;
 /// What a command needs.
 #[derive(Clone, Copy, Debug)]
 pub struct Needs {
-    /// The Cortex-M targets and components of `rust-toolchain.toml`.
-    pub toolchain: bool,
+    /// Of `rust-toolchain.toml`'s Cortex-M targets and components.
+    pub toolchain: Toolchain,
     /// `qemu-system-arm`.
     pub qemu: bool,
 }
 
+/// What of the pinned toolchain a command needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Toolchain {
+    /// Every target and component (the checks, the bench).
+    All,
+    /// One target, no component: a run builds one board's image, and each target more is a
+    /// download on a bare machine.
+    Target(&'static str),
+}
+
 /// Makes sure of `needs`; an error says what is missing and how to install it.
 pub fn ensure(needs: Needs) -> Result<(), String> {
-    if needs.toolchain {
-        toolchain()?;
-    }
+    toolchain(needs.toolchain)?;
     if needs.qemu {
         qemu()?;
     }
@@ -78,9 +86,13 @@ fn rustup(args: &[&str]) -> Result<String, String> {
     Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
-/// Adds the pinned toolchain's missing targets and components.
-fn toolchain() -> Result<(), String> {
-    let (targets, components) = pinned()?;
+/// Adds the pinned toolchain's missing targets and components of those `wanted`.
+fn toolchain(wanted: Toolchain) -> Result<(), String> {
+    let (mut targets, mut components) = pinned()?;
+    if let Toolchain::Target(one) = wanted {
+        targets.retain(|t| t == one);
+        components.clear();
+    }
     add_missing("target", "targets", &targets, |line, t| line == t)?;
     // Installed components are listed with their host triple: `clippy-x86_64-unknown-linux-gnu`.
     add_missing("component", "components", &components, |line, c| {
@@ -165,7 +177,10 @@ fn apt_install(packages: &[&str]) -> bool {
             .status()
             .is_ok_and(|s| s.success())
     };
-    apt(&["update", "-qq"]) && apt(&[&["install", "-y", "-qq"], packages].concat())
+    // Without recommends: qemu-system-arm's (its GUI, firmware for other machines) are most of
+    // the download on a bare machine, and the emulators here run headless.
+    let install = ["install", "-y", "-qq", "--no-install-recommends"];
+    apt(&["update", "-qq"]) && apt(&[&install[..], packages].concat())
 }
 
 /// Python 3 with `venv` and `ensurepip` (pymavlink's virtual environment, docs/mavlink.md):
