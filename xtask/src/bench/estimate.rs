@@ -128,5 +128,13 @@ pub fn section() -> Result<String, String> {
             m.flash
         ));
     }
+    text.push_str(
+        "\nWhere a fix's instructions go: the gains of both channels, the spreads they leave and \
+         the turn rate's noise (on the M0 most of a fix's library divisions and three square \
+         roots) depend on the interval alone and are kept with it, so a fix at the interval \
+         of the one before (all but the first two here) skips them and the max is a fix at a \
+         new interval; the rest is the arc's prediction (a sine and cosine), the residual's \
+         outlier test and the correction (docs/field.md, \"In fixed point\").\n",
+    );
     Ok(text)
 }

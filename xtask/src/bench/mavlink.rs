@@ -125,7 +125,12 @@ pub fn paragraph(m: &MavlinkMeasured) -> String {
          control period** (+{:.0}: two signatures checked, the setpoint and TC_T signed); \
          **{:.0} instructions per signed GLOBAL_POSITION_INT parsed** (+{:.0}: one SHA-256 of \
          the key and the frame, two 64-byte blocks); the empty session costs {:.0} (the heartbeat and \
-         its four named values signed); **stack {} B**.\n",
+         its four named values signed); **stack {} B**.\n\n\
+         Where a period's instructions go (QEMU's exec log of this image by function, \
+         docs/mavlink.md, \"Cost\"): most to bytes moved one at a time, the UART handler's \
+         interrupt per byte both ways, the frame search and the queues; then the law and the \
+         guidance, the two frames out, their X.25 checksums, the estimator and the fixes' \
+         projection.\n",
         u.frames,
         u.per_period,
         u.fixed,

@@ -172,7 +172,9 @@ pub(crate) fn section(image: LoopImage) -> Result<String, String> {
              over its State frames); **stack \
              {} B** (the unit, its buffers and the law below the loop's frame, as in the \
              firmware's `main`; the queues are statics; an interrupt adds its exception frame, 104 B with the FPU \
-             context (108 B when realigned), and its handler's).{v2}",
+             context (108 B when realigned), and its handler's).{v2} Where a frame's \
+             instructions go (QEMU's exec log by function): docs/optimisation.md, \"The serial \
+             path\".",
             l.replies, l.per_state, l.rest, l.stack
         ),
         LoopImage::M0Fixed => format!(
