@@ -48,9 +48,37 @@
 //! fly; [`Policy::Paper`] is the paper's law everywhere, the reference. [`Guidance::step`]
 //! returns the decision with the per-pair report (tangents, arcs, the matrix) the host tools
 //! print.
+//!
+//! ## The modules, in the order the data flows
+//!
+//! | module | what it holds | feature |
+//! |---|---|---|
+//! | [`status`] | the statuses every door reports, and the crate's [`Error`] | |
+//! | [`num`] | the number types the law is written over: f32, f64, [`Fixed`] (Q17.14), `Micro` | `micromath` for `Micro` |
+//! | [`law`] | the paper's law: turning circles, tangents, capture times, the matrix game | |
+//! | [`estimate`] | states for now from late, sparse, noisy fixes: one track per vehicle | |
+//! | [`value_tables`] | the game's value below the theorem's threshold, read from tables in flash | `value-tables` to play them |
+//! | [`guidance`] | the decision each control period: the sampled command, the policies, the near field | |
+//! | [`protocol`] | the serial protocol: COBS frames, messages, the guidance unit that answers them | |
+//! | `serial` | the firmware's interrupt-driven UART path over `heapless` queues | `firmware` |
+//! | `polled` | the unit over any embedded-hal serial port, polled | `polled` |
+//! | `mavlink` | the MAVLink 2 endpoint beside a PX4 or ArduPilot autopilot | `mavlink` |
+//! | `board` | the board shells: QEMU mps2-an386, STM32F405, micro:bit, RP2040 | `board-*` |
+//!
+//! Each module imports only those above it in this table (`cargo xtask imports` checks that
+//! there is no cycle). Other features: `defmt` (logs from the loop), `qemu-log` (the QEMU
+//! image's defmt logs over semihosting), `tables-in-flash` (an image that carries tables),
+//! `panic-never` (the link-time proof that an image has no panic path). Without features the
+//! crate is the law, the estimator, the guidance and the serial protocol, for any target.
+//!
+//! `unsafe` is in two places: the board shells (registers) and, on Cortex-M cores with an FPU,
+//! the square root's one `vsqrt.f32` instruction (`num::f32_math`); everything else is safe
+//! code, `#![deny(unsafe_code)]`.
 #![no_std]
+#![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
-// Board shells need `unsafe` for registers; everything else is safe code.
+// Board shells need `unsafe` for registers, the FPU's square root one instruction; everything
+// else is safe code.
 #![deny(unsafe_code)]
 
 #[cfg(any(
