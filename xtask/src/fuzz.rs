@@ -78,6 +78,7 @@ fn host_triple() -> Result<String, String> {
 /// Builds every fuzz target for the host with [`RUSTFLAGS`] (release, line tables, as
 /// cargo-fuzz does); each target's executable.
 pub fn build_targets() -> Result<Vec<(String, PathBuf)>, String> {
+    crate::setup::cxx()?;
     let triple = host_triple()?;
     let mut flags = RUSTFLAGS.to_vec();
     if !triple.contains("-linux-") {

@@ -271,6 +271,23 @@ pub fn node() -> Result<(), String> {
     )
 }
 
+/// A C++ compiler (`c++`), which libFuzzer's build needs: g++ installed with apt-get where
+/// this runs as root; otherwise the command, as an error.
+pub fn cxx() -> Result<(), String> {
+    if on_path("c++").is_some() {
+        return Ok(());
+    }
+    let root_with_apt = is_root() && on_path("apt-get").is_some();
+    if root_with_apt && apt_install(&["g++"]) && on_path("c++").is_some() {
+        return Ok(());
+    }
+    Err(
+        "a C++ compiler is needed to build libFuzzer: run `sudo apt-get install g++` \
+         (or your system's C++ compiler as `c++`), then the command again"
+            .to_string(),
+    )
+}
+
 /// `program` on the PATH (or in ~/.cargo/bin).
 pub fn on_path(program: &str) -> Option<PathBuf> {
     let path = std::env::var_os("PATH")?;
