@@ -757,7 +757,6 @@ fn status_texts_fit_fifty_characters() {
         Halt::OwnFix,
         Halt::OwnHeading,
         Halt::NoTarget,
-        Halt::TargetFix,
         Halt::TargetJump,
         Halt::TargetStale,
         Halt::OwnStale,

@@ -86,8 +86,6 @@ pub enum Halt {
     OwnHeading,
     /// No target state yet.
     NoTarget,
-    /// The target's fix is invalid or its heading unknown.
-    TargetFix,
     /// The target jumped; waiting for a second fix to agree.
     TargetJump,
     /// The target's state is older than TC_TIMEOUT.
@@ -105,7 +103,6 @@ impl Halt {
             Halt::OwnFix => "TC: own fix invalid, no setpoint",
             Halt::OwnHeading => "TC: own heading unknown, no setpoint",
             Halt::NoTarget => "TC: no target, no setpoint",
-            Halt::TargetFix => "TC: target fix invalid, no setpoint",
             Halt::TargetJump => "TC: target jumped, no setpoint",
             Halt::TargetStale => "TC: target stale, no setpoint",
             Halt::OwnStale => "TC: own state stale, no setpoint",
