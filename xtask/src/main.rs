@@ -1,27 +1,18 @@
 //! The project's own commands, parsed by clap. `cargo xtask help` lists them; `cargo xtask
 //! <command> --help` gives each one's options and units.
 
-mod ardupilot;
-mod autopilot;
-mod bench;
 mod checks;
-mod firmware;
-mod fuzz;
-mod hj;
-mod host;
+mod commands;
+mod harness;
 mod image;
-mod progress;
-mod px4;
-mod run;
-mod setup;
-mod tables;
-mod workspace;
+mod util;
 
-use bench::profile;
 use clap::{Parser, Subcommand};
-use host::{eval, options, plot, report, sim};
+use commands::{bench, build, eval, fuzz, hj, plot, profile, report, run, sim};
+use harness::host as options;
 use std::process::ExitCode;
 use twocars::Policy;
+use util::setup;
 
 /// The project's own commands (units: metres, seconds, radians anticlockwise from +x; curvature
 /// in 1/m).
@@ -44,7 +35,7 @@ enum Cmd {
     /// tests, fuzz smoke runs; the last line is `N passed, N failed`.
     Test(checks::suite::TestArgs),
     /// Build the firmware images and print their flash and RAM.
-    Build(image::BuildArgs),
+    Build(build::BuildArgs),
     /// Instructions per law evaluation (M4F, M0), flash, stack, host throughput ->
     /// docs/bench.md.
     Bench,
@@ -67,7 +58,8 @@ enum Cmd {
     /// SVG plots to target/plots/: the paper's cases, a value map, the Monte-Carlo scatters,
     /// the field's figures.
     Plot(plot::PlotArgs),
-    /// Import cycles between the files of each of the workspace's crates, with what ties them.
+    /// Import cycles between the files of each of the workspace's crates, with what ties them,
+    /// and any import of xtask's that points up its layers.
     Imports,
 }
 
@@ -115,8 +107,8 @@ fn main() -> ExitCode {
         Cmd::Hj(args) => hj::command(args),
         Cmd::Plot(args) => plot::command(args),
         Cmd::Profile => profile::command(),
-        Cmd::Build(args) => image::build_command(args),
-        Cmd::Imports => i32::from(checks::import_cycles().1 > 0),
+        Cmd::Build(args) => build::command(args),
+        Cmd::Imports => i32::from(checks::imports_point_down().1 > 0),
     };
     ExitCode::from(u8::try_from(code).unwrap_or(1))
 }

@@ -15,8 +15,8 @@ use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::{Policy, Scalar, Variant};
 
 use super::Tally;
-use crate::firmware::closed_loop;
-use crate::firmware::emulator::Emulator;
+use crate::harness::firmware::closed_loop;
+use crate::harness::firmware::emulator::Emulator;
 use crate::image::{self, Image};
 
 type Outcome = Result<String, String>;
@@ -311,8 +311,9 @@ fn noisy_stream_on(elf: &std::path::Path, board: Image) -> Outcome {
 /// value and commands equal to the host's fixed-point law bit for bit (integer arithmetic), and
 /// the paper's four values (the first four bench states) within 1e-3 s.
 fn fixed_point_on_cortex_m0() -> Outcome {
-    let m0 = crate::bench::image::build_and_run(crate::bench::image::M0, "law_fixed")?;
-    let host = crate::bench::law::host_outputs::<twocars::num::fixed::Fixed>();
+    let m0 =
+        crate::harness::bench::image::build_and_run(crate::harness::bench::image::M0, "law_fixed")?;
+    let host = crate::harness::bench::law::host_outputs::<twocars::num::fixed::Fixed>();
     if m0.outputs.len() != host.len() {
         return Err(format!(
             "{} of {} states reported",
@@ -348,7 +349,9 @@ fn fixed_point_on_cortex_m0() -> Outcome {
 /// mps2-an386): the bench session's replies (their count and digest) and the unit's counters
 /// equal the host's.
 fn serial_loop_on_cortex_m4f() -> Outcome {
-    let l = crate::bench::serial::measure_loop(crate::bench::serial::LoopImage::M4fFloat)?;
+    let l = crate::harness::bench::serial::measure_loop(
+        crate::harness::bench::serial::LoopImage::M4fFloat,
+    )?;
     Ok(format!(
         "{} replies equal to the host's; {:.0} instructions per State frame, stack {} B",
         l.replies, l.per_state, l.stack
@@ -467,7 +470,9 @@ fn run_images(record: &mut impl FnMut(&str, Outcome)) {
     for image in &IMAGE_TESTS {
         println!("== xtask test: {}", image.heading);
         let ready = match image.board.machine() {
-            Some(image::Machine::Rp2040js) => crate::firmware::rp2040js::installed().map(|_| ()),
+            Some(image::Machine::Rp2040js) => {
+                crate::harness::firmware::rp2040js::installed().map(|_| ())
+            }
             _ => Ok(()),
         };
         let elf = match ready.and_then(|()| image::build_checked(image.board, None)) {
@@ -487,14 +492,15 @@ fn run_images(record: &mut impl FnMut(&str, Outcome)) {
 /// value tables' image and the serial loop's and the fixed-point law's bench sessions.
 pub fn serial_images(tally: &mut Tally) {
     println!("== xtask test: firmware in QEMU (mps2-an386)");
-    let elf =
-        match crate::setup::qemu_binary().and_then(|_| image::build_checked(Image::Qemu, None)) {
-            Ok((elf, _)) => elf,
-            Err(e) => {
-                tally.record("qemu::image_builds_and_qemu_is_found", Err(e));
-                return;
-            }
-        };
+    let elf = match crate::util::setup::qemu_binary()
+        .and_then(|_| image::build_checked(Image::Qemu, None))
+    {
+        Ok((elf, _)) => elf,
+        Err(e) => {
+            tally.record("qemu::image_builds_and_qemu_is_found", Err(e));
+            return;
+        }
+    };
     let tests: [(&str, QemuTest); 4] = [
         (
             "qemu::scripted_session_matches_the_host_unit_byte_for_byte",
@@ -534,7 +540,7 @@ pub fn mavlink_images(tally: &mut Tally) {
     println!("== xtask test: the MAVLink images in QEMU, pymavlink the autopilot and the target");
     tally.record(
         "qemu::mavlink_scripted_session_passes_every_check",
-        crate::firmware::mavlink::scripted_session(Image::QemuMavlink)
+        crate::harness::firmware::mavlink::scripted_session(Image::QemuMavlink)
             .map(|()| "every check passed".to_string()),
     );
     // The STM32F405 image closes the loop too. Its scripted session's timing checks do not
@@ -546,7 +552,7 @@ pub fn mavlink_images(tally: &mut Tally) {
     ] {
         tally.record(
             &format!("qemu::{name}_closed_loop_captures_the_paper_cases_on_time"),
-            crate::firmware::mavlink::run_cases(image, None).and_then(|on_time| {
+            crate::harness::firmware::mavlink::run_cases(image, None).and_then(|on_time| {
                 if on_time {
                     Ok("four captures within 5 control periods".to_string())
                 } else {
@@ -557,13 +563,15 @@ pub fn mavlink_images(tally: &mut Tally) {
     }
     tally.record(
         "qemu::mavlink_late_sparse_noisy_target_is_captured_without_chatter",
-        crate::firmware::mavlink_field::run_field(Image::QemuMavlink, None).and_then(|ok| {
-            if ok {
-                Ok("four captures, median sign flips within 5".to_string())
-            } else {
-                Err("a chase was not captured, or the setpoint chattered".to_string())
-            }
-        }),
+        crate::harness::firmware::mavlink_field::run_field(Image::QemuMavlink, None).and_then(
+            |ok| {
+                if ok {
+                    Ok("four captures, median sign flips within 5".to_string())
+                } else {
+                    Err("a chase was not captured, or the setpoint chattered".to_string())
+                }
+            },
+        ),
     );
     tally.record(
         "qemu::mavlink_signed_closed_loop_captures_and_refuses_unsigned_and_forged_frames",
@@ -577,7 +585,7 @@ pub fn mavlink_images(tally: &mut Tally) {
 /// pymavlink's check. The key is a fixed test key.
 fn signed_closed_loop() -> Outcome {
     let key = crate::image::signing::SigningKey::for_tests()?;
-    match crate::firmware::mavlink::run_cases(Image::QemuMavlink, Some(&key))? {
+    match crate::harness::firmware::mavlink::run_cases(Image::QemuMavlink, Some(&key))? {
         true => Ok(
             "signed both ways: four captures within 5 control periods; five forged \
                     PARAM_SETs unanswered, each counted once; pymavlink took every frame"

@@ -3,12 +3,13 @@
 
 pub mod firmware;
 pub mod imports;
+pub mod layers;
 pub mod package;
 pub mod sitl;
 pub mod suite;
 pub mod tables;
 
-use crate::workspace::root;
+use crate::util::workspace::root;
 
 /// Named tests' outcomes, each printed as `cargo test` prints its tests, and counted.
 #[derive(Debug, Default)]
@@ -44,9 +45,9 @@ const CRATES: [&str; 6] = [
     "companion/src/main.rs",
 ];
 
-/// Prints every import cycle between the files of each crate, with the names that tie it;
-/// (crates without a cycle, crates with one).
-pub fn import_cycles() -> (u64, u64) {
+/// Prints every import cycle between the files of each crate, with the names that tie it, and
+/// every import of xtask up its layers; (checks passed, checks failed).
+pub fn imports_point_down() -> (u64, u64) {
     let (mut passed, mut failed) = (0, 0);
     for crate_root in CRATES {
         let edges = imports::graph(&root().join(crate_root));
@@ -76,7 +77,24 @@ pub fn import_cycles() -> (u64, u64) {
             }
         }
     }
-    (passed, failed)
+    let (layers_passed, layers_failed) = xtask_layers();
+    (passed + layers_passed, failed + layers_failed)
+}
+
+/// Prints each import of xtask that points up its layers ([`layers::LAYERS`]); (1, 0) when
+/// there is none, else (0, 1).
+fn xtask_layers() -> (u64, u64) {
+    let src = root().join("xtask/src");
+    let upward = layers::upward(&src, &imports::graph(&src.join("main.rs")));
+    if upward.is_empty() {
+        println!("imports: xtask/src: {} ... ok", layers::LAYERS.join(" > "));
+        return (1, 0);
+    }
+    eprintln!("imports: xtask/src: {} import(s) up a layer", upward.len());
+    for (from, to) in &upward {
+        eprintln!("    {} -> {}", relative(from), relative(to));
+    }
+    (0, 1)
 }
 
 fn relative(path: &std::path::Path) -> String {

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use crate::workspace::root;
+use crate::util::workspace::root;
 
 /// What a README command must print, besides exiting with 0: (the command's start, the text).
 const EXPECTED: [(&str, &str); 5] = [
@@ -136,7 +136,7 @@ pub fn check_rust_version() -> (u64, u64) {
         .args(["check", "-p", "twocars", "--lib", "--features", features])
         .env(
             "CARGO_TARGET_DIR",
-            crate::workspace::target_dir().join("rust-version"),
+            crate::util::workspace::target_dir().join("rust-version"),
         )
         .current_dir(root())
         .status()
@@ -171,7 +171,7 @@ const EXAMPLES: [(&str, &str, Option<&str>); 6] = [
 /// linker script as a user's `.cargo/config.toml` gives it; then runs its doctests, README's
 /// blocks among them; (passed, failed).
 pub fn check_package() -> (u64, u64) {
-    let dir = crate::workspace::target_dir().join("package-check");
+    let dir = crate::util::workspace::target_dir().join("package-check");
     let _ = std::fs::remove_dir_all(&dir);
     let Some(crate_file) = package(&dir) else {
         eprintln!("package: cargo package made no .crate");

@@ -1,5 +1,5 @@
 //! The value tables in flash, tested in QEMU (part of `cargo xtask test`): the
-//! `qemu-tables` image carries a set per pair of ratios ([`crate::tables::sets::FLASH_SETS`]); its
+//! `qemu-tables` image carries a set per pair of ratios ([`crate::image::tables::sets::FLASH_SETS`]); its
 //! Configure selects the set of the limits' ratios and says so; and below the theorem's
 //! threshold it captures every evader of the adversary suite, and the tables' own evader, as
 //! the same unit on the host does, within the bar over V(x0) ([`BAR`]).
@@ -13,11 +13,11 @@ use host_tests::sim::{theorem_threshold, SimParams, SimStatus};
 use twocars::protocol::message::{Configure, ROLE_EVADER, ROLE_PURSUER};
 use twocars::value_tables::ValueTables;
 
-use crate::firmware::tables::{image_sets, table_set};
+use crate::harness::firmware::tables::{image_sets, table_set};
 use twocars::{Policy, Variant};
 
-use crate::firmware::closed_loop::{self, HostUnit};
-use crate::firmware::emulator::Emulator;
+use crate::harness::firmware::closed_loop::{self, HostUnit};
+use crate::harness::firmware::emulator::Emulator;
 use crate::image::{self, Image};
 
 /// Control period, s.
@@ -56,7 +56,7 @@ fn configure_selects_each_set(elf: &std::path::Path) -> Result<String, String> {
     let mut q = Emulator::start(elf, Image::QemuTables, false)?;
     let mut got = Vec::new();
     let other = [2.0, 2.0, 1.2, 1.0];
-    let cases = crate::tables::sets::FLASH_SETS
+    let cases = crate::image::tables::sets::FLASH_SETS
         .iter()
         .map(|set| (set.limits.map(|v| v as f32), 2))
         .chain([(other, 1)]);
@@ -117,7 +117,7 @@ fn suite_below_the_threshold(elf: &std::path::Path) -> Result<String, String> {
     let mut over = Vec::new();
     let mut largest_diff = 0.0_f64;
     let evaders = EvaderKind::ALL.map(Some).into_iter().chain([None]);
-    for (limits, set) in crate::tables::sets::FLASH_SETS
+    for (limits, set) in crate::image::tables::sets::FLASH_SETS
         .iter()
         .map(|s| &s.limits)
         .zip(sets)
@@ -181,7 +181,7 @@ fn run_picks_the_set_of_the_limits_ratios() -> Result<String, String> {
         let [v_pm, w_pm, v_em, w_em] = limits.map(|v| v as f32);
         (v_em / v_pm, (v_em / v_pm) * (w_em / w_pm))
     };
-    for set in &crate::tables::sets::FLASH_SETS {
+    for set in &crate::image::tables::sets::FLASH_SETS {
         let picked = table_set(set.limits, Variant::Paper, DT)?;
         let table = picked.finest_table().ok_or("a set without tables")?;
         let (speed_ratio, evader_turn) = ratios(set.limits);

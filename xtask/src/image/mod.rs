@@ -1,15 +1,15 @@
-//! Firmware builds: the boards, their images built with the core's own features (and the value
-//! tables an image carries), the link-time panic check, the memory map's check and
-//! `cargo xtask build`.
+//! Firmware builds: the boards, their images built with the core's own features, the value
+//! tables an image carries ([`tables`]), the link-time panic check and the memory map's check.
 
 pub mod signing;
 pub mod size;
+pub mod tables;
 
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
 use crate::image::signing::SigningKey;
-use crate::workspace::root;
+use crate::util::workspace::root;
 
 /// The firmware images xtask builds: one binary each, for one board (a chip and its
 /// peripherals), one link (our serial protocol or MAVLink) and, for two, the value tables.
@@ -91,12 +91,12 @@ impl Image {
             Image::Stm32f405Tables => "board-stm32f405,tables-in-flash",
         }
     }
-    /// The value-table sets the image carries, one per pair of ratios (`crate::tables::solve::flash_sets`):
-    /// both of [`crate::tables::sets::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
-    pub fn table_sets(self) -> &'static [crate::tables::sets::FlashSet] {
+    /// The value-table sets the image carries, one per pair of ratios (`crate::image::tables::solve::flash_sets`):
+    /// both of [`crate::image::tables::sets::FLASH_SETS`] on QEMU's 4 MiB, the paper's on the STM32F405's 1 MiB.
+    pub fn table_sets(self) -> &'static [crate::image::tables::sets::FlashSet] {
         match self {
-            Image::QemuTables => &crate::tables::sets::FLASH_SETS,
-            Image::Stm32f405Tables => &crate::tables::sets::FLASH_SETS[..1],
+            Image::QemuTables => &crate::image::tables::sets::FLASH_SETS,
+            Image::Stm32f405Tables => &crate::image::tables::sets::FLASH_SETS[..1],
             _ => &[],
         }
     }
@@ -220,7 +220,7 @@ fn build_with(board: Image, features: &str, key: Option<&SigningKey>) -> Result<
         .map_err(|e| format!("firmware build for {board:?} failed ({e})"));
     }
     // The same binary with its sets in flash, kept beside the one without as `<bin>-tables`.
-    let files = crate::tables::solve::flash_sets(sets)?;
+    let files = crate::image::tables::solve::flash_sets(sets)?;
     let paths = std::env::join_paths(&files).map_err(|e| e.to_string())?;
     let elf = build_image(
         CORE,
@@ -267,7 +267,7 @@ pub fn build_image(
     if !status.success() {
         return Err(status.to_string());
     }
-    Ok(crate::workspace::target_dir()
+    Ok(crate::util::workspace::target_dir()
         .join(target)
         .join("release")
         .join(bin))
@@ -298,83 +298,4 @@ pub fn build_checked(
         ));
     }
     Ok((elf, size))
-}
-
-/// The boards `cargo xtask build` builds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum BoardArg {
-    /// QEMU mps2-an386 (Cortex-M4F): the COBS and the MAVLink images.
-    Qemu,
-    /// STM32F405 flight controller, both images (QEMU netduinoplus2).
-    Stm32f405,
-    /// BBC micro:bit (nRF51822, Cortex-M0, fixed point).
-    Microbit,
-    /// Raspberry Pi Pico (RP2040, Cortex-M0+, fixed point; rp2040js).
-    Rp2040,
-    /// QEMU mps2-an386 with the value tables of two pairs of ratios in flash (solved first,
-    /// about a minute each, then cached).
-    QemuTables,
-    /// STM32F405 with the value tables of the paper's ratios in flash (built and sized only).
-    Stm32f405Tables,
-    /// Every board.
-    All,
-}
-
-/// `cargo xtask build`'s options.
-#[derive(Debug, Clone, clap::Args)]
-pub struct BuildArgs {
-    /// The board.
-    #[arg(long, value_enum, default_value = "all")]
-    board: BoardArg,
-    /// Build the MAVLink images with this signing key (a file of 32 bytes or 64 hexadecimal
-    /// digits).
-    #[arg(long)]
-    signing_key: Option<std::path::PathBuf>,
-}
-
-/// `cargo xtask build [--board qemu|stm32f405|microbit|rp2040|qemu-tables|stm32f405-tables|all]`: builds each image, checks its memory map
-/// and prints its size.
-pub fn build_command(args: &BuildArgs) -> i32 {
-    let Ok(key) = SigningKey::given(args.signing_key.as_deref(), "xtask build") else {
-        return 2;
-    };
-    let boards: Vec<Image> = match args.board {
-        BoardArg::Qemu => vec![Image::Qemu, Image::QemuMavlink],
-        BoardArg::Stm32f405 => vec![Image::Stm32f405, Image::Stm32f405Mavlink],
-        BoardArg::Microbit => vec![Image::Microbit],
-        BoardArg::Rp2040 => vec![Image::Rp2040],
-        BoardArg::QemuTables => vec![Image::QemuTables],
-        BoardArg::Stm32f405Tables => vec![Image::Stm32f405Tables],
-        BoardArg::All => Image::ALL.to_vec(),
-    };
-    let mut rows = Vec::new();
-    for board in boards {
-        match build_checked(board, key.as_ref()) {
-            Ok((elf, s)) => rows.push(format!(
-                "| {} | {} | {} | {:#010x} | {} B ({} + {} + {}) | {} B ({} + {}) |",
-                board.name(),
-                board.target(),
-                elf.file_name()
-                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
-                s.entry,
-                s.flash(),
-                s.text,
-                s.rodata,
-                s.data,
-                s.ram(),
-                s.data,
-                s.bss
-            )),
-            Err(e) => {
-                eprintln!("xtask build: {e}");
-                return 1;
-            }
-        }
-    }
-    println!("| board | target | image | entry | flash (text + rodata + data) | static RAM (data + bss) |");
-    println!("|---|---|---|---|---|---|");
-    for row in rows {
-        println!("{row}");
-    }
-    0
 }

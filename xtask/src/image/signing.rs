@@ -44,7 +44,7 @@ impl SigningKey {
 
     /// The tests' fixed key, written to `target/mavlink-test.key`.
     pub fn for_tests() -> Result<SigningKey, String> {
-        let path = crate::workspace::target_dir().join("mavlink-test.key");
+        let path = crate::util::workspace::target_dir().join("mavlink-test.key");
         let hex: String = (0..32u8)
             .map(|b| format!("{:02x}", b.wrapping_mul(37)))
             .collect();

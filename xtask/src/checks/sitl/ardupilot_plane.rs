@@ -1,10 +1,10 @@
 //! ArduPlane SITL flying the pursuer in GUIDED, the MAVLink image its companion: the chase
 //! against the simulated evader and against a second ArduPlane.
 
-use crate::ardupilot::aircraft::MEASURED_BANK_DEG;
-use crate::ardupilot::plane::{find, fly, Flown, Options, SPEEDUP};
-use crate::autopilot::aircraft::chase_held;
-use crate::autopilot::{energy_line, lag_words};
+use crate::harness::ardupilot::aircraft::MEASURED_BANK_DEG;
+use crate::harness::ardupilot::plane::{find, fly, Flown, Options, SPEEDUP};
+use crate::harness::autopilot::aircraft::chase_held;
+use crate::harness::autopilot::{energy_line, lag_words};
 
 /// `cargo xtask test`'s plane chase: one start below the threshold against the straight
 /// evader, where ArduPlane SITL is found (said plainly where not).

@@ -1,7 +1,7 @@
 //! ArduPilot Rover SITL flying the pursuer, the MAVLink image its companion: the chase, a
 //! second rover as the evader, the unit's reading of ArduPilot's telemetry, and signing.
 
-use crate::ardupilot::{cost_line, find_rover, fly, Flown, Options};
+use crate::harness::ardupilot::{cost_line, find_rover, fly, Flown, Options};
 use crate::image::signing::SigningKey;
 
 /// `cargo xtask test`'s chases: one start below the threshold against the straight evader,

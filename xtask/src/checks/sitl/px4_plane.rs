@@ -1,10 +1,10 @@
 //! PX4 SITL's SIH airplane flying the pursuer under the unit's energy hold.
 
-use crate::autopilot::aircraft::chase_held;
-use crate::autopilot::energy_line;
-use crate::px4::aircraft::MEASURED_BANK_DEG;
-use crate::px4::find;
-use crate::px4::plane::{fly, Flown, Options};
+use crate::harness::autopilot::aircraft::chase_held;
+use crate::harness::autopilot::energy_line;
+use crate::harness::px4::aircraft::MEASURED_BANK_DEG;
+use crate::harness::px4::find;
+use crate::harness::px4::plane::{fly, Flown, Options};
 
 /// `cargo xtask test`'s airplane chase: one start below the threshold against the straight
 /// evader, where PX4 SITL is found (said plainly where not).

@@ -1,7 +1,7 @@
 //! PX4 SITL's SIH Ackermann rover flying the pursuer, driven by the QEMU image and by the
 //! companion binary.
 
-use crate::px4::{find, fly, Flown, Options};
+use crate::harness::px4::{find, fly, Flown, Options};
 
 /// The share of setpoints (one in this many) the course may flip side on: chatter on raw fixes
 /// flips the turn up to 522 times a chase (docs/field.md); this rover's first chase flips on 2
@@ -75,8 +75,8 @@ fn check_chase(flown: &Flown) -> Result<String, String> {
         o.flips,
         o.setpoints,
         if failsafe { "PX4 LEFT OFFBOARD during the chase" } else { "OFFBOARD throughout" },
-        crate::autopilot::seconds(o.to_stop_message),
-        crate::autopilot::seconds(o.to_failsafe),
+        crate::harness::autopilot::seconds(o.to_stop_message),
+        crate::harness::autopilot::seconds(o.to_failsafe),
     );
     if captured > o.ideal + 3.0 || failsafe || o.flips * FLIP_SHARE > o.setpoints {
         return Err(line);
