@@ -5,7 +5,7 @@
 //!
 //! A board supplies [`UartRegisters`] (its data and status registers, for the interrupt) and
 //! [`Board`] (clock, sleep, and the transmitter's start, for the loop); the rest is here and runs
-//! unchanged on the host against a UART model (`host-tests`).
+//! unchanged on the host against a UART model (`twocars_sim::uart_model`).
 
 use core::sync::atomic::{AtomicU32, Ordering};
 

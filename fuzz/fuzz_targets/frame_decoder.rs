@@ -10,7 +10,7 @@ use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg
 
 fuzz_target!(|data: &[u8]| {
     let cut = usize::from(data.first().copied().unwrap_or(1));
-    let by_slice = host_tests::link::deframe(data, Some(cut));
+    let by_slice = twocars_sim::link::deframe(data, Some(cut));
     let mut deframer = Deframer::<MAX_FRAME>::new();
     for &byte in data {
         if let Feed::Frame(bytes) = deframer.push(byte) {
@@ -28,5 +28,5 @@ fuzz_target!(|data: &[u8]| {
             }
         }
     }
-    assert_eq!(by_slice, host_tests::link::deframe(data, None));
+    assert_eq!(by_slice, twocars_sim::link::deframe(data, None));
 });

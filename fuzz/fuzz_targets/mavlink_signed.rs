@@ -12,7 +12,7 @@
 //! up to its checksum, the link id and the timestamp, first 6 bytes) under the key.
 #![no_main]
 
-use host_tests::mavlink_spec::{
+use twocars_sim::mavlink_spec::{
     v2_from, FOLLOW_TARGET, GLOBAL_POSITION_INT, HEARTBEAT, PARAM_REQUEST_LIST, PARAM_REQUEST_READ,
     PARAM_SET, SENT_BY_ENDPOINT,
 };

@@ -1,17 +1,17 @@
-//! Closed loop against the adversary suite (`host_tests::adversary`): the flight policy's
+//! Closed loop against the adversary suite (`twocars_sim::adversary`): the flight policy's
 //! pursuer against evaders that do not play the law, and the law's evader against pursuers that
 //! do not. Seeded (TWOCARS_SEED varies the starts); the long runs are `cargo xtask report`.
 
 mod common;
 
-use host_tests::adversary::{Adversary, EvaderKind, Opponent, PursuerKind};
-use host_tests::rng::Rng;
-use host_tests::scenarios::EPS;
-use host_tests::scenarios::PAPER_LIMITS;
-use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
-use host_tests::starts::{random_limits, random_start};
 use std::f64::consts::PI;
 use twocars::{Policy, Variant};
+use twocars_sim::adversary::{Adversary, EvaderKind, Opponent, PursuerKind};
+use twocars_sim::rng::Rng;
+use twocars_sim::scenarios::EPS;
+use twocars_sim::scenarios::PAPER_LIMITS;
+use twocars_sim::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
+use twocars_sim::starts::{random_limits, random_start};
 
 const DT: f64 = 0.01;
 /// The claim's tolerance: five control periods.

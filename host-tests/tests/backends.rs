@@ -5,12 +5,12 @@
 mod common;
 
 use common::{paper_scene, relative_error, scene, seeded_runner, Scene};
-use host_tests::stats::quantile_f64;
 use proptest::strategy::Strategy;
 use std::cell::RefCell;
 use twocars::num::fixed::Fixed;
 use twocars::num::micro::Micro;
 use twocars::{Scalar, Status, Units};
+use twocars_sim::stats::quantile_f64;
 
 const STATES: u32 = 20_000;
 
@@ -54,7 +54,7 @@ fn gap(values: [Option<f64>; 2]) -> f64 {
 /// (in f32).
 fn pair_geometry(s: &Scene) -> [[(f64, f64); 2]; 2] {
     let (p, e) = s.as_f32_rounded().reference();
-    host_tests::reference::pair_terms(&p, &e)
+    twocars_sim::reference::pair_terms(&p, &e)
 }
 
 /// Fixed point's error in a pair's L^2, square metres: 2 |D| times the error in D (the unit

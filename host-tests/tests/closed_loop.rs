@@ -4,13 +4,13 @@
 mod common;
 
 use common::{paper_scene, scene, seeded_runner, Scene};
-use host_tests::scenarios::EPS;
-use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
-use host_tests::sim::{simulate, theorem_threshold, SimParams, SimResult, SimStatus};
-use host_tests::stats::quantile;
 use proptest::strategy::Strategy;
 use std::f64::consts::PI;
 use twocars::{Policy, Variant};
+use twocars_sim::scenarios::EPS;
+use twocars_sim::scenarios::{paper_cases, PAPER_LIMITS};
+use twocars_sim::sim::{simulate, theorem_threshold, SimParams, SimResult, SimStatus};
+use twocars_sim::stats::quantile;
 
 const DT: f64 = 0.001;
 /// "Within a few dt": the sampled command reaches each tangent within a period of the ideal.
@@ -318,9 +318,9 @@ fn exact_motion_closes_a_full_circle() {
     let start = [1.0, 2.0, 0.3];
     let (v, w) = (2.0, 0.5);
     let period = std::f64::consts::TAU / (v * w);
-    let end = host_tests::sim::advance(start, v, w, period);
+    let end = twocars_sim::sim::advance(start, v, w, period);
     assert!((end[0] - start[0]).abs() < 1e-12 && (end[1] - start[1]).abs() < 1e-12);
-    let half = host_tests::sim::advance(start, v, w, period / 2.0);
+    let half = twocars_sim::sim::advance(start, v, w, period / 2.0);
     let diameter = (half[0] - start[0]).hypot(half[1] - start[1]);
     assert!((diameter - 2.0 / w).abs() < 1e-12, "diameter {diameter}");
 }

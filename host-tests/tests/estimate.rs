@@ -1,14 +1,14 @@
 //! The estimator: fixes carried to the decision's time, noise filtered, bad fixes refused, and
 //! exact fixes through it changing nothing.
 
-use host_tests::adversary::EvaderKind;
-use host_tests::field::{chase, FieldModel, Receiver};
-use host_tests::kinematics::advance;
-use host_tests::rng::Rng;
-use host_tests::scenarios::PAPER_LIMITS;
-use host_tests::sim::SimParams;
 use twocars::estimate::{Estimator, FieldSettings, Fix, FixNoise, Refused, Track};
 use twocars::{Guidance, Law, Limits, Policy, Variant};
+use twocars_sim::adversary::EvaderKind;
+use twocars_sim::field::{chase, FieldModel, Receiver};
+use twocars_sim::kinematics::advance;
+use twocars_sim::rng::Rng;
+use twocars_sim::scenarios::PAPER_LIMITS;
+use twocars_sim::sim::SimParams;
 
 const SECOND: u32 = 1_000_000;
 
@@ -252,8 +252,8 @@ fn the_decision_on_exact_estimates_is_the_decision_on_the_states() {
         let [wp, we] = b.curvatures();
         p = advance(p, 2.0, f64::from(wp), 0.01);
         e = advance(e, 1.0, f64::from(we), 0.01);
-        p[2] = host_tests::kinematics::wrap_pi(p[2]);
-        e[2] = host_tests::kinematics::wrap_pi(e[2]);
+        p[2] = twocars_sim::kinematics::wrap_pi(p[2]);
+        e[2] = twocars_sim::kinematics::wrap_pi(e[2]);
     }
 }
 
@@ -286,7 +286,7 @@ fn noisy_fixes_through_the_estimator_do_not_chatter() {
             &field(noise),
             Receiver::Estimator { own_lead: 0.0 },
         );
-        assert_eq!(est.status, host_tests::sim::SimStatus::Captured);
+        assert_eq!(est.status, twocars_sim::sim::SimStatus::Captured);
         raw_flips.push(raw.sign_flips);
         est_flips.push(est.sign_flips);
     }
@@ -357,7 +357,7 @@ fn sparse_noisy_fixes_of_a_straight_target_are_chased_without_orbits() {
                 own_lead: 0.1 * turn,
             },
         );
-        assert_eq!(est.status, host_tests::sim::SimStatus::Captured);
+        assert_eq!(est.status, twocars_sim::sim::SimStatus::Captured);
         excess.push((est.t_capture - exact.t_capture) / exact.t_capture);
         loops += est.loops;
     }
@@ -386,7 +386,7 @@ fn a_steady_target_is_carried_straight_and_a_turning_one_on_its_arc() {
             let noisy = [
                 truth[0] + 0.1 * rng.normal(),
                 truth[1] + 0.1 * rng.normal(),
-                host_tests::kinematics::wrap_pi(truth[2] + 0.1 * rng.normal()),
+                twocars_sim::kinematics::wrap_pi(truth[2] + 0.1 * rng.normal()),
             ];
             let at = fix(noisy, t);
             track.update(&at, stale).expect("taken");

@@ -2,10 +2,10 @@
 //! as f32 to within a thousandth of r_p, exact fixes handed to the law as `Limits::states`
 //! would hand them, the origin kept near the own vehicle, and no fix sequence that overflows.
 
-use host_tests::kinematics::advance;
-use host_tests::rng::Rng;
 use twocars::estimate::{Estimated, Estimator, FieldSettings, Fix, FixNoise, Refused};
 use twocars::{Error, Fixed, Guidance, Law, Limits, Policy, Scalar, Variant};
+use twocars_sim::kinematics::advance;
+use twocars_sim::rng::Rng;
 
 /// The paper's limits: r_p 0.5 m, v_pm 1 m/s (a full turn in 3.14 s).
 const LIMITS: [f32; 4] = [1.0, 2.0, 0.5, 1.0];

@@ -1,9 +1,9 @@
 //! The f32 backend's own functions against f64, over the law's envelope, with the bounds stated
 //! in `src/num/f32_math.rs`.
 
-use host_tests::sim::angle_error;
 use twocars::num::f32_math::{atan2, sin_cos, sqrt, wrap_signed};
 use twocars::Scalar;
+use twocars_sim::sim::angle_error;
 
 /// Evenly spaced f32 samples of [lo, hi].
 fn samples(lo: f32, hi: f32, n: usize) -> impl Iterator<Item = f32> {

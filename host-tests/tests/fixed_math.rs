@@ -2,9 +2,9 @@
 //! bounds stated in `src/num/fixed/mod.rs`; its products exact; its invalid value from conversions and
 //! divisions; overflow of `+`, `-` and `*` a panic in debug builds, as for Rust's integers.
 
-use host_tests::sim::angle_error;
 use twocars::num::fixed::{ratio_q15, Fixed};
 use twocars::Scalar;
+use twocars_sim::sim::angle_error;
 
 const LSB: f64 = 1.0 / 16384.0;
 

@@ -4,12 +4,12 @@
 //! lead turn reaches the collision course as a Dubins car reaches a point, turning fully and
 //! then running straight. `cargo xtask hj --play` judges it against V over the whole suite.
 
-use host_tests::adversary::{EvaderKind, Opponent};
-use host_tests::rng::Rng;
-use host_tests::scenarios::PAPER_LIMITS;
-use host_tests::sim::{simulate, simulate_with, Setup, SimParams, SimResult, SimStatus};
 use std::f64::consts::PI;
 use twocars::{Guidance, Law, Limits, Policy, Variant};
+use twocars_sim::adversary::{EvaderKind, Opponent};
+use twocars_sim::rng::Rng;
+use twocars_sim::scenarios::PAPER_LIMITS;
+use twocars_sim::sim::{simulate, simulate_with, Setup, SimParams, SimResult, SimStatus};
 
 /// Both players on `policy` from `pursuer` and `evader` (metres, radians) at the paper's
 /// limits, control period `dt`, capture radius `eps` (metres).

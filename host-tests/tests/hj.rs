@@ -82,9 +82,9 @@ fn the_value_is_mirror_symmetric_and_finite_inside_the_box() {
 #[test]
 fn the_table_pursuer_captures_a_meshing_circler() {
     use hji::policy::pursuer_curvature;
-    use host_tests::adversary::{Adversary, EvaderKind, Opponent};
-    use host_tests::sim::{closed_loop, SimParams, SimStatus, StepCommand};
     use twocars::{Guidance, Law, Limits, Policy, Variant};
+    use twocars_sim::adversary::{Adversary, EvaderKind, Opponent};
+    use twocars_sim::sim::{closed_loop, SimParams, SimStatus, StepCommand};
 
     let limits = [2.330_756, 2.144_549, 1.851_558, 1.907_620];
     let params = SimParams {
@@ -294,7 +294,7 @@ fn the_step_follows_the_relative_motion_exactly() {
 fn beyond_the_threshold_the_value_is_the_papers() {
     use hji::paper::PaperValue;
     use hji::NEVER;
-    use host_tests::scenarios::states_beyond;
+    use twocars_sim::scenarios::states_beyond;
     let game = Game::with_radius([2.0, 2.0, 1.0, 1.0], 1.0);
     let grid = Grid {
         n: 73,

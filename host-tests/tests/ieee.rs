@@ -2,10 +2,10 @@
 //! src/num/convert.rs) against exact f64 references: every exponent field, both signs,
 //! subnormals, NaN and the infinities.
 
-use host_tests::rng::Rng;
 use twocars::num::convert::{self, Reciprocal};
 use twocars::num::fixed::Fixed;
 use twocars::{Limits, Scalar};
+use twocars_sim::rng::Rng;
 
 /// Mantissa fields to try in every binade: the edges, and seeded random ones.
 fn mantissas(rng: &mut Rng) -> Vec<u32> {

@@ -1,18 +1,18 @@
 //! The MAVLink endpoint (`twocars::mavlink::Endpoint`) against `../shared/CONTRACTS.md`: frames
-//! in written from the specification (`host_tests::mavlink_spec`), frames out read back by the
+//! in written from the specification (`twocars_sim::mavlink_spec`), frames out read back by the
 //! specification's checksum and field layout, never by the `mavlink` crate the firmware uses.
 
-use host_tests::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
-use host_tests::mavlink_spec::{
+use std::f64::consts::{FRAC_PI_2, PI};
+use twocars::mavlink::{Endpoint, SPECS};
+use twocars::{Guidance, Law, Limits, Policy, Variant};
+use twocars_sim::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
+use twocars_sim::mavlink_spec::{
     follow_target_payload, param_request_list_payload, param_request_read_payload,
     param_set_payload, position_payload_at, position_payload_in_air, read_v2, v2_from,
     vfr_hud_payload, Sent, FOLLOW_TARGET, GLOBAL_POSITION_INT, HEARTBEAT, NAMED_VALUE_FLOAT,
     PARAM_REQUEST_LIST, PARAM_REQUEST_READ, PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT,
     SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED, STATUSTEXT, VFR_HUD,
 };
-use std::f64::consts::{FRAC_PI_2, PI};
-use twocars::mavlink::{Endpoint, SPECS};
-use twocars::{Guidance, Law, Limits, Policy, Variant};
 
 /// MAV_SEVERITY_WARNING and MAV_SEVERITY_INFO.
 const WARNING: u8 = 4;
@@ -731,7 +731,7 @@ fn line_noise_is_counted_and_never_answered() {
     assert_eq!(link.endpoint.frame_counters().bad_checksum, 1);
     // The heartbeat's companion reports it.
     assert_eq!(named(of(&link.poll(), NAMED_VALUE_FLOAT)[0]).1, 1.0);
-    let mut rng = host_tests::rng::Rng::new(29);
+    let mut rng = twocars_sim::rng::Rng::new(29);
     let mut noise = Vec::new();
     for _ in 0..200_000 {
         noise.push((rng.next_u64() >> 32) as u8);

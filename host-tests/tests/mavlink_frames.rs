@@ -1,13 +1,13 @@
 //! The MAVLink endpoint's input path (`twocars::mavlink`): frames written from the protocol's
-//! specification (`host_tests::mavlink_spec`, independent of the `mavlink` crate the firmware
+//! specification (`twocars_sim::mavlink_spec`, independent of the `mavlink` crate the firmware
 //! uses), found in a byte stream one byte at a time, through noise and corruption, and decoded.
 
-use host_tests::mavlink_spec::{
+use twocars::mavlink::{decode, extra_crc, FrameReader, Message, MessageError, Version};
+use twocars_sim::mavlink_spec::{
     param_set_payload, position_payload, v1, v2, FOLLOW_TARGET, GLOBAL_POSITION_INT, HEARTBEAT,
     PARAM_REQUEST_LIST, PARAM_REQUEST_READ, PARAM_SET,
 };
-use host_tests::rng::Rng;
-use twocars::mavlink::{decode, extra_crc, FrameReader, Message, MessageError, Version};
+use twocars_sim::rng::Rng;
 
 /// Every message decoded from `bytes`, pushed one at a time.
 fn read_all(

@@ -3,12 +3,12 @@
 //! answered with signed frames; unsigned, wrongly keyed, replayed, older and truncated frames
 //! refused and counted.
 
-use host_tests::mavlink_spec::{
+use twocars::mavlink::signing::{signature, SignatureRefusal, Verifier, KEY_LEN, SIGNATURE_LEN};
+use twocars::mavlink::{Endpoint, SIGNATURE_COUNTERS};
+use twocars_sim::mavlink_spec::{
     param_set_payload, read_v2, v2_from, NAMED_VALUE_FLOAT, PARAM_SET, PARAM_VALUE,
     SENT_BY_ENDPOINT,
 };
-use twocars::mavlink::signing::{signature, SignatureRefusal, Verifier, KEY_LEN, SIGNATURE_LEN};
-use twocars::mavlink::{Endpoint, SIGNATURE_COUNTERS};
 
 /// The key of the vector below: bytes 0 to 31.
 fn key() -> [u8; KEY_LEN] {
@@ -77,7 +77,7 @@ fn unsign(stream: &[u8], verifier: &mut Verifier) -> Vec<u8> {
         let extra = SENT_BY_ENDPOINT.iter().find(|m| m.0 == id).unwrap().1;
         let mut checked = unsigned[1..body - 2].to_vec();
         checked.push(extra);
-        let crc = host_tests::mavlink_spec::x25(&checked).to_le_bytes();
+        let crc = twocars_sim::mavlink_spec::x25(&checked).to_le_bytes();
         unsigned[body - 2..].copy_from_slice(&crc);
         plain.extend(unsigned);
         at += body + SIGNATURE_LEN;

@@ -3,9 +3,9 @@
 
 mod common;
 
-use host_tests::reference;
-use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use twocars::{evaluate_observation, Direction, Evaluation, Observation, Scalar, Status, Variant};
+use twocars_sim::reference;
+use twocars_sim::scenarios::{paper_cases, Case, PAPER_LIMITS};
 
 const TOLERANCE: f64 = 1e-3;
 

@@ -6,11 +6,11 @@ use std::collections::VecDeque;
 
 use embedded_hal_nb::nb;
 use embedded_hal_nb::serial::{ErrorKind, ErrorType, Read, Write};
-use host_tests::link::{self, Reply, ReplyDecoder};
-use host_tests::session::{paper_configure, paper_state, script, Expect};
 use twocars::polled::{serve, serve_pass, MAX_PASS_BYTES};
 use twocars::protocol::endpoint::{Endpoint, STATUS_STALE_INPUT};
 use twocars::protocol::frame::WireError;
+use twocars_sim::link::{self, Reply, ReplyDecoder};
+use twocars_sim::session::{paper_configure, paper_state, script, Expect};
 
 /// An in-memory port: bytes to read, bytes written, and a fault to raise on the next read.
 #[derive(Default)]
@@ -74,7 +74,7 @@ fn the_scripted_session_is_answered_over_the_port_as_the_unit_answers_it() {
                 assert_eq!((seq, c.status), (step.sequence, status), "{}", step.name);
             }
             (Expect::Counters, Reply::Counters(_, c)) => {
-                assert_eq!(c.accepted, host_tests::session::accepted())
+                assert_eq!(c.accepted, twocars_sim::session::accepted())
             }
             (want, got) => panic!("{}: expected {want:?}, got {got:?}", step.name),
         }

@@ -3,9 +3,9 @@
 mod common;
 
 use common::{relative_error, scene, seeded_runner, Scene};
-use host_tests::reference;
 use proptest::prelude::*;
 use twocars::{law::game::ties, Direction, Law, Scalar, Status, VehicleState};
+use twocars_sim::reference;
 
 const CASES: u32 = 2000;
 

@@ -6,11 +6,11 @@ use std::sync::OnceLock;
 
 use hji::policy::{pursuer_curvature, relative};
 use hji::{solve, table_set_bytes, Game, Grid, Solution};
-use host_tests::adversary::{EvaderKind, Opponent};
-use host_tests::rng::Rng;
-use host_tests::sim::{simulate_with, Setup, SimParams, SimStatus};
 use twocars::value_tables::ValueTables;
 use twocars::{Guidance, Law, Limits, Policy, Variant};
+use twocars_sim::adversary::{EvaderKind, Opponent};
+use twocars_sim::rng::Rng;
+use twocars_sim::sim::{simulate_with, Setup, SimParams, SimStatus};
 
 /// The paper's limits, v_pm, w_pm, v_em, w_em (r_p = 0.5 m).
 const LIMITS: [f64; 4] = [2.0, 2.0, 1.0, 1.0];
@@ -192,10 +192,10 @@ fn the_guidance_captures_as_the_host_pursuer_of_the_tables() {
 /// its pursuer rate.
 #[test]
 fn configure_selects_the_tables_of_its_ratios_and_says_so() {
-    use host_tests::link::{self, Reply, ReplyDecoder};
-    use host_tests::session::paper_configure;
     use twocars::protocol::endpoint::Endpoint;
     use twocars::protocol::message::{Configure, StateMsg};
+    use twocars_sim::link::{self, Reply, ReplyDecoder};
+    use twocars_sim::session::paper_configure;
 
     let (_, set) = tables();
     let set: &'static ValueTables<'static> = set;
@@ -268,10 +268,10 @@ fn configure_selects_the_tables_of_its_ratios_and_says_so() {
 /// queues writes the same bytes.
 #[test]
 fn the_bench_session_with_the_tables_commands_their_turns() {
-    use host_tests::link::{Reply, ReplyDecoder};
     use twocars::protocol::endpoint::Endpoint;
     use twocars_bench::main_loop::{script, serve_script, state_frames, SCRIPT_CAPACITY};
     use twocars_bench::TABLE_POINTS;
+    use twocars_sim::link::{Reply, ReplyDecoder};
 
     let bytes: &'static [u8] = twocars_bench::TABLE;
     let set: &'static [ValueTables<'static>] =

@@ -1,4 +1,4 @@
-//! The serial path over a UART model (`host_tests::uart_model`): a peer streams States at
+//! The serial path over a UART model (`twocars_sim::uart_model`): a peer streams States at
 //! 100 Hz without waiting for replies, a ReadCounters right behind every fifth, and framing
 //! errors injected into some State frames. The interrupt-driven path answers every State but
 //! those the faults hit; the polled loop the boards ran before loses more (it resets on a fault
@@ -6,11 +6,11 @@
 
 use std::collections::{BTreeSet, VecDeque};
 
-use host_tests::link::{self, Reply, ReplyDecoder};
-use host_tests::session::{paper_configure, paper_state};
-use host_tests::uart_model::{run_interrupt_driven, run_polled, LineByte, UartModel, STM32F405};
 use twocars::protocol::endpoint::Endpoint;
 use twocars::serial::{service, Board, Line, RxFlags, UartRegisters};
+use twocars_sim::link::{self, Reply, ReplyDecoder};
+use twocars_sim::session::{paper_configure, paper_state};
+use twocars_sim::uart_model::{run_interrupt_driven, run_polled, LineByte, UartModel, STM32F405};
 
 /// States sent, over 2 s.
 const STATES: u16 = 200;

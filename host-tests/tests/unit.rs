@@ -1,13 +1,13 @@
 //! The guidance unit on the host: the scripted session, commands equal to the law, counters,
 //! watchdog.
 
-use host_tests::link::{self, Reply, ReplyDecoder};
-use host_tests::session::{paper_configure, paper_state, script, Expect};
 use twocars::num::fixed::Fixed;
 use twocars::protocol::endpoint::{Endpoint, STATUS_STALE_INPUT};
 use twocars::protocol::frame::WireError;
 use twocars::protocol::message::ROLE_PURSUER;
 use twocars::{Guidance, Law, Limits, Scalar, Variant, VehicleState};
+use twocars_sim::link::{self, Reply, ReplyDecoder};
+use twocars_sim::session::{paper_configure, paper_state, script, Expect};
 
 fn send<S: Scalar>(unit: &mut Endpoint<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
     let mut decoder = ReplyDecoder::default();
@@ -53,7 +53,7 @@ fn the_scripted_session_gets_the_documented_replies_and_the_loop_survives() {
                 assert_eq!(c.of(WireError::Truncated), 2);
                 assert_eq!(c.of(WireError::Oversized), 2);
                 assert_eq!(c.errors.iter().sum::<u32>(), 17);
-                assert_eq!(c.accepted, host_tests::session::accepted());
+                assert_eq!(c.accepted, twocars_sim::session::accepted());
             }
             (want, got) => panic!("{}: expected {want:?}, got {got:?}", step.name),
         }

@@ -2,14 +2,14 @@
 //! Configure's field settings reach `twocars::estimate` as the Rust API takes them, the counters
 //! count what the estimator did, and version 1 is still answered in version 1.
 
-use host_tests::link::{self, Reply, ReplyDecoder};
-use host_tests::session::{paper_configure, paper_state};
 use twocars::estimate::{Estimator, FieldSettings, Fix, FixNoise};
 use twocars::num::fixed::Fixed;
 use twocars::protocol::endpoint::{Endpoint, STATUS_STALE_INPUT};
 use twocars::protocol::frame::WireError;
 use twocars::protocol::message::{Configure, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER};
 use twocars::{Guidance, Law, Limits, Policy, Scalar, Variant};
+use twocars_sim::link::{self, Reply, ReplyDecoder};
+use twocars_sim::session::{paper_configure, paper_state};
 
 fn send<S: Scalar>(unit: &mut Endpoint<S>, bytes: &[u8], now_ms: u32) -> Vec<Reply> {
     let mut decoder = ReplyDecoder::default();

@@ -8,9 +8,9 @@ use std::sync::OnceLock;
 
 use hji::policy::{evader_turn, finest, turn};
 use hji::{solve, solve_with_boundary, table_set_bytes, Game, Grid, Solution, Step, Sweeps};
-use host_tests::rng::Rng;
 use twocars::value_tables::table::{TableError, ValueTable, HEADER_LEN, MAGIC, NEVER};
 use twocars::value_tables::ValueTables;
+use twocars_sim::rng::Rng;
 
 /// The paper's game (v_em / v_pm = 1/2, r_e = 2 r_p) on the 41 x 41 x 24 grid, capture radius
 /// 0.3 r_p: solved once for every test here.

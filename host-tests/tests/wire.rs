@@ -124,7 +124,7 @@ fn golden_state_frame() {
         evader_time_ms: 0x0A0B_0C0D,
         ..StateMsg::exact(1, [0.0, 0.0, 1.0], [-3.0, -6.0, 1.0])
     };
-    let bytes = host_tests::link::state(0x0102, &state);
+    let bytes = twocars_sim::link::state(0x0102, &state);
     // version 2, type 2, seq 0x0102 LE, t = 1 LE, then f32s, then the evader's fix time;
     // zeros stuffed by COBS.
     let decoded = &deframe::<MAX_FRAME>(&bytes).unwrap()[..];
@@ -234,7 +234,7 @@ fn frame_checks_refuse_each_defect() {
 #[test]
 fn deframer_resynchronises_after_garbage_and_overflow() {
     let state = StateMsg::exact(7, [1.0, 2.0, 3.0], [4.0, 5.0, 6.0]);
-    let good = host_tests::link::state(9, &state);
+    let good = twocars_sim::link::state(9, &state);
     let mut stream = vec![0x13, 0x37, 0xFF, 0x00]; // garbage, then a delimiter
     stream.extend(std::iter::repeat_n(0x55, 100)); // oversized garbage
     stream.push(0);
@@ -276,15 +276,15 @@ fn error_codes_are_stable_and_distinct() {
 fn deframing_slices_gives_what_deframing_bytes_gives() {
     let state = StateMsg::exact(3, [0.0, -2.5, 1.0], [7.0, 0.0, -3.0]);
     let mut stream = vec![0x13, 0x37, 0xFF, 0x00, 0x00];
-    stream.extend(host_tests::link::state(1, &state));
+    stream.extend(twocars_sim::link::state(1, &state));
     stream.extend(std::iter::repeat_n(0x55, 100));
     stream.push(0);
     stream.extend([0x01, 0x00, 0x03, 0x11, 0x00]);
-    stream.extend(host_tests::link::state(2, &state));
-    let by_byte = host_tests::link::deframe(&stream, None);
+    stream.extend(twocars_sim::link::state(2, &state));
+    let by_byte = twocars_sim::link::deframe(&stream, None);
     assert_eq!(by_byte.len(), 6, "{by_byte:?}");
     for cut in 1..=stream.len() + 1 {
-        let by_slice = host_tests::link::deframe(&stream, Some(cut));
+        let by_slice = twocars_sim::link::deframe(&stream, Some(cut));
         assert_eq!(by_slice, by_byte, "slices of {cut}");
     }
 }

@@ -117,11 +117,11 @@ impl Scene {
     pub fn reference(
         &self,
     ) -> (
-        host_tests::reference::RefVehicle,
-        host_tests::reference::RefVehicle,
+        twocars_sim::reference::RefVehicle,
+        twocars_sim::reference::RefVehicle,
     ) {
         let [v_pm, w_pm, v_em, w_em] = self.limits;
-        let v = |v: f64, w: f64, s: [f64; 3]| host_tests::reference::RefVehicle {
+        let v = |v: f64, w: f64, s: [f64; 3]| twocars_sim::reference::RefVehicle {
             v,
             w,
             x: s[0],

@@ -4,15 +4,15 @@
 
 use std::time::Duration;
 
-use host_tests::link::{Reply, ReplyDecoder};
-use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
-use host_tests::session::{paper_configure, paper_state, script};
-use host_tests::sim::{simulate, SimParams};
 use twocars::num::fixed::Fixed;
 use twocars::protocol::endpoint::{Endpoint, STATUS_STALE_INPUT};
 use twocars::protocol::message::{Counters, LineCounts};
 use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::{Policy, Scalar, Variant};
+use twocars_sim::link::{Reply, ReplyDecoder};
+use twocars_sim::scenarios::{paper_cases, Case, PAPER_LIMITS};
+use twocars_sim::session::{paper_configure, paper_state, script};
+use twocars_sim::sim::{simulate, SimParams};
 
 use super::Tally;
 use crate::harness::firmware::closed_loop;
@@ -196,9 +196,9 @@ fn watchdog(elf: &std::path::Path) -> Outcome {
 /// Reset; the watchdog counted once.
 fn watchdog_on(elf: &std::path::Path, board: Image) -> Outcome {
     let mut q = Emulator::start(elf, board, false)?;
-    q.send(&host_tests::link::configure(1, &paper_configure()))?;
+    q.send(&twocars_sim::link::configure(1, &paper_configure()))?;
     q.reply()?;
-    q.send(&host_tests::link::state(2, &paper_state(0, 0)))?;
+    q.send(&twocars_sim::link::state(2, &paper_state(0, 0)))?;
     q.reply()?;
     // Silence past the 0.5 s watchdog: the firmware sends the safe command by itself.
     std::thread::sleep(Duration::from_millis(700));
@@ -212,17 +212,17 @@ fn watchdog_on(elf: &std::path::Path, board: Image) -> Outcome {
         }
     }
     // Latched: a fresh State still gets the safe command; a Reset clears it.
-    q.send(&host_tests::link::state(3, &paper_state(0, 800)))?;
+    q.send(&twocars_sim::link::state(3, &paper_state(0, 800)))?;
     match q.reply()? {
         Reply::Command(3, c) if c.status == STATUS_STALE_INPUT => {}
         other => return Err(format!("expected the latched safe command, got {other:?}")),
     }
-    q.send(&host_tests::link::reset(4))?;
+    q.send(&twocars_sim::link::reset(4))?;
     match q.reply()? {
         Reply::ResetAck(4) => {}
         other => return Err(format!("expected the Reset acknowledgement, got {other:?}")),
     }
-    q.send(&host_tests::link::state(5, &paper_state(0, 810)))?;
+    q.send(&twocars_sim::link::state(5, &paper_state(0, 810)))?;
     match q.reply()? {
         Reply::Command(5, c) if c.status == 0 && c.pursuer_rate == 4.0 => {}
         other => {
@@ -255,12 +255,12 @@ fn noisy_stream_on(elf: &std::path::Path, board: Image) -> Outcome {
     const STATES: u16 = 400;
     let mut q = Emulator::start(elf, board, false)?;
     let (accepted_before, refused_before) = q.counted_before();
-    q.send(&host_tests::link::configure(1, &paper_configure()))?;
+    q.send(&twocars_sim::link::configure(1, &paper_configure()))?;
     match q.reply()? {
         Reply::ConfigureAck(1, Some(0)) => {}
         other => return Err(format!("expected ConfigureAck, got {other:?}")),
     }
-    let mut rng = host_tests::rng::Rng::new(27);
+    let mut rng = twocars_sim::rng::Rng::new(27);
     let (mut stream, mut noise_bytes) = (Vec::new(), 0);
     for k in 0..STATES {
         let noise = 1 + rng.next_u64() % 24;
@@ -268,7 +268,7 @@ fn noisy_stream_on(elf: &std::path::Path, board: Image) -> Outcome {
         stream.extend((0..noise).map(|_| rng.next_u64() as u8));
         stream.push(0);
         let t_ms = 10 * u32::from(k);
-        stream.extend(host_tests::link::state(
+        stream.extend(twocars_sim::link::state(
             100 + k,
             &paper_state(usize::from(k), t_ms),
         ));

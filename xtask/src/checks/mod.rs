@@ -39,7 +39,7 @@ impl Tally {
 const CRATES: [&str; 6] = [
     "src/lib.rs",
     "xtask/src/main.rs",
-    "host-tests/src/lib.rs",
+    "sim/src/lib.rs",
     "bench/src/lib.rs",
     "hji/src/lib.rs",
     "companion/src/main.rs",

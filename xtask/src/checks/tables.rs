@@ -5,13 +5,13 @@
 //! the same unit on the host does, within the bar over V(x0) ([`BAR`]).
 
 use hji::policy::relative;
-use host_tests::adversary::EvaderKind;
-use host_tests::link::{self, Reply};
-use host_tests::rng::Rng;
-use host_tests::session::paper_configure;
-use host_tests::sim::{theorem_threshold, SimParams, SimStatus};
 use twocars::protocol::message::{Configure, ROLE_EVADER, ROLE_PURSUER};
 use twocars::value_tables::ValueTables;
+use twocars_sim::adversary::EvaderKind;
+use twocars_sim::link::{self, Reply};
+use twocars_sim::rng::Rng;
+use twocars_sim::session::paper_configure;
+use twocars_sim::sim::{theorem_threshold, SimParams, SimStatus};
 
 use crate::harness::firmware::tables::{image_sets, table_set};
 use twocars::{Policy, Variant};

@@ -32,7 +32,7 @@ fn host_throughput() -> (f64, f64) {
         }
     }
     let law_rate = evaluations as f64 / start.elapsed().as_secs_f64();
-    let frame = host_tests::link::state(1, &host_tests::session::paper_state(0, 0));
+    let frame = twocars_sim::link::state(1, &twocars_sim::session::paper_state(0, 0));
     let mut decodes = 0u64;
     let mut deframer =
         twocars::protocol::frame::Deframer::<{ twocars::protocol::frame::MAX_FRAME }>::new();

@@ -3,7 +3,7 @@
 //! estimator, each chase against the same start with exact, instant states and a pursuer that
 //! turns as told.
 //!
-//! Every start is also chased by the peers a user would fly instead (`host_tests::peers`): PX4
+//! Every start is also chased by the peers a user would fly instead (`twocars_sim::peers`): PX4
 //! follow-target's filter with proportional navigation, and ArduPilot AP_Follow's dead-reckoned
 //! pure pursuit, each at every value of its own parameter's sweep; a row reports each peer at
 //! the value whose p90 is least there.
@@ -13,14 +13,14 @@
 //! fixes at every period or 5 per T; the pursuer's yaw-rate lag tau = 0.1 T, the capture radius
 //! 0.3 r_p; the paper's limits and 2, 2, 1.2, 1.2.
 
-use host_tests::adversary::EvaderKind;
-use host_tests::field::{chase, FieldModel, Receiver};
-use host_tests::peers::Peer;
-use host_tests::rng::Rng;
-use host_tests::sim::{theorem_threshold, SimParams, SimResult, SimStatus};
-use host_tests::starts::random_start;
-use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
+use twocars_sim::adversary::EvaderKind;
+use twocars_sim::field::{chase, FieldModel, Receiver};
+use twocars_sim::peers::Peer;
+use twocars_sim::rng::Rng;
+use twocars_sim::sim::{theorem_threshold, SimParams, SimResult, SimStatus};
+use twocars_sim::starts::random_start;
+use twocars_sim::stats::quantile_f64;
 
 use crate::util::progress::Progress;
 

@@ -5,17 +5,17 @@
 //! seconds, on random limits as well as the paper's. `cargo xtask hj --play` is the other
 //! reporter: below the threshold only, at fixed limits, judged by the HJI value V(x0) in per
 //! cent; both draw their starts with [`random_state`] and their quantiles with
-//! `host_tests::stats`.
+//! `twocars_sim::stats`.
 
-use host_tests::adversary::{EvaderKind, Opponent, PursuerKind};
-use host_tests::rng::Rng;
-use host_tests::scenarios::EPS;
-use host_tests::scenarios::PAPER_LIMITS;
-use host_tests::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
-use host_tests::starts::{random_limits, random_start};
-use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
 use twocars::{Policy, Variant};
+use twocars_sim::adversary::{EvaderKind, Opponent, PursuerKind};
+use twocars_sim::rng::Rng;
+use twocars_sim::scenarios::EPS;
+use twocars_sim::scenarios::PAPER_LIMITS;
+use twocars_sim::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
+use twocars_sim::starts::{random_limits, random_start};
+use twocars_sim::stats::quantile_f64;
 
 use crate::util::progress::Progress;
 

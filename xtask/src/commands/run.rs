@@ -3,9 +3,9 @@
 //! ([`crate::harness::firmware::mavlink`]), or an autopilot's SITL ([`crate::harness::ardupilot`],
 //! [`crate::harness::px4`]).
 
-use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
 use twocars::protocol::message::{ROLE_EVADER, ROLE_PURSUER};
 use twocars::Policy;
+use twocars_sim::scenarios::{paper_cases, Case, PAPER_LIMITS};
 
 use crate::harness::firmware::run::{RunOptions, NEAR_CASE};
 use crate::harness::host::{LawArgs, Options};

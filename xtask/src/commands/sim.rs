@@ -2,8 +2,8 @@
 
 use crate::commands::csv::{number, parse_fields, run_door};
 use crate::harness::host::{run_one, LawArgs, Options};
-use host_tests::adversary::{EvaderKind, Opponent};
-use host_tests::sim::{SimParams, SimResult};
+use twocars_sim::adversary::{EvaderKind, Opponent};
+use twocars_sim::sim::{SimParams, SimResult};
 
 /// Input header of `sim`.
 pub const INPUT_HEADER: &str = "v_pm,w_pm,v_em,w_em,x_p,y_p,theta_p,x_e,y_e,theta_e,dt,t_max,eps";
@@ -27,7 +27,7 @@ pub fn params(f: &[f64; 13]) -> SimParams {
 pub struct SimArgs {
     #[command(flatten)]
     pub law: LawArgs,
-    /// An evader of the adversary suite (host-tests/src/adversary.rs) in place of the law's.
+    /// An evader of the adversary suite (sim/src/adversary.rs) in place of the law's.
     #[arg(long, value_parser = EvaderKind::ALL.map(EvaderKind::name))]
     evader: Option<String>,
     /// The adversary's seed.

@@ -114,8 +114,8 @@ pub fn build_targets() -> Result<Vec<(String, PathBuf)>, String> {
 }
 
 fn seeds(target: &str) -> Vec<Vec<u8>> {
-    use host_tests::link;
-    use host_tests::session::{paper_configure, paper_state, script};
+    use twocars_sim::link;
+    use twocars_sim::session::{paper_configure, paper_state, script};
     let mut out = Vec::new();
     match target {
         "frame_decoder" | "unit_step" => {
@@ -134,7 +134,7 @@ fn seeds(target: &str) -> Vec<Vec<u8>> {
             out.push(session);
         }
         "mavlink_input" => {
-            use host_tests::mavlink_spec::{
+            use twocars_sim::mavlink_spec::{
                 param_set_payload, position_payload, v1, v2, GLOBAL_POSITION_INT, HEARTBEAT,
                 PARAM_REQUEST_LIST, PARAM_SET,
             };
@@ -172,8 +172,8 @@ fn seeds(target: &str) -> Vec<Vec<u8>> {
 /// The MAVLink endpoint's seeds: limits set at ten times the paper's scale, then target and
 /// own states of the paper's case 1 (at 20 ms spacing), a FOLLOW_TARGET and a parameter list.
 fn mavlink_sessions() -> Vec<Vec<u8>> {
-    use host_tests::autopilot::{hdg_cdeg, Plane, HOME};
-    use host_tests::mavlink_spec::{
+    use twocars_sim::autopilot::{hdg_cdeg, Plane, HOME};
+    use twocars_sim::mavlink_spec::{
         follow_target_payload, param_request_list_payload, param_set_payload, position_payload_at,
         v2_from, FOLLOW_TARGET, GLOBAL_POSITION_INT, PARAM_REQUEST_LIST, PARAM_SET,
     };
@@ -226,8 +226,8 @@ fn mavlink_sessions() -> Vec<Vec<u8>> {
 /// mavlink_signed.rs`): signed PARAM_SETs and positions, each refusal (unsigned, forged,
 /// replayed, older) once, and a parameter list.
 fn signed_sessions() -> Vec<Vec<u8>> {
-    use host_tests::autopilot::{hdg_cdeg, Plane, HOME};
-    use host_tests::mavlink_spec::{
+    use twocars_sim::autopilot::{hdg_cdeg, Plane, HOME};
+    use twocars_sim::mavlink_spec::{
         param_request_list_payload, param_set_payload, position_payload_at, v2_from, PARAM_SET,
     };
     // (op, sender, message index in the target's table, payload); op 2 takes its timestamp

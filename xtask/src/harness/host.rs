@@ -1,9 +1,9 @@
 //! The law on the host simulator: its options (`--variant`, `--numeric`, `--policy`, shared by
 //! `eval`, `sim` and `run`) and one closed-loop run on the chosen backend.
 
-use host_tests::adversary::Opponent;
-use host_tests::sim::{simulate_against, SimParams, SimResult};
 use twocars::{Policy, Variant};
+use twocars_sim::adversary::Opponent;
+use twocars_sim::sim::{simulate_against, SimParams, SimResult};
 
 /// Numeric backend of the law.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

@@ -12,7 +12,7 @@ pub mod reference;
 
 use hji::paper::PaperValue;
 use hji::{Game, Grid, Read, Solution, Sweeps, REACHED};
-use host_tests::scenarios::states_beyond;
+use twocars_sim::scenarios::states_beyond;
 
 use crate::image::tables::sets::NEAR_FIELD_LEVELS;
 use crate::image::tables::solve::{solve_grid, write_set, Boundary};

@@ -16,15 +16,15 @@
 
 use hji::policy::{evader_curvature, pursuer_curvature, relative};
 use hji::{table_set_bytes, Solution};
-use host_tests::adversary::{Adversary, EvaderKind, Opponent};
-use host_tests::rng::Rng;
-use host_tests::sim::{
-    simulate_with, theorem_threshold, Setup, SimParams, SimResult, SimStatus, Turn,
-};
-use host_tests::stats::quantile_f64;
 use rayon::prelude::*;
 use twocars::value_tables::ValueTables;
 use twocars::{Policy, Variant};
+use twocars_sim::adversary::{Adversary, EvaderKind, Opponent};
+use twocars_sim::rng::Rng;
+use twocars_sim::sim::{
+    simulate_with, theorem_threshold, Setup, SimParams, SimResult, SimStatus, Turn,
+};
+use twocars_sim::stats::quantile_f64;
 
 use crate::commands::hj::reference::{capture_radius, table_value, DT};
 use crate::commands::report::{random_state, LimitSet, Regime};

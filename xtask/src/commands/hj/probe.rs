@@ -13,8 +13,8 @@
 use hji::policy::{evader_curvature, pursuer_curvature, relative};
 
 use crate::commands::hj::reference::{capture_radius, table_value, DT};
-use host_tests::sim::{advance, capture_within, distance};
 use rayon::prelude::*;
+use twocars_sim::sim::{advance, capture_within, distance};
 
 /// The longest run, s.
 const T_MAX: f64 = 10.0;

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use host_tests::adversary::EvaderKind;
+use twocars_sim::adversary::EvaderKind;
 
 use super::figure::Figure;
 use crate::commands::field::{discretization, sweep, Cell, Chases, Figures, Pick, LIMIT_SETS};

@@ -11,9 +11,9 @@ mod paper;
 
 use std::path::{Path, PathBuf};
 
-use host_tests::scenarios::{paper_cases, PAPER_LIMITS};
-use host_tests::sim::{simulate, SimParams, SimStatus};
 use twocars::{Direction, Law, Policy, TurningCircle, ValidTangent, Variant};
+use twocars_sim::scenarios::{paper_cases, PAPER_LIMITS};
+use twocars_sim::sim::{simulate, SimParams, SimStatus};
 
 use figure::{metres, ramp, Figure};
 use paper::{observation, paper_report, state};
@@ -234,7 +234,7 @@ fn scatter(
     dir: &Path,
     results: &[crate::commands::report::Run],
     policy: &str,
-    pick: fn(&crate::commands::report::Run) -> &host_tests::sim::SimResult,
+    pick: fn(&crate::commands::report::Run) -> &twocars_sim::sim::SimResult,
 ) -> Result<PathBuf, String> {
     let runs = results.len();
     let (lo, hi) = (-1.0, 3.0);
@@ -301,7 +301,7 @@ pub fn command(args: &PlotArgs) -> i32 {
         written.extend(value_map(&dir)?);
         written.extend(near_field::maps(&dir)?);
         written.extend(field::figures(&dir)?);
-        let evaders = host_tests::adversary::EvaderKind::ALL;
+        let evaders = twocars_sim::adversary::EvaderKind::ALL;
         let progress = crate::util::progress::Progress::new(
             600 + 300 * evaders.len() as u64,
             "closed-loop runs for the Monte-Carlo scatters",
@@ -320,7 +320,7 @@ pub fn command(args: &PlotArgs) -> i32 {
         // One figure per evader of the adversary suite, the flight policy's pursuer.
         for evader in evaders {
             progress.step(&format!("flight against {}", evader.name()));
-            let opponent = Some(host_tests::adversary::Opponent::Evader(evader));
+            let opponent = Some(twocars_sim::adversary::Opponent::Evader(evader));
             let runs = crate::commands::report::monte_carlo(
                 300,
                 2019,

@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 
 use hji::policy::{holding, relative, turn};
 use hji::{Game, Solution, REACHED};
-use host_tests::scenarios::PAPER_LIMITS;
 use twocars::Direction;
+use twocars_sim::scenarios::PAPER_LIMITS;
 
 use crate::commands::plot::figure::{metres, ramp, Figure};
 use crate::commands::plot::paper::paper_report;

@@ -1,8 +1,8 @@
 //! The paper's law as the figures read it: states, observations and the law's report at the
 //! paper's limits.
 
-use host_tests::scenarios::PAPER_LIMITS;
 use twocars::{Observation, Variant, VehicleState};
+use twocars_sim::scenarios::PAPER_LIMITS;
 
 pub(crate) fn state(s: [f64; 3]) -> VehicleState<f64> {
     VehicleState {

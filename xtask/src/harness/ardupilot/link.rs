@@ -1,7 +1,7 @@
 //! The unit and ArduPilot SITL joined: the router between the unit's link and SITL's serial
 //! port, signed where a key is given.
 
-use host_tests::autopilot::HOME;
+use twocars_sim::autopilot::HOME;
 
 use super::sitl::{connect_serial1, setup_signing, Frame, Launch, Sitl};
 use crate::harness::autopilot::message::UNIT_READS;

@@ -17,7 +17,7 @@ use sitl::Frame;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use host_tests::autopilot::HOME;
+use twocars_sim::autopilot::HOME;
 
 use crate::harness::autopilot::chase::{self, Outcome};
 use crate::harness::autopilot::evader::Terms;
@@ -29,7 +29,7 @@ use crate::harness::autopilot::{
     CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
 };
 use crate::image::signing::SigningKey;
-use host_tests::sim::theorem_threshold;
+use twocars_sim::sim::theorem_threshold;
 
 /// The pursuer's speed asked of the rover (WP_SPEED: the speed at thrust 1), m/s.
 const WP_SPEED: f32 = 3.0;

@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use host_tests::autopilot::HOME;
+use twocars_sim::autopilot::HOME;
 
 use super::aircraft::{self, MEASURED_BANK_DEG};
 use super::plane_evader::{self, Banked, PlaneSteer};
@@ -19,7 +19,7 @@ use crate::harness::autopilot::harness::{Harness, Pursuer};
 use crate::harness::autopilot::{
     aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, TARGET_SYSTEM,
 };
-use host_tests::sim::theorem_threshold;
+use twocars_sim::sim::theorem_threshold;
 
 /// Capture radius, m: the SITL plane's span (about 2 m) less nothing, plus three sigma of a
 /// GPS fix (1 m): two aircraft whose fixes are this close touch or nearly so.
@@ -241,7 +241,7 @@ fn crab_line(fixes: &[crate::harness::autopilot::harness::RoverFix]) -> String {
         .iter()
         .filter(|f| f.speed > 1.0)
         .map(|f| {
-            host_tests::kinematics::wrap_pi(f.state[2] - f.course)
+            twocars_sim::kinematics::wrap_pi(f.state[2] - f.course)
                 .abs()
                 .to_degrees()
         })

@@ -11,8 +11,8 @@ use std::path::PathBuf;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use host_tests::autopilot::{Plane, HOME};
-use host_tests::kinematics::{distance, wrap_pi};
+use twocars_sim::autopilot::{Plane, HOME};
+use twocars_sim::kinematics::{distance, wrap_pi};
 
 use super::aircraft::{self, roll_setpoint};
 use super::sitl::{Frame, Launch, Sitl};
@@ -21,7 +21,7 @@ use crate::harness::autopilot::chase::Start;
 use crate::harness::autopilot::evader::Steer;
 use crate::harness::autopilot::harness::{Harness, NoTarget};
 use crate::harness::autopilot::EVADERS;
-use host_tests::sim::theorem_threshold;
+use twocars_sim::sim::theorem_threshold;
 
 /// How the evader's aircraft flies: its airspeed and the least it may fly at (m/s,
 /// AIRSPEED_CRUISE and AIRSPEED_MIN), its bank limit (deg: small enough that it turns wider

@@ -8,8 +8,8 @@
 use std::path::Path;
 use std::time::Duration;
 
-use host_tests::autopilot::{Plane, HOME};
 use mavlink::dialects::common::{AttitudeTargetTypemask, SET_ATTITUDE_TARGET_DATA};
+use twocars_sim::autopilot::{Plane, HOME};
 
 use super::sitl::{Frame, Launch, Sitl};
 use super::vehicle::{make_ready, YAW_RATE_AND_THRUST};

@@ -34,7 +34,7 @@ pub fn read_step(h: &Harness, marks: StepMarks, bank_deg: f64, seconds: f64) -> 
         .collect();
     let turned: f64 = settled
         .windows(2)
-        .map(|w| host_tests::kinematics::wrap_pi(w[1].state[2] - w[0].state[2]))
+        .map(|w| twocars_sim::kinematics::wrap_pi(w[1].state[2] - w[0].state[2]))
         .sum();
     let span = match (settled.first(), settled.last()) {
         (Some(a), Some(b)) => f64::from(b.time_ms.wrapping_sub(a.time_ms)) / 1000.0,

@@ -7,12 +7,12 @@
 
 use std::time::Duration;
 
-use host_tests::adversary::{Adversary, EvaderKind, Opponent};
-use host_tests::autopilot::{hdg_cdeg, velocity_cm_s};
-use host_tests::kinematics::{advance, distance};
-use host_tests::sim::{simulate_with, Setup, SimParams, SimStatus};
 use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 use twocars::{Policy, Variant};
+use twocars_sim::adversary::{Adversary, EvaderKind, Opponent};
+use twocars_sim::autopilot::{hdg_cdeg, velocity_cm_s};
+use twocars_sim::kinematics::{advance, distance};
+use twocars_sim::sim::{simulate_with, Setup, SimParams, SimStatus};
 
 use super::field::{Delayed, Radio};
 use super::harness::wait_stopped;
@@ -43,7 +43,7 @@ pub struct Target {
     captured_ms: Option<u32>,
     /// Whether the target is still on (not captured, not timed out).
     on: bool,
-    plane: host_tests::autopilot::Plane,
+    plane: twocars_sim::autopilot::Plane,
 }
 
 impl Injector for Target {
@@ -150,7 +150,7 @@ pub fn place(rover: [f64; 3], start: &Start) -> [f64; 3] {
 
 /// The host's closed loop of `params` against `evader`: the pursuer a Dubins car at full speed
 /// from t = 0 with the unit's law (f32, flight policy, told the capture radius).
-fn ideal_run(params: &SimParams, evader: EvaderKind, seed: u64) -> host_tests::sim::SimResult {
+fn ideal_run(params: &SimParams, evader: EvaderKind, seed: u64) -> twocars_sim::sim::SimResult {
     let setup = Setup {
         capture_radius: true,
         opponent: Some((Opponent::Evader(evader), seed)),
@@ -237,7 +237,7 @@ pub struct Began {
     pub start: Start,
     pub rover: RoverFix,
     pub evader0: [f64; 3],
-    pub ideal: host_tests::sim::SimResult,
+    pub ideal: twocars_sim::sim::SimResult,
     pub v_pm: f64,
 }
 
@@ -369,7 +369,7 @@ struct Ended {
     /// The rover's fix and the evader's state at the start.
     rover: RoverFix,
     evader0: [f64; 3],
-    ideal: host_tests::sim::SimResult,
+    ideal: twocars_sim::sim::SimResult,
     /// The rover's time at capture, at the chase's end (capture or time-out) and at the
     /// autopilot's own failsafe after it, ms.
     captured_ms: Option<u32>,

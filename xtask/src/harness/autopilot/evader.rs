@@ -5,9 +5,9 @@
 
 use std::time::Duration;
 
-use host_tests::adversary::{Adversary, Opponent};
-use host_tests::kinematics::distance;
 use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
+use twocars_sim::adversary::{Adversary, Opponent};
+use twocars_sim::kinematics::distance;
 
 use super::chase::{chase_params, pursue, Began, Outcome, Start};
 use super::harness::{Harness, Injector, NoTarget, RoverFix};

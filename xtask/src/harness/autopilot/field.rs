@@ -5,8 +5,8 @@
 
 use std::collections::VecDeque;
 
-use host_tests::rng::Rng;
 use mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
+use twocars_sim::rng::Rng;
 
 use super::harness::{Injector, RoverFix};
 

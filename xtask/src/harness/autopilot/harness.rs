@@ -6,8 +6,8 @@
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-use host_tests::autopilot::Plane;
 use mavlink::dialects::common::{MavMessage, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA};
+use twocars_sim::autopilot::Plane;
 
 use super::router::{RawFrame, Router, Source};
 
@@ -313,7 +313,7 @@ impl Harness {
             MavMessage::SET_POSITION_TARGET_LOCAL_NED(s) if from_unit => {
                 let heading = self.rover.map_or(0.0, |r| r.state[2]);
                 let course = f64::from(s.vy).atan2(f64::from(s.vx));
-                let turn = host_tests::kinematics::wrap_pi(course - heading);
+                let turn = twocars_sim::kinematics::wrap_pi(course - heading);
                 // The unit runs straight on its own estimate of the heading the fix gave: a
                 // course within STRAIGHT of it is no turn.
                 let turn = if turn.abs() < STRAIGHT { 0.0 } else { turn };

@@ -16,8 +16,8 @@ pub mod unit;
 
 use std::time::Duration;
 
-use host_tests::adversary::EvaderKind;
-use host_tests::sim::theorem_threshold;
+use twocars_sim::adversary::EvaderKind;
+use twocars_sim::sim::theorem_threshold;
 
 use chase::{Outcome, Start};
 use harness::{Harness, NoTarget, UNIT_COMPONENT};

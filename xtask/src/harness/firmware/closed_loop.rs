@@ -4,15 +4,15 @@
 
 use std::collections::VecDeque;
 
-use host_tests::adversary::{Adversary, EvaderKind, Opponent};
-use host_tests::link::{self, Reply, ReplyDecoder};
-use host_tests::sim::{closed_loop, SimParams, SimResult, StepCommand};
 use twocars::protocol::endpoint::Endpoint;
 use twocars::protocol::message::{
     Configure, Counters, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER,
 };
 use twocars::value_tables::ValueTables;
 use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant};
+use twocars_sim::adversary::{Adversary, EvaderKind, Opponent};
+use twocars_sim::link::{self, Reply, ReplyDecoder};
+use twocars_sim::sim::{closed_loop, SimParams, SimResult, StepCommand};
 
 use crate::harness::firmware::emulator::Emulator;
 
@@ -132,7 +132,7 @@ pub fn run_against(
     .map_err(|_| "invalid dt".to_string())?
     .with_policy(policy);
     let mut run = FirmwareRun {
-        result: SimResult::empty(host_tests::sim::SimStatus::Timeout, f64::INFINITY),
+        result: SimResult::empty(twocars_sim::sim::SimStatus::Timeout, f64::INFINITY),
         predicted: f64::NAN,
         states_sent: 0,
         commands_received: 0,

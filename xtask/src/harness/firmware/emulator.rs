@@ -12,8 +12,8 @@ use std::path::Path;
 use std::process::{Child, Command, ExitStatus};
 use std::time::{Duration, Instant};
 
-use host_tests::link::{self, Reply, ReplyDecoder};
 use twocars::protocol::message::Counters;
+use twocars_sim::link::{self, Reply, ReplyDecoder};
 
 use crate::harness::firmware::{defmt_log, qemu, rp2040js};
 use crate::image::{Image, Machine};

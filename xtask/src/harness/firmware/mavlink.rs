@@ -2,8 +2,8 @@
 //! image in QEMU, pymavlink (from the Python package index, in a virtual environment under
 //! `target/`) playing the autopilot and the target (`xtask/mavlink_peer.py`).
 //!
-//! In the closed loop this process integrates both vehicles exactly (`host_tests::sim`), turns
-//! their states into the fixes an autopilot reports (`host_tests::autopilot`), applies the
+//! In the closed loop this process integrates both vehicles exactly (`twocars_sim::sim`), turns
+//! their states into the fixes an autopilot reports (`twocars_sim::autopilot`), applies the
 //! commanded yaw rate to the pursuer and plays the paper's law for the evader. The paper's four
 //! cases run at ten times its lengths and speeds (the same times), so that GPS resolution
 //! (1 cm) is far below the capture radius.
@@ -12,10 +12,10 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
-use host_tests::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
-use host_tests::scenarios::{paper_cases, Case, PAPER_LIMITS};
-use host_tests::sim::{advance, closed_loop, wrap_pi, SimParams, SimStatus, StepCommand};
 use twocars::{Guidance, Law, Limits, Policy, Variant};
+use twocars_sim::autopilot::{hdg_cdeg, velocity_cm_s, Plane, HOME};
+use twocars_sim::scenarios::{paper_cases, Case, PAPER_LIMITS};
+use twocars_sim::sim::{advance, closed_loop, wrap_pi, SimParams, SimStatus, StepCommand};
 
 use crate::harness::firmware::emulator;
 use crate::image::signing::SigningKey;
@@ -28,7 +28,7 @@ pub const SCALE: f64 = 10.0;
 /// Control period, s.
 pub const DT: f64 = 0.01;
 /// Capture distance at the scale, metres (the paper's epsilon, scaled).
-const EPS: f64 = host_tests::scenarios::EPS * SCALE;
+const EPS: f64 = twocars_sim::scenarios::EPS * SCALE;
 /// A capture within this many periods of the reference counts as on time.
 const ON_TIME_PERIODS: f64 = 5.0;
 /// The paper's four cases' captures in `cargo xtask run` under the paper's law (plus
@@ -154,7 +154,7 @@ pub fn scaled_limits() -> [f32; 4] {
 
 /// The paper's `case` at [`SCALE`] with the [`scaled_limits`], period [`DT`], time limit
 /// `t_max` (s) and capture distance `eps` (m).
-pub fn scaled_case(case: &host_tests::scenarios::Case, t_max: f64, eps: f64) -> SimParams {
+pub fn scaled_case(case: &twocars_sim::scenarios::Case, t_max: f64, eps: f64) -> SimParams {
     let scale = |s: [f64; 3]| [s[0] * SCALE, s[1] * SCALE, s[2]];
     SimParams {
         limits: scaled_limits().map(f64::from),

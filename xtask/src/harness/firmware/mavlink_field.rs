@@ -7,13 +7,13 @@
 //! the unit at every period, exact; the target's fixes go as they arrive, stamped on the
 //! autopilot's clock when they were taken. The unit is told the field: TC_TGT_LAG, TC_TGT_SIG,
 //! TC_TGT_SIGH, and TC_CAPTURE 0.3 r_p. Each chase is set beside the same start on the host
-//! with exact, instant states (`host_tests::field::chase`).
+//! with exact, instant states (`twocars_sim::field::chase`).
 
-use host_tests::adversary::{Adversary, EvaderKind, Opponent};
-use host_tests::autopilot::{Plane, HOME};
-use host_tests::field::{chase, FieldModel, Fixes, Receiver};
-use host_tests::scenarios::paper_cases;
-use host_tests::sim::{
+use twocars_sim::adversary::{Adversary, EvaderKind, Opponent};
+use twocars_sim::autopilot::{Plane, HOME};
+use twocars_sim::field::{chase, FieldModel, Fixes, Receiver};
+use twocars_sim::scenarios::paper_cases;
+use twocars_sim::sim::{
     advance, capture_within, distance, wrap_pi, SignFlips, SimParams, SimStatus,
 };
 

@@ -4,11 +4,11 @@
 //! the law's matrix at t = 0, the capture time in closed loop with the firmware, the host-only
 //! simulation of the same case, frames and counters.
 
-use host_tests::scenarios::Case;
-use host_tests::scenarios::EPS;
-use host_tests::sim::{SimParams, SimResult, SimStatus};
 use twocars::value_tables::ValueTables;
 use twocars::{evaluate_observation, Observation, Policy, Scalar};
+use twocars_sim::scenarios::Case;
+use twocars_sim::scenarios::EPS;
+use twocars_sim::sim::{SimParams, SimResult, SimStatus};
 
 use crate::harness::firmware::closed_loop;
 use crate::harness::firmware::emulator::Emulator;
@@ -119,7 +119,7 @@ fn twin_agrees(
     o: &RunOptions,
     case: &Case,
     options: &Options,
-    firmware: &host_tests::sim::SimResult,
+    firmware: &twocars_sim::sim::SimResult,
 ) -> bool {
     let mut twin = closed_loop::HostUnit::<twocars::num::fixed::Fixed>::new();
     let mut sequence = 0u16;
@@ -244,12 +244,12 @@ fn host_case(
     let host = match tables {
         Some(set) => {
             print_table_value(o, case, set);
-            host_tests::sim::simulate_with::<f32>(
+            twocars_sim::sim::simulate_with::<f32>(
                 &params(o, case),
                 options.variant,
                 options.policy,
                 false,
-                host_tests::sim::Setup {
+                twocars_sim::sim::Setup {
                     tables: Some(set),
                     ..Default::default()
                 },

@@ -14,7 +14,7 @@ mod vehicle;
 
 use std::path::PathBuf;
 
-use host_tests::autopilot::HOME;
+use twocars_sim::autopilot::HOME;
 
 use crate::harness::autopilot::chase::{self, Outcome};
 use crate::harness::autopilot::evader::Terms;
@@ -24,7 +24,7 @@ use crate::harness::autopilot::{
     configure_unit, law_limits, report, set_unit_params, starts_against, unit, Measured,
     CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
 };
-use host_tests::sim::theorem_threshold;
+use twocars_sim::sim::theorem_threshold;
 
 /// The speed asked of the rover, m/s: under the SIH rover's 3 m/s limit, with room for its
 /// speed controller.

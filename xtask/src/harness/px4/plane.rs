@@ -16,8 +16,8 @@ use crate::harness::autopilot::{
     aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, unit,
     TARGET_SYSTEM,
 };
-use host_tests::autopilot::HOME;
-use host_tests::sim::theorem_threshold;
+use twocars_sim::autopilot::HOME;
+use twocars_sim::sim::theorem_threshold;
 
 /// The SIH vehicle.
 const MODEL: &str = "sihsim_airplane";

@@ -171,7 +171,7 @@ pub fn measure(h: &mut Harness, speed: f64) -> Result<Measured, String> {
     stream(h, 4.0, &mut |_| velocity(speed, stepped))?;
     let response = h.fixes[fixes..]
         .iter()
-        .find(|f| host_tests::kinematics::wrap_pi(f.state[2] - from) >= 0.63 * (stepped - from))
+        .find(|f| twocars_sim::kinematics::wrap_pi(f.state[2] - from) >= 0.63 * (stepped - from))
         .map_or(f64::NAN, |f| f64::from(f.time_ms - step_ms) / 1000.0);
     let mut rates = [0.0; 2];
     for (side, rate) in [1.0, -1.0].into_iter().zip(&mut rates) {

@@ -62,7 +62,7 @@ const fn grid(n: usize, half: f64, headings: usize) -> Grid {
 /// past 10 % on seeds kept aside either way ("The second pair at 0.05 r_p").
 pub(crate) static FLASH_SETS: [FlashSet; 2] = [
     FlashSet {
-        limits: host_tests::scenarios::PAPER_LIMITS,
+        limits: twocars_sim::scenarios::PAPER_LIMITS,
         levels: [grid(61, 30.0, 24), grid(61, 6.0, 36), grid(61, 3.0, 72)],
     },
     FlashSet {
