@@ -74,9 +74,11 @@
 //! `unsafe` is in two places: the board shells (registers) and, on Cortex-M cores with an FPU,
 //! the square root's one `vsqrt.f32` instruction (`num::f32_math`); everything else is safe
 //! code, `#![deny(unsafe_code)]`.
-#![no_std]
+#![cfg_attr(not(test), no_std)]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
+// A public signature names only public items: nothing private or crate-only shows in the docs.
+#![deny(private_interfaces, private_bounds)]
 // Board shells need `unsafe` for registers, the FPU's square root one instruction; everything
 // else is safe code.
 #![deny(unsafe_code)]
@@ -90,7 +92,6 @@
 pub mod board;
 mod error;
 pub mod estimate;
-#[doc(hidden)]
 pub mod geodetic;
 pub mod guidance;
 pub mod law;

@@ -11,10 +11,10 @@ use ::mavlink::dialects::common::GLOBAL_POSITION_INT_DATA;
 use crate::main_loop::ScriptedUart;
 use crate::STATES;
 use twocars::geodetic::LocalFrame;
-use twocars::mavlink::outgoing::Outbox;
 use twocars::mavlink::service::service;
 use twocars::mavlink::signing::{Signer, KEY_LEN};
 use twocars::mavlink::Endpoint;
+use twocars::mavlink::Outbox;
 use twocars::serial::{Board, Line};
 
 /// Script bytes: 24 position frames of at most 53 bytes (40 and a signature).

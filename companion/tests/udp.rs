@@ -10,8 +10,8 @@ use mavlink::dialects::common::{
     MavMessage, GLOBAL_POSITION_INT_DATA, HEARTBEAT_DATA, PARAM_REQUEST_LIST_DATA,
 };
 use mavlink::{MavlinkVersion, Message};
-use twocars::mavlink::outgoing::Outbox;
 use twocars::mavlink::signing::Signer;
+use twocars::mavlink::Outbox;
 use twocars_sim::autopilot::{hdg_cdeg, Plane, HOME};
 
 const BINARY: &str = env!("CARGO_BIN_EXE_twocars-companion");

@@ -2,7 +2,7 @@
 //! bounds stated in `src/num/fixed/mod.rs`; its products exact; its invalid value from conversions and
 //! divisions; overflow of `+`, `-` and `*` a panic in debug builds, as for Rust's integers.
 
-use twocars::num::fixed::{ratio_q15, Fixed};
+use twocars::num::fixed::Fixed;
 use twocars::Scalar;
 use twocars_sim::sim::angle_error;
 
@@ -121,26 +121,6 @@ fn sqrt_is_within_one_unit_of_the_integer_root_of_the_shifted_raw_value() {
         off += u32::from(got != want);
     }
     println!("fixed sqrt: {off} of {checked} roots one unit off the integer root");
-}
-
-/// The ratio behind `atan2` is within two units of the floor of low 2^15 / high: at low = high
-/// for every high below 2^17 (where the estimate is largest), on a stride of lows below, and on a
-/// stride of highs up to 2^32 (shifted down before the reciprocal).
-#[test]
-fn ratio_is_within_two_units_of_the_quotient() {
-    let small = 1u32..1 << 17;
-    let large = (1u32 << 17..u32::MAX).step_by(65_521);
-    let mut worst = 0;
-    for high in small.chain(large) {
-        let lows = (0..high).step_by(((high / 61) as usize).max(1));
-        for low in lows.chain([high]) {
-            let exact = ((u64::from(low) << 15) / u64::from(high)) as u32;
-            let got = ratio_q15(low, high);
-            assert!(got.abs_diff(exact) <= 2, "{low} / {high}: {got} vs {exact}");
-            worst = worst.max(got.abs_diff(exact));
-        }
-    }
-    println!("ratio: at most {worst} units from the quotient");
 }
 
 /// The arc test's `between` (one sign test of two differences) is `low <= x <= high`, at the

@@ -45,7 +45,6 @@ impl<S: Scalar> CaptureTime<S> {
 
 /// Algorithm 2: time to capture when both players turn through their arcs (radians) at full speed
 /// and then run along a tangent of length `tangent_length` (metres).
-#[doc(hidden)]
 pub fn capture_time<S: Scalar>(
     limits: &Limits<S>,
     tangent_length: S,

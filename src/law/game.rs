@@ -48,7 +48,6 @@ impl<S: Scalar> GameSolution<S> {
 }
 
 /// Whether two values (seconds) tie within the backend's relative band `S::TIE_BAND`.
-#[doc(hidden)]
 pub fn ties<S: Scalar>(a: S, b: S) -> bool {
     ties_within(a, b, S::zero())
 }
@@ -56,7 +55,6 @@ pub fn ties<S: Scalar>(a: S, b: S) -> bool {
 /// Whether two values (seconds) tie within the relative band `S::TIE_BAND` or within an absolute
 /// `floor` (seconds): a sampled caller passes its control period, the shortest difference in
 /// capture time it can act on.
-#[doc(hidden)]
 pub fn ties_within<S: Scalar>(a: S, b: S, floor: S) -> bool {
     let band = a.abs().max(b.abs()).tie_band().max(floor);
     (a - b).abs() <= band

@@ -330,9 +330,9 @@ impl<S: Scalar> Law<S> {
     }
 
     /// The instantaneous command of a game's solution: each player at +-w_max of its chosen
-    /// circle, or, where no pursuer row has a finite value, the unsampled fallback
-    /// ([`fallback_command`]). Computed where a caller asks for it: a sampled caller (the
-    /// firmware) replaces it.
+    /// circle, or, where no pursuer row has a finite value, the unsampled fallback (the pursuer
+    /// turns toward the evader, the evader away from it). Computed where a caller asks for it:
+    /// a sampled caller (the firmware) replaces it.
     pub fn instantaneous_command(
         &self,
         solution: &GameSolution<S>,
@@ -439,7 +439,6 @@ impl<S: Scalar> Law<S> {
 
 /// Signed angle (radians, in [-pi, pi]) from a vehicle's heading to the direction of the point
 /// (x, y), anticlockwise positive.
-#[doc(hidden)]
 pub fn bearing<S: Scalar>(from: &VehicleState<S>, x: S, y: S) -> S {
     (S::atan2(y - from.y, x - from.x) - from.theta).wrap_signed()
 }
@@ -447,8 +446,7 @@ pub fn bearing<S: Scalar>(from: &VehicleState<S>, x: S, y: S) -> S {
 /// The documented fallback where no pursuer row has a finite value: the pursuer turns toward the
 /// evader's bearing, the evader toward the direction pointing away from the pursuer; with a
 /// control `period` each turns at most what one period needs (see [`steer`]).
-#[doc(hidden)]
-pub fn fallback_command<S: Scalar>(
+pub(crate) fn fallback_command<S: Scalar>(
     pursuer: &VehicleState<S>,
     evader: &VehicleState<S>,
     limits: &Limits<S>,
@@ -468,9 +466,8 @@ pub fn fallback_command<S: Scalar>(
 /// still to go, 1 / (v_max dt) (1/m per radian; over one period a curvature w turns the vehicle
 /// through v_max w dt radians). Precomputed: a division on a core without a divider is a
 /// library call.
-#[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Period<S> {
+pub(crate) struct Period<S> {
     /// The pursuer's 1 / (v_pm dt).
     pub pursuer: S,
     /// The evader's 1 / (v_em dt).
@@ -491,9 +488,8 @@ impl<S: Scalar> Period<S> {
 
 /// Curvature (1/m) that turns a vehicle through the signed heading angle `to_go` (radians):
 /// sigma w_max, or with a control period at most what one period needs,
-/// sigma min(w_max, |to_go| / (v_max dt)), where `per_radian` is 1 / (v_max dt) ([`Period`]).
+/// sigma min(w_max, |to_go| / (v_max dt)), where `per_radian` is 1 / (v_max dt).
 /// Zero when nothing is left to turn.
-#[doc(hidden)]
 pub fn steer<S: Scalar>(to_go: S, limits: &VehicleLimits<S>, per_radian: Option<S>) -> S {
     let direction = if to_go > S::zero() {
         Direction::Anticlockwise
@@ -511,8 +507,7 @@ pub fn steer<S: Scalar>(to_go: S, limits: &VehicleLimits<S>, per_radian: Option<
 /// control period: sigma min(w_max, arc / (v_max dt)), `per_radian` being 1 / (v_max dt)
 /// ([`Period`]); +0 for a zero arc. The sampled command toward a chosen tangent, whose arc is
 /// already a magnitude: no sign to take apart and put back.
-#[doc(hidden)]
-pub fn steer_along<S: Scalar>(
+pub(crate) fn steer_along<S: Scalar>(
     direction: Direction,
     arc: S,
     limits: &VehicleLimits<S>,
@@ -539,7 +534,6 @@ pub fn evaluate_observation<S: Scalar>(
 }
 
 /// A validated observation in the backend's numbers.
-#[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Scene<S> {
     /// Both players' limits.
@@ -554,7 +548,6 @@ pub struct Scene<S> {
 ///
 /// # Errors
 /// `NonFiniteInput` if any field is NaN or infinite, then `InvalidLimits`, then `OutOfRange`.
-#[doc(hidden)]
 pub fn validate<S: Scalar>(observation: &Observation) -> Result<Scene<S>, Error> {
     let Observation {
         limits: [v_pm, w_pm, v_em, w_em],

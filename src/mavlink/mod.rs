@@ -7,13 +7,10 @@
 pub mod departure;
 pub mod endpoint;
 pub mod energy;
-#[doc(hidden)]
-pub mod frame;
+pub(crate) mod frame;
 mod key_file;
-#[doc(hidden)]
-pub mod messages;
-#[doc(hidden)]
-pub mod outgoing;
+pub(crate) mod messages;
+pub(crate) mod outgoing;
 pub mod params;
 #[cfg(feature = "firmware")]
 pub mod service;
@@ -27,4 +24,5 @@ pub use endpoint::{
 };
 pub use frame::{Frame, FrameCounters, FrameReader, Version};
 pub use messages::{decode, extra_crc, Message, MessageError};
+pub use outgoing::{Outbox, COMPONENT};
 pub use params::{Params, Refusal, SPECS};

@@ -8,12 +8,9 @@
 //! host tests compare against), [`fixed::Fixed`] (Q17.14 for cores without an FPU, normalised)
 //! and, with the `micromath` feature, `micro::Micro` (micromath's approximations).
 
-#[doc(hidden)]
 pub mod convert;
-#[doc(hidden)]
 pub mod f32_math;
 pub mod fixed;
-#[doc(hidden)]
 pub mod ieee;
 #[cfg(feature = "micromath")]
 pub mod micro;
@@ -24,8 +21,8 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 use crate::error::Error;
 use convert::Reciprocal;
 
-/// The backends this crate implements; [`Scalar`] is sealed: its conversions rest on hidden
-/// parts of the crate ([`convert`]), so the backends are the crate's own.
+/// The backends this crate implements; [`Scalar`] is sealed: its conversions rest on the
+/// crate's integer conversions ([`convert`]), so the backends are the crate's own.
 mod sealed {
     pub trait Sealed {}
     impl Sealed for f32 {}
@@ -99,9 +96,8 @@ pub trait Scalar:
     /// (pursuer, evader) in metres (finite, within the f32 envelope), in units of `metres`
     /// (`per_metre` its reciprocal); `OutOfRange` where the players are apart by more than
     /// `radius` units yet both offsets round to zero (the backend would read one point).
-    /// Fixed point converts with integers only ([`convert`]). The law's own step, hidden:
-    /// `per_metre` is [`convert`]'s.
-    #[doc(hidden)]
+    /// Fixed point converts with integers only ([`convert`]), `per_metre` its reciprocal of
+    /// the unit.
     fn relative_position(
         x: (f32, f32),
         y: (f32, f32),

@@ -25,11 +25,9 @@ use crate::status::Status;
 use crate::value_tables::ValueTables;
 
 /// Wire status code of the watchdog's safe command (the law's statuses are 0 to 5).
-#[doc(hidden)]
 pub const STATUS_STALE_INPUT: u8 = 6;
 
 /// Wire code of a law status.
-#[doc(hidden)]
 pub fn status_code(status: Status) -> u8 {
     match status {
         Status::Ok => 0,

@@ -14,10 +14,8 @@ pub const VERSION_1: u8 = 1;
 /// Largest decoded frame (header, payload and CRC), bytes.
 pub const MAX_FRAME: usize = 96;
 /// Largest encoded frame on the wire: COBS overhead and the 0x00 delimiter included.
-#[doc(hidden)]
 pub const MAX_ENCODED: usize = MAX_FRAME + MAX_FRAME / 254 + 2;
 /// Header bytes: version, type, sequence.
-#[doc(hidden)]
 pub const HEADER_LEN: usize = 4;
 /// CRC bytes.
 pub const CRC_LEN: usize = 2;
@@ -53,7 +51,6 @@ pub enum WireError {
 }
 
 /// Number of [`WireError`] kinds (codes 1 ..= ERROR_KINDS).
-#[doc(hidden)]
 pub const ERROR_KINDS: usize = 11;
 
 impl WireError {
@@ -103,7 +100,6 @@ const fn crc_table() -> [u16; 256] {
 /// CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection, no final xor) of `bytes`. Out of
 /// line: inlined into the serial loop, its table's address competed for registers there and was
 /// reloaded on every byte.
-#[doc(hidden)]
 #[inline(never)]
 pub fn crc16(bytes: &[u8]) -> u16 {
     bytes.iter().fold(0xFFFF, |crc: u16, &b| {
@@ -114,7 +110,6 @@ pub fn crc16(bytes: &[u8]) -> u16 {
 
 /// COBS-encodes `input` into `out` and appends the 0x00 delimiter; returns the encoded length,
 /// or `None` if `out` is too small.
-#[doc(hidden)]
 pub fn cobs_encode(input: &[u8], out: &mut [u8]) -> Option<usize> {
     // Indices only grow by one after a successful write into `out`, so `checked_add` never fails
     // in practice; it keeps the function free of overflow panics when overflow checks are on.
@@ -266,8 +261,7 @@ mod field {
 
 /// The sequence number in a decoded frame's header (0 where the frame is shorter): readable
 /// wherever the CRC held, a frame of another protocol version included.
-#[doc(hidden)]
-pub fn header_sequence(bytes: &[u8]) -> u16 {
+pub(crate) fn header_sequence(bytes: &[u8]) -> u16 {
     let s = bytes.get(field::SEQUENCE).unwrap_or(&[0, 0]);
     u16::from_le_bytes([
         s.first().copied().unwrap_or(0),
@@ -330,9 +324,8 @@ impl<'a> Frame<'a> {
 }
 
 /// Little-endian field reader over a payload; every read is bounds-checked.
-#[doc(hidden)]
 #[derive(Debug)]
-pub struct Reader<'a> {
+pub(crate) struct Reader<'a> {
     bytes: &'a [u8],
     at: usize,
 }
@@ -354,10 +347,6 @@ impl<'a> Reader<'a> {
     pub fn u8(&mut self) -> Result<u8, WireError> {
         Ok(self.take::<1>()?[0])
     }
-    /// Reads a little-endian u16.
-    pub fn u16(&mut self) -> Result<u16, WireError> {
-        Ok(u16::from_le_bytes(self.take()?))
-    }
     /// Reads a little-endian u32.
     pub fn u32(&mut self) -> Result<u32, WireError> {
         Ok(u32::from_le_bytes(self.take()?))
@@ -377,7 +366,6 @@ impl<'a> Reader<'a> {
 }
 
 /// Little-endian field writer into a frame buffer; fails rather than truncates.
-#[doc(hidden)]
 #[derive(Debug)]
 pub struct Writer<'a> {
     bytes: &'a mut [u8],

@@ -30,10 +30,8 @@ use crate::num::f32_math::{sin_cos, wrap_signed};
 /// disc valued by their depth, the evader's stop among its controls).
 pub const MAGIC: [u8; 4] = *b"TCV2";
 /// Bytes before the codes.
-#[doc(hidden)]
 pub const HEADER_LEN: usize = 4 + 5 * 4 + 2 * 2;
 /// The code of a node from which capture was not found.
-#[doc(hidden)]
 pub const NEVER: u16 = u16::MAX;
 /// The pursuer's turns in the order ties keep: straight, left, right.
 pub(crate) const PURSUER_TURNS: [f32; 3] = [0.0, 1.0, -1.0];
@@ -42,12 +40,10 @@ pub(crate) const PURSUER_TURNS: [f32; 3] = [0.0, 1.0, -1.0];
 /// step interpolates V once, and interpolation smears V's jumps: half a cell's time on a
 /// 0.05 r_p grid put V 30 % low where the evader grazes the capture disc (docs/near-field.md,
 /// "The solver").
-#[doc(hidden)]
 pub const MIN_STEP: f32 = 0.2;
 
 /// The time step (r_p / v_pm) on a grid whose cells are `spacing` (r_p) across: half a cell's
 /// time at the pursuer's speed, or [`MIN_STEP`] where that is shorter.
-#[doc(hidden)]
 pub fn step_time(spacing: f32) -> f32 {
     (0.5 * spacing).max(MIN_STEP)
 }

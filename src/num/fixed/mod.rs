@@ -286,8 +286,7 @@ fn shift_below(m: u32, bits: u32) -> u32 {
 /// high is in [2^16, 2^17) (`shift_below`), then low times a reciprocal of high from a table
 /// of 128 and one Newton step r (2 - h r) (multiplications only: the 32-bit division is a
 /// library call of about 150 instructions).
-#[doc(hidden)]
-pub fn ratio_q15(low: u32, high: u32) -> u32 {
+pub(crate) fn ratio_q15(low: u32, high: u32) -> u32 {
     debug_assert!(low <= high && high > 0, "ratio_q15({low}, {high})");
     let (mut h, mut l) = (high, low);
     if h < 1 << 16 {
@@ -595,5 +594,30 @@ impl Scalar for Fixed {
             return Fixed(v);
         }
         Fixed(self.0.rem_euclid(TAU_Q14))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ratio_q15;
+
+    /// The ratio behind `atan2` is within two units of the floor of low 2^15 / high: at low = high
+    /// for every high below 2^17 (where the estimate is largest), on a stride of lows below, and on a
+    /// stride of highs up to 2^32 (shifted down before the reciprocal).
+    #[test]
+    fn ratio_is_within_two_units_of_the_quotient() {
+        let small = 1u32..1 << 17;
+        let large = (1u32 << 17..u32::MAX).step_by(65_521);
+        let mut worst = 0;
+        for high in small.chain(large) {
+            let lows = (0..high).step_by(((high / 61) as usize).max(1));
+            for low in lows.chain([high]) {
+                let exact = ((u64::from(low) << 15) / u64::from(high)) as u32;
+                let got = ratio_q15(low, high);
+                assert!(got.abs_diff(exact) <= 2, "{low} / {high}: {got} vs {exact}");
+                worst = worst.max(got.abs_diff(exact));
+            }
+        }
+        println!("ratio: at most {worst} units from the quotient");
     }
 }

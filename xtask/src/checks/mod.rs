@@ -1,6 +1,7 @@
 //! `cargo xtask test`: the suite's named steps ([`suite`]) and the checks they run: the
 //! source's imports, the firmware in its emulators, the package as a user gets it.
 
+pub mod docs;
 pub mod firmware;
 pub mod imports;
 pub mod layers;

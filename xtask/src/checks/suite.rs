@@ -527,7 +527,7 @@ fn docs(suite: &mut Suite) -> bool {
         &suite.cargo,
         &args,
         &[("RUSTDOCFLAGS", "-D warnings")],
-    )
+    ) && timed("the core's docs", || super::docs::core(&suite.cargo))
 }
 
 fn on_target_tests(suite: &mut Suite) -> bool {

@@ -154,7 +154,7 @@ pub fn setup_signing(serial0: &mut TcpStream, key: [u8; 32]) -> Result<(), Strin
         secret_key: key,
     };
     let mut bytes = Vec::new();
-    twocars::mavlink::outgoing::Outbox::default().send_as(
+    twocars::mavlink::Outbox::default().send_as(
         crate::harness::autopilot::router::GCS,
         &message,
         &mut |f| bytes.extend_from_slice(f),

@@ -13,8 +13,8 @@ use std::time::{Duration, Instant};
 
 use mavlink::dialects::common::MavMessage;
 use mavlink::{MavlinkVersion, Message, MessageData};
-use twocars::mavlink::outgoing::Outbox;
 use twocars::mavlink::signing::Signer;
+use twocars::mavlink::Outbox;
 
 use super::backlog::UnitEnd;
 
