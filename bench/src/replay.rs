@@ -1,7 +1,7 @@
 //! A captured MAVLink byte stream replayed through the firmware's serial path (the `replay`
 //! image, and the host): what an autopilot sent the unit, in records of `[u32 ms][u16 length]
 //! [bytes]` (little-endian; the milliseconds on the capturing host's clock), each fed at its
-//! time. `cargo xtask run --link ardupilot` writes one of ArduPilot Rover SITL's telemetry
+//! time. `cargo xtask run --autopilot ardupilot` writes one of ArduPilot Rover SITL's telemetry
 //! with a chase; the image carries the capture named by `TWOCARS_MAVLINK_CAPTURE` at build time.
 
 use core::cell::Cell;

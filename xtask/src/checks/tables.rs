@@ -174,7 +174,7 @@ fn suite_below_the_threshold(elf: &std::path::Path) -> Result<String, String> {
     Ok(summary)
 }
 
-/// `cargo xtask run --board qemu-tables` plays the set of the limits' ratios on the host, and
+/// `cargo xtask run --board qemu --tables` plays the set of the limits' ratios on the host, and
 /// refuses, saying which ratios the image carries, limits of other ratios.
 fn run_picks_the_set_of_the_limits_ratios() -> Result<String, String> {
     let ratios = |limits: [f64; 4]| {

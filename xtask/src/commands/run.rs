@@ -57,51 +57,61 @@ pub struct RunArgs {
     /// to compare bit for bit).
     #[arg(long, value_enum, default_value = "qemu")]
     board: RunBoard,
-    /// The firmware's link: our COBS protocol, or MAVLink 2 with pymavlink playing the
-    /// autopilot and the target (the paper's cases at ten times their scale; docs/mavlink.md).
-    #[arg(long, value_enum, default_value = "cobs")]
+    /// The firmware's link: our serial protocol (COBS frames), or MAVLink 2 with pymavlink
+    /// playing the autopilot and the target (the paper's cases at ten times their scale;
+    /// docs/mavlink.md).
+    #[arg(long, value_enum, default_value = "serial")]
     link: RunLink,
-    /// With `--link mavlink` or `ardupilot`: build the MAVLink image with this signing key (a
+    /// MAVLink 2 with this autopilot's SITL flying the pursuer (docs/ardupilot.md,
+    /// docs/px4.md).
+    #[arg(long, value_enum, conflicts_with = "link")]
+    autopilot: Option<RunAutopilot>,
+    /// With `--board qemu` or `stm32f405`: the image with the value tables in flash (QEMU's
+    /// plays them: the policy defaults to the tables', Configure's policy byte 2, and the host
+    /// simulation plays the same tables).
+    #[arg(long)]
+    tables: bool,
+    /// With `--link mavlink` or `--autopilot ardupilot`: build the MAVLink image with this signing key (a
     /// file of 32 bytes or 64 hexadecimal digits), and sign the other
     /// side with it (pymavlink; ArduPilot, given the key with SETUP_SIGNING).
     #[arg(long)]
     signing_key: Option<std::path::PathBuf>,
-    /// With `--link ardupilot`, or `px4 --rover-evader`: the `ardurover` SITL binary
+    /// With `--autopilot ardupilot`, or `--autopilot px4 --rover-evader`: the `ardurover` SITL binary
     /// (default: TWOCARS_ARDUROVER, then ../shared/ardupilot/ardurover).
     #[arg(long)]
     ardurover: Option<std::path::PathBuf>,
     /// With `--link mavlink`: the target's fixes 200 ms late, 5 a second, with GPS noise of
-    /// 0.2 r_p, through the unit's estimator; with `--link ardupilot`: 300 ms late, 5 a
+    /// 0.2 r_p, through the unit's estimator; with `--autopilot ardupilot`: 300 ms late, 5 a
     /// second, 1 m and 5 degrees, wind and GPS noise on the rover (docs/field.md); with
     /// `--vehicle plane` 2 a second, and with `--plane-evader` both aircraft in wind.
     #[arg(long)]
     field: bool,
-    /// With `--link ardupilot` or `px4` (rovers): the evader a second ArduPilot Rover SITL
+    /// With `--autopilot ardupilot` or `px4` (rovers): the evader a second ArduPilot Rover SITL
     /// driven by the suite's evaders, its own GLOBAL_POSITION_INT the unit's target
     /// (docs/ardupilot.md, docs/px4.md).
     #[arg(long)]
     rover_evader: bool,
-    /// With `--link ardupilot` or `px4`: the unit the `twocars-companion` binary on the host
+    /// With `--autopilot ardupilot` or `px4`: the unit the `twocars-companion` binary on the host
     /// (over TCP to the router) in place of the QEMU image (docs/companion.md).
     #[arg(long)]
     companion: bool,
-    /// With `--link ardupilot` or `px4`: the pursuer a rover or a plane (ArduPlane in GUIDED
+    /// With `--autopilot ardupilot` or `px4`: the pursuer a rover or a plane (ArduPlane in GUIDED
     /// under roll setpoints; PX4's SIH airplane in OFFBOARD under the unit's energy hold).
     #[arg(long, value_enum, default_value = "rover")]
     vehicle: RunVehicle,
-    /// With `--vehicle plane` (`--link ardupilot` or `px4`): the evader an ArduPlane SITL
+    /// With `--vehicle plane` (`--autopilot ardupilot` or `px4`): the evader an ArduPlane SITL
     /// (slower, banking less) driven by the suite's evaders, its own GLOBAL_POSITION_INT the
     /// unit's target (docs/ardupilot.md, docs/px4.md).
     #[arg(long)]
     plane_evader: bool,
-    /// With `--link ardupilot --vehicle plane`, or `px4 --plane-evader`: the `arduplane` SITL
+    /// With `--autopilot ardupilot --vehicle plane`, or `--autopilot px4 --plane-evader`: the `arduplane` SITL
     /// binary (default: TWOCARS_ARDUPLANE, then ../shared/ardupilot/arduplane).
     #[arg(long)]
     arduplane: Option<std::path::PathBuf>,
     /// With `--vehicle plane`: SITL's speed-up over the wall clock.
     #[arg(long, default_value_t = crate::harness::ardupilot::plane::SPEEDUP)]
     speedup: u32,
-    /// With `--link px4`: the `px4` SITL binary, its `etc/` beside `bin/` (default:
+    /// With `--autopilot px4`: the `px4` SITL binary, its `etc/` beside `bin/` (default:
     /// ../shared/px4/bin/px4).
     #[arg(long)]
     px4: Option<std::path::PathBuf>,
@@ -110,13 +120,26 @@ pub struct RunArgs {
 /// The links `run` can fly the firmware over.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum RunLink {
-    /// The COBS protocol (docs/protocol.md).
-    Cobs,
+    /// Our serial protocol (docs/protocol.md); `cobs` is an alias.
+    #[value(alias = "cobs")]
+    Serial,
     /// MAVLink 2 (the `twocars-qemu-mavlink` image).
     Mavlink,
-    /// MAVLink 2 with ArduPilot Rover SITL flying the pursuer (docs/ardupilot.md).
+    /// `--autopilot ardupilot`'s former spelling, kept for one release.
+    #[value(hide = true)]
     Ardupilot,
-    /// MAVLink 2 with PX4 SITL (SIH Ackermann rover) flying the pursuer (docs/px4.md).
+    /// `--autopilot px4`'s former spelling, kept for one release.
+    #[value(hide = true)]
+    Px4,
+}
+
+/// The autopilots whose SITL `run` flies the pursuer with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RunAutopilot {
+    /// ArduPilot: Rover, or ArduPlane with `--vehicle plane` (docs/ardupilot.md).
+    Ardupilot,
+    /// PX4 with its SIH simulator: the Ackermann rover, or the airplane with `--vehicle
+    /// plane` (docs/px4.md).
     Px4,
 }
 
@@ -136,8 +159,8 @@ pub enum RunBoard {
     Qemu,
     /// QEMU microbit (nRF51822, Cortex-M0, fixed-point law).
     Microbit,
-    /// QEMU mps2-an386 with the value tables in flash: the policy defaults to the
-    /// tables' (Configure's policy byte 2), and the host simulation plays the same tables.
+    /// `--board qemu --tables`' former spelling, kept for one release.
+    #[value(hide = true)]
     QemuTables,
     /// The STM32F405 flight image in QEMU's netduinoplus2 (Cortex-M4F, f32; USART1).
     Stm32f405,
@@ -148,14 +171,22 @@ pub enum RunBoard {
 
 /// Runs the main job; returns the exit code.
 pub fn run(args: &RunArgs) -> i32 {
-    if args.link == RunLink::Px4 {
+    if args.tables && !matches!(args.board, RunBoard::Qemu | RunBoard::QemuTables) {
+        eprintln!(
+            "xtask run: --tables: the image that plays value tables is QEMU's (--board qemu)"
+        );
+        return 2;
+    }
+    if args.autopilot() == Some(RunAutopilot::Px4) {
         return px4(args);
     }
     let Ok(key) = SigningKey::given(args.signing_key.as_deref(), "xtask run") else {
         return 2;
     };
+    if args.autopilot() == Some(RunAutopilot::Ardupilot) {
+        return ardupilot(args, key);
+    }
     match args.link {
-        RunLink::Ardupilot => ardupilot(args, key),
         RunLink::Mavlink => mavlink(args, key.as_ref()),
         _ => {
             let (board, options) = board_and_options(args);
@@ -170,12 +201,12 @@ pub fn run(args: &RunArgs) -> i32 {
     }
 }
 
-/// `--link px4`: the rover or the airplane. The PX4 build here has no message signing
+/// `--autopilot px4`: the rover or the airplane. The PX4 build here has no message signing
 /// (docs/px4.md, "Signing"): a key is refused, not dropped.
 fn px4(args: &RunArgs) -> i32 {
     if args.signing_key.is_some() {
         eprintln!(
-            "xtask run: --signing-key with --link px4: this PX4 build cannot sign (no MAV_SIGN_CFG; docs/px4.md)"
+            "xtask run: --signing-key with --autopilot px4: this PX4 build cannot sign (no MAV_SIGN_CFG; docs/px4.md)"
         );
         return 2;
     }
@@ -197,7 +228,7 @@ fn px4(args: &RunArgs) -> i32 {
     })
 }
 
-/// `--link ardupilot`: the rover or the plane, signed with `key` where given.
+/// `--autopilot ardupilot`: the rover or the plane, signed with `key` where given.
 fn ardupilot(args: &RunArgs, key: Option<SigningKey>) -> i32 {
     if args.vehicle == RunVehicle::Plane {
         return crate::harness::ardupilot::plane::run(&crate::harness::ardupilot::plane::Options {
@@ -233,7 +264,7 @@ fn mavlink(args: &RunArgs, key: Option<&SigningKey>) -> i32 {
             }
         };
     }
-    match args.board {
+    match args.board() {
         RunBoard::Qemu => crate::harness::firmware::mavlink::run(Image::QemuMavlink, key),
         RunBoard::Stm32f405 => crate::harness::firmware::mavlink::run(Image::Stm32f405Mavlink, key),
         other => {
@@ -244,7 +275,7 @@ fn mavlink(args: &RunArgs, key: Option<&SigningKey>) -> i32 {
 }
 
 fn parse(args: &RunArgs) -> Result<RunOptions, String> {
-    let tables = args.board == RunBoard::QemuTables;
+    let tables = args.board() == RunBoard::QemuTables;
     let mut o = RunOptions {
         cases: Vec::new(),
         limits: args.limits.unwrap_or(PAPER_LIMITS),
@@ -290,18 +321,36 @@ impl RunArgs {
     pub fn target(&self) -> &'static str {
         board_and_options(self).0.target()
     }
+
+    /// The autopilot flying the pursuer, if one does (`--autopilot`, or `--link`'s former
+    /// spelling).
+    fn autopilot(&self) -> Option<RunAutopilot> {
+        self.autopilot.or(match self.link {
+            RunLink::Ardupilot => Some(RunAutopilot::Ardupilot),
+            RunLink::Px4 => Some(RunAutopilot::Px4),
+            RunLink::Serial | RunLink::Mavlink => None,
+        })
+    }
+
+    /// The board, `--tables` read: QEMU's tables image where asked for.
+    fn board(&self) -> RunBoard {
+        match (self.board, self.tables) {
+            (RunBoard::Qemu, true) => RunBoard::QemuTables,
+            (board, _) => board,
+        }
+    }
 }
 
 /// The board `args` asks for, and the law's options there: the policy its image plays by
 /// default, and the numeric backend of its law, which the host simulates too.
 fn board_and_options(args: &RunArgs) -> (Image, Options) {
-    let tables_board = args.board == RunBoard::QemuTables;
+    let tables_board = args.board() == RunBoard::QemuTables;
     let mut options = args.law.options(if tables_board {
         Policy::Table
     } else {
         Policy::Flight
     });
-    let board = match args.board {
+    let board = match args.board() {
         RunBoard::Qemu => Image::Qemu,
         RunBoard::Microbit => {
             options.numeric = crate::harness::host::Numeric::Fixed;

@@ -1,4 +1,4 @@
-//! `cargo xtask run --link ardupilot`: a real autopilot in the loop. ArduPilot Rover SITL flies
+//! `cargo xtask run --autopilot ardupilot`: a real autopilot in the loop. ArduPilot Rover SITL flies
 //! the pursuer; the `twocars-qemu-mavlink` image in QEMU is its companion computer; the host is
 //! the ground station, the router between them and the target: an evader of the adversary suite
 //! simulated as a Dubins car and reported as system 2's GLOBAL_POSITION_INT (docs/ardupilot.md).
@@ -19,21 +19,22 @@ use std::time::Duration;
 
 use twocars_sim::autopilot::HOME;
 
-use crate::harness::autopilot::chase::{self, Outcome};
+use crate::harness::autopilot::chase::{self, Outcome, Start};
 use crate::harness::autopilot::evader::Terms;
 use crate::harness::autopilot::field::Radio;
 use crate::harness::autopilot::harness::{Harness, NoTarget};
 use crate::harness::autopilot::router::Source;
+use crate::harness::autopilot::script::{self, Law, Vehicle};
+use crate::harness::autopilot::unit::Unit;
 use crate::harness::autopilot::{
-    configure_unit, law_limits, report, set_unit_params, starts, starts_against, Measured,
-    CAPTURE_RADIUS, EVADERS, TARGET_SYSTEM,
+    law_limits, set_unit_params, starts, starts_against, Measured, CAPTURE_RADIUS, EVADERS,
+    TARGET_SYSTEM,
 };
 use crate::image::signing::SigningKey;
-use twocars_sim::sim::theorem_threshold;
 
 /// The pursuer's speed asked of the rover (WP_SPEED: the speed at thrust 1), m/s.
 const WP_SPEED: f32 = 3.0;
-/// `cargo xtask run --link ardupilot`'s options.
+/// `cargo xtask run --autopilot ardupilot`'s options.
 #[derive(Debug, Clone, Default)]
 pub struct Options {
     /// The `ardurover` SITL binary (default: `TWOCARS_ARDUROVER`, then
@@ -73,6 +74,123 @@ pub fn find_rover(explicit: Option<&std::path::Path>) -> Option<PathBuf> {
     sitl::find(Frame::Rover, explicit)
 }
 
+/// ArduPilot Rover SITL flying the pursuer, as the script asks: the simulated evader's chases,
+/// then those against the evader's rover.
+struct Rover<'a> {
+    options: &'a Options,
+    binary: PathBuf,
+    /// The unit and SITL, running until dropped.
+    running: Option<(Unit, sitl::Sitl)>,
+    /// ArduPilot's answers to an unsigned and a signed request, where signed.
+    probe: Option<(bool, bool)>,
+    measured: Option<Measured>,
+    /// How many of the starts are the simulated evader's.
+    simulated: usize,
+}
+
+impl Vehicle for Rover<'_> {
+    fn start(&mut self) -> Result<Harness, String> {
+        let o = self.options;
+        let (unit, sitl, router) =
+            link::connect(&self.binary, Frame::Rover, 1, o.companion, o.key.as_ref())?;
+        self.running = Some((unit, sitl));
+        println!("ArduPilot Rover SITL: {}", self.binary.display());
+        Ok(Harness::new(router, HOME, TARGET_SYSTEM))
+    }
+
+    fn ready(&mut self, h: &mut Harness) -> Result<String, String> {
+        let ready = vehicle::make_ready(h, WP_SPEED)?;
+        if h.router.signing() {
+            self.probe = Some(signing_probe(h)?);
+        }
+        Ok(format!(
+            "EKF using GPS after {:.1} s, GUIDED and armed after {:.1} s",
+            ready.ekf_s, ready.armed_s
+        ))
+    }
+
+    fn measure(&mut self, h: &mut Harness) -> Result<Law, String> {
+        let measured = vehicle::measure(h)?;
+        self.measured = Some(measured);
+        let limits = law_limits(&measured);
+        println!(
+            "the rover, driven: {:.2} m/s at thrust 1 (WP_SPEED {WP_SPEED}), largest turn rate {:.2} rad/s, radius {:.2} m, yaw-rate response {:.2} s",
+            measured.speed, measured.turn_rate, measured.radius, measured.response
+        );
+        // The law plans each turn over the rover's yaw-rate response: planned over the 50 ms
+        // between its fixes, the rate controller's lag makes the rover weave (docs/ardupilot.md).
+        let period = (measured.response * 100.0).round() / 100.0;
+        Ok(Law {
+            limits,
+            period,
+            capture: CAPTURE_RADIUS,
+            unit_params: Vec::new(),
+            note: format!(
+                "w_pm {:.0} % of the largest turn rate; TC_CAPTURE {CAPTURE_RADIUS} m, TC_PERIOD {period:.2} s (the yaw-rate response)",
+                100.0 * limits[0] * limits[1] / measured.turn_rate,
+            ),
+        })
+    }
+
+    fn configure(&mut self, h: &mut Harness, _law: &Law) -> Result<(), String> {
+        match self.options.field {
+            true => configure_field(h),
+            false => Ok(()),
+        }
+    }
+
+    fn starts(&mut self, law: &Law) -> Vec<Start> {
+        let o = self.options;
+        let mut all = match o.simulated {
+            true => starts(law.limits, o.short),
+            false => Vec::new(),
+        };
+        self.simulated = all.len();
+        if o.rover_evader {
+            all.extend(starts_against(law.limits, o.short, &EVADERS));
+        }
+        all
+    }
+
+    fn chase(
+        &mut self,
+        h: &mut Harness,
+        i: usize,
+        start: Start,
+        law: &Law,
+    ) -> Result<(Outcome, Vec<String>), String> {
+        let radio = self.options.field.then_some(Radio::ROVER);
+        let Some(k) = i.checked_sub(self.simulated) else {
+            let outcome = chase::fly(h, start, law.limits, CAPTURE_RADIUS, 7 + i as u64, radio)?;
+            return Ok((outcome, Vec::new()));
+        };
+        if k == 0 {
+            println!(
+                "the evader: a second ArduPilot Rover SITL (instance 1, WP_SPEED {} m/s), started for each chase at its start",
+                law.limits[2]
+            );
+        }
+        let terms = Terms {
+            eps: CAPTURE_RADIUS,
+            seed: 7 + k as u64,
+            field: radio,
+        };
+        let (outcome, [peak, mean]) = rover_evader::fly(
+            h,
+            &mut rover_evader::pump,
+            &self.binary,
+            start,
+            law.limits,
+            terms,
+        )?;
+        let line = format!(
+            "the evader's rover: speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s)",
+            law.limits[2]
+        );
+        Ok((outcome, vec![line]))
+    }
+}
+
 /// Runs the chases; the outcomes, the measured limits, the law's and the harness (for the
 /// telemetry's figures).
 pub fn fly(options: &Options) -> Result<Flown, String> {
@@ -80,71 +198,27 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
         "ArduPilot Rover SITL not found: give --ardurover PATH or set TWOCARS_ARDUROVER \
          (docs/ardupilot.md says how to build it)",
     )?;
-    let key = options.key.as_ref();
-    let (launched, _sitl, router) =
-        link::connect(&binary, Frame::Rover, 1, options.companion, key)?;
-    let mut h = Harness::new(router, HOME, TARGET_SYSTEM);
-    println!("ArduPilot Rover SITL: {}", binary.display());
-    let ready = vehicle::make_ready(&mut h, WP_SPEED)?;
-    println!(
-        "ready: EKF using GPS after {:.1} s, GUIDED and armed after {:.1} s",
-        ready.ekf_s, ready.armed_s
-    );
-    let probe = match h.router.signing() {
-        true => Some(signing_probe(&mut h)?),
-        false => None,
+    let mut rover = Rover {
+        options,
+        binary,
+        running: None,
+        probe: None,
+        measured: None,
+        simulated: 0,
     };
-    let measured = vehicle::measure(&mut h)?;
-    let limits = law_limits(&measured);
-    println!(
-        "the rover, driven: {:.2} m/s at thrust 1 (WP_SPEED {WP_SPEED}), largest turn rate {:.2} rad/s, radius {:.2} m, yaw-rate response {:.2} s",
-        measured.speed, measured.turn_rate, measured.radius, measured.response
-    );
-    println!(
-        "the law: v_pm {} m/s, w_pm {} 1/m ({:.0} % of the largest turn rate), v_em {} m/s, w_em {} 1/m; threshold {:.1} m; TC_CAPTURE {CAPTURE_RADIUS} m, TC_PERIOD {:.2} s (the yaw-rate response)",
-        limits[0],
-        limits[1],
-        100.0 * limits[0] * limits[1] / measured.turn_rate,
-        limits[2],
-        limits[3],
-        theorem_threshold(limits),
-        (measured.response * 100.0).round() / 100.0
-    );
-    // The law plans each turn over the rover's yaw-rate response: planned over the 50 ms
-    // between its fixes, the rate controller's lag makes the rover weave (docs/ardupilot.md).
-    let period = (measured.response * 100.0).round() / 100.0;
-    configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;
-    if options.field {
-        configure_field(&mut h)?;
-    }
-    let mut outcomes = Vec::new();
-    if options.simulated {
-        for (i, start) in starts(limits, options.short).into_iter().enumerate() {
-            let seed = 7 + i as u64;
-            let outcome = chase::fly(
-                &mut h,
-                start,
-                limits,
-                CAPTURE_RADIUS,
-                seed,
-                options.field.then_some(Radio::ROVER),
-            )?;
-            println!("{}", report(&outcome, limits));
-            outcomes.push(outcome);
-        }
-    }
-    if options.rover_evader {
-        outcomes.extend(fly_against_rover(&mut h, &binary, limits, options)?);
-    }
+    let (h, law, outcomes) = script::fly(&mut rover)?;
     let telemetry = telemetry::summary(&h);
-    let signing = probe.map(|(unsigned_answered, signed_answered)| Signing {
-        unsigned_answered,
-        signed_answered,
-        autopilot_frames: h.autopilot_signed,
-        refusals: h.refusals,
-    });
-    drop(launched);
-    // The replay image's endpoint has no key: the unsigned stream only.
+    let signing = rover
+        .probe
+        .map(|(unsigned_answered, signed_answered)| Signing {
+            unsigned_answered,
+            signed_answered,
+            autopilot_frames: h.autopilot_signed,
+            refusals: h.refusals,
+        });
+    // The unit and SITL stop before the replay's QEMU starts; its endpoint has no key: the
+    // unsigned stream only.
+    rover.running = None;
     let cost = match signing {
         None => Some(crate::harness::bench::mavlink::measure_replay(
             &telemetry::write_capture(&h)?,
@@ -153,49 +227,12 @@ pub fn fly(options: &Options) -> Result<Flown, String> {
     };
     Ok(Flown {
         outcomes,
-        measured,
-        limits,
+        measured: rover.measured.ok_or("the rover was not measured")?,
+        limits: law.limits,
         telemetry,
         cost,
         signing,
     })
-}
-
-/// The chases against the evader rover (SITL instance 1), one instance per chase.
-fn fly_against_rover(
-    h: &mut Harness,
-    binary: &std::path::Path,
-    limits: [f64; 4],
-    options: &Options,
-) -> Result<Vec<Outcome>, String> {
-    println!(
-        "the evader: a second ArduPilot Rover SITL (instance 1, WP_SPEED {} m/s), started for each chase at its start",
-        limits[2]
-    );
-    let mut outcomes = Vec::new();
-    let starts = starts_against(limits, options.short, &EVADERS);
-    for (i, start) in starts.into_iter().enumerate() {
-        let seed = 7 + i as u64;
-        let (outcome, [peak, mean]) = rover_evader::fly(
-            h,
-            &mut rover_evader::pump,
-            binary,
-            start,
-            limits,
-            Terms {
-                eps: CAPTURE_RADIUS,
-                seed,
-                field: options.field.then_some(Radio::ROVER),
-            },
-        )?;
-        println!(
-            "{}\n  the evader's rover: speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s)",
-            report(&outcome, limits),
-            limits[2]
-        );
-        outcomes.push(outcome);
-    }
-    Ok(outcomes)
 }
 
 /// ArduPilot's check on the unit's link: whether an unsigned PARAM_REQUEST_READ of WP_SPEED
@@ -282,7 +319,7 @@ pub fn cost_line(c: &crate::harness::bench::mavlink::ReplayMeasured) -> String {
     )
 }
 
-/// `cargo xtask run --link ardupilot`; the exit code.
+/// `cargo xtask run --autopilot ardupilot`; the exit code.
 pub fn run(options: &Options) -> i32 {
     match fly(options) {
         Ok(flown) => {
@@ -296,7 +333,7 @@ pub fn run(options: &Options) -> i32 {
             i32::from(!flown.outcomes.iter().all(|o| o.captured.is_some()))
         }
         Err(e) => {
-            eprintln!("xtask run --link ardupilot: {e}");
+            eprintln!("xtask run --autopilot ardupilot: {e}");
             1
         }
     }

@@ -1,4 +1,4 @@
-//! `cargo xtask run --link ardupilot --vehicle plane`: ArduPlane SITL flies the pursuer in
+//! `cargo xtask run --autopilot ardupilot --vehicle plane`: ArduPlane SITL flies the pursuer in
 //! GUIDED, the unit's roll-only attitude setpoints (TC_VEHICLE 3) turning it while ArduPlane's
 //! TECS holds airspeed and height; the target an evader of the adversary suite simulated as a
 //! Dubins car at the law's evader limits (docs/ardupilot.md).
@@ -12,14 +12,15 @@ use super::plane_evader::{self, Banked, PlaneSteer};
 use super::rover_evader::pump;
 use super::sitl::{self, Frame};
 use super::vehicle::set_autopilot_param;
-use crate::harness::autopilot::chase::{self, Outcome};
+use crate::harness::autopilot::chase::{self, Outcome, Start};
 use crate::harness::autopilot::evader::{self, Terms};
 use crate::harness::autopilot::field::Radio;
 use crate::harness::autopilot::harness::{Harness, Pursuer};
+use crate::harness::autopilot::script::{self, Law, Vehicle};
+use crate::harness::autopilot::unit::Unit;
 use crate::harness::autopilot::{
-    aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, TARGET_SYSTEM,
+    aircraft_limits, energy_line, set_unit_params, starts, TARGET_SYSTEM,
 };
-use twocars_sim::sim::theorem_threshold;
 
 /// Capture radius, m: the SITL plane's span (about 2 m) less nothing, plus three sigma of a
 /// GPS fix (1 m): two aircraft whose fixes are this close touch or nearly so.
@@ -34,7 +35,7 @@ pub const SPEEDUP: u32 = 4;
 /// The wind both aircraft fly in with `--field`: SIM_WIND_SPD and SIM_WIND_TURB, m/s.
 pub const WIND: (f32, f32) = (6.0, 2.0);
 
-/// `cargo xtask run --link ardupilot --vehicle plane`'s options.
+/// `cargo xtask run --autopilot ardupilot --vehicle plane`'s options.
 #[derive(Debug, Clone)]
 pub struct Options {
     /// The `arduplane` SITL binary (default: `TWOCARS_ARDUPLANE`, then
@@ -67,82 +68,167 @@ pub struct Flown {
     pub evader_speeds: Vec<f64>,
 }
 
+/// ArduPlane SITL flying the pursuer, as the script asks: against the simulated evader, or
+/// against a second ArduPlane flown by the suite's evaders.
+struct Plane<'a> {
+    options: &'a Options,
+    binary: PathBuf,
+    /// The unit and SITL, running until dropped.
+    running: Option<(Unit, sitl::Sitl)>,
+    /// The evader's aircraft, starting beside the pursuer, then joined.
+    evader_start: Option<std::thread::JoinHandle<Result<plane_evader::EvaderPlane, String>>>,
+    evader: Option<plane_evader::EvaderPlane>,
+    aircraft: Option<aircraft::Flown>,
+    efficiency: f64,
+    /// Against the evader's aircraft: its mean ground speed over each chase, m/s.
+    evader_speeds: Vec<f64>,
+}
+
+impl Vehicle for Plane<'_> {
+    fn start(&mut self) -> Result<Harness, String> {
+        let o = self.options;
+        let (unit, sitl, router) = super::link::connect(
+            &self.binary,
+            Frame::Plane,
+            o.speedup,
+            o.companion,
+            o.key.as_ref(),
+        )?;
+        self.running = Some((unit, sitl));
+        self.evader_start = o.plane_evader.then(|| {
+            plane_evader::launch(
+                self.binary.clone(),
+                plane_evader::Spec {
+                    speedup: o.speedup,
+                    ..plane_evader::AGAINST_ARDUPLANE
+                },
+            )
+        });
+        let mut h = Harness::new(router, HOME, TARGET_SYSTEM);
+        h.pursuer = Pursuer::Aircraft;
+        h.chase_limit_s = CHASE_LIMIT_S;
+        println!(
+            "ArduPlane SITL at {}x the wall clock: {}",
+            o.speedup,
+            self.binary.display()
+        );
+        Ok(h)
+    }
+
+    fn ready(&mut self, h: &mut Harness) -> Result<String, String> {
+        let ready_s = aircraft::make_ready(h, aircraft::HEIGHT)?;
+        Ok(format!(
+            "taken off to {} m and in GUIDED after {ready_s:.1} s",
+            aircraft::HEIGHT
+        ))
+    }
+
+    fn measure(&mut self, h: &mut Harness) -> Result<Law, String> {
+        let m = aircraft::measure(h, MEASURED_BANK_DEG)?;
+        self.aircraft = Some(m);
+        println!(
+            "the plane under roll setpoints: {}",
+            m.line(MEASURED_BANK_DEG)
+        );
+        if let Some(starting) = self.evader_start.take() {
+            self.evader = Some(plane_evader::join(starting, h, &mut pump)?);
+        }
+        let limits = aircraft_limits(m.speed, m.curvature);
+        let limits = plane_evader::law_limits(limits, self.evader.as_ref())?;
+        let efficiency = (m.efficiency * 100.0).round() / 100.0;
+        self.efficiency = efficiency;
+        let period = (m.response * 100.0).round() / 100.0;
+        h.bank_turn = (limits[0] as f32, efficiency as f32);
+        Ok(Law {
+            limits,
+            period,
+            capture: CAPTURE_RADIUS,
+            unit_params: vec![("TC_VEHICLE", 3.0), ("TC_BANK_EFF", efficiency)],
+            note: format!(
+                "TC_VEHICLE 3, TC_BANK_EFF {efficiency}, TC_CAPTURE {CAPTURE_RADIUS} m, TC_PERIOD {period:.2} s (the roll response)"
+            ),
+        })
+    }
+
+    fn configure(&mut self, h: &mut Harness, _law: &Law) -> Result<(), String> {
+        match self.options.field {
+            true => configure_field(h, self.evader.as_mut(), Radio::AIRCRAFT),
+            false => Ok(()),
+        }
+    }
+
+    fn starts(&mut self, law: &Law) -> Vec<Start> {
+        match self.evader {
+            None => starts(law.limits, self.options.short),
+            Some(_) => plane_evader::starts(law.limits, self.options.short),
+        }
+    }
+
+    fn chase(
+        &mut self,
+        h: &mut Harness,
+        i: usize,
+        start: Start,
+        law: &Law,
+    ) -> Result<(Outcome, Vec<String>), String> {
+        let radio = self.options.field.then_some(Radio::AIRCRAFT);
+        let seed = 7 + i as u64;
+        let Some(evader) = &mut self.evader else {
+            let outcome = chase::fly(h, start, law.limits, CAPTURE_RADIUS, seed, radio)?;
+            let energy = energy_line(&outcome, law.limits);
+            return Ok((outcome, vec![energy]));
+        };
+        let pursuer = Banked {
+            limit_deg: MEASURED_BANK_DEG,
+            send: &mut |h, bank| h.router.send_to_autopilot(&aircraft::roll_setpoint(bank)),
+        };
+        plane_evader::fly_apart(h, evader, -start.ahead, pursuer)?;
+        let terms = Terms {
+            eps: CAPTURE_RADIUS,
+            seed,
+            field: radio,
+        };
+        let fixes = evader.harness.fixes.len();
+        let mut steer = PlaneSteer::of(evader);
+        let (outcome, [peak, mean]) =
+            evader::chase(h, &mut evader.harness, &mut steer, start, law.limits, terms)?;
+        self.evader_speeds.push(mean);
+        let notes = vec![
+            energy_line(&outcome, law.limits),
+            format!(
+                "the evader's aircraft: ground speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s); {}",
+                law.limits[2],
+                crab_line(&evader.harness.fixes[fixes..])
+            ),
+        ];
+        Ok((outcome, notes))
+    }
+}
+
 /// Runs the chases.
 pub fn fly(options: &Options) -> Result<Flown, String> {
     let binary = sitl::find(Frame::Plane, options.arduplane.as_deref()).ok_or(
         "ArduPlane SITL not found: give --arduplane PATH or set TWOCARS_ARDUPLANE \
          (docs/ardupilot.md says how to build it)",
     )?;
-    let (launched, _sitl, router) = super::link::connect(
-        &binary,
-        Frame::Plane,
-        options.speedup,
-        options.companion,
-        options.key.as_ref(),
-    )?;
-    let evader_start = options.plane_evader.then(|| {
-        plane_evader::launch(
-            binary.clone(),
-            plane_evader::Spec {
-                speedup: options.speedup,
-                ..plane_evader::AGAINST_ARDUPLANE
-            },
-        )
-    });
-    let mut h = Harness::new(router, HOME, TARGET_SYSTEM);
-    h.pursuer = Pursuer::Aircraft;
-    h.chase_limit_s = CHASE_LIMIT_S;
-    println!(
-        "ArduPlane SITL at {}x the wall clock: {}",
-        options.speedup,
-        binary.display()
-    );
-    let ready_s = aircraft::make_ready(&mut h, aircraft::HEIGHT)?;
-    println!(
-        "ready: taken off to {} m and in GUIDED after {ready_s:.1} s",
-        aircraft::HEIGHT
-    );
-    let m = aircraft::measure(&mut h, MEASURED_BANK_DEG)?;
-    println!(
-        "the plane under roll setpoints: {}",
-        m.line(MEASURED_BANK_DEG)
-    );
-    let mut evader = match evader_start {
-        Some(starting) => Some(plane_evader::join(starting, &mut h, &mut pump)?),
-        None => None,
+    let mut plane = Plane {
+        options,
+        binary,
+        running: None,
+        evader_start: None,
+        evader: None,
+        aircraft: None,
+        efficiency: 0.0,
+        evader_speeds: Vec::new(),
     };
-    let limits = plane_evader::law_limits(aircraft_limits(m.speed, m.curvature), evader.as_ref())?;
-    let efficiency = (m.efficiency * 100.0).round() / 100.0;
-    let period = (m.response * 100.0).round() / 100.0;
-    println!(
-        "the law: v_pm {} m/s, w_pm {} 1/m, v_em {} m/s, w_em {} 1/m; threshold {:.1} m; TC_VEHICLE 3, TC_BANK_EFF {efficiency}, TC_CAPTURE {CAPTURE_RADIUS} m, TC_PERIOD {period:.2} s (the roll response)",
-        limits[0],
-        limits[1],
-        limits[2],
-        limits[3],
-        theorem_threshold(limits),
-    );
-    set_unit_params(&mut h, &[("TC_VEHICLE", 3.0), ("TC_BANK_EFF", efficiency)])?;
-    configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;
-    h.bank_turn = (limits[0] as f32, efficiency as f32);
-    let radio = options.field.then_some(Radio::AIRCRAFT);
-    if let Some(radio) = radio {
-        configure_field(&mut h, evader.as_mut(), radio)?;
-    }
-    let (outcomes, evader_speeds) = match &mut evader {
-        None => (
-            fly_simulated(&mut h, limits, options.short, radio)?,
-            Vec::new(),
-        ),
-        Some(e) => fly_against_plane(&mut h, e, limits, options.short, radio)?,
-    };
-    drop(launched);
+    let (_h, law, outcomes) = script::fly(&mut plane)?;
+    plane.running = None;
     Ok(Flown {
         outcomes,
-        aircraft: m,
-        limits,
-        efficiency,
-        evader_speeds,
+        aircraft: plane.aircraft.ok_or("the plane was not measured")?,
+        limits: law.limits,
+        efficiency: plane.efficiency,
+        evader_speeds: plane.evader_speeds,
     })
 }
 
@@ -176,64 +262,6 @@ fn configure_field(
     Ok(())
 }
 
-/// The chases against the simulated evader.
-fn fly_simulated(
-    h: &mut Harness,
-    limits: [f64; 4],
-    short: bool,
-    radio: Option<Radio>,
-) -> Result<Vec<Outcome>, String> {
-    let mut outcomes = Vec::new();
-    for (i, start) in starts(limits, short).into_iter().enumerate() {
-        let outcome = chase::fly(h, start, limits, CAPTURE_RADIUS, 7 + i as u64, radio)?;
-        println!(
-            "{}\n  {}",
-            report(&outcome, limits),
-            energy_line(&outcome, limits)
-        );
-        outcomes.push(outcome);
-    }
-    Ok(outcomes)
-}
-
-/// The chases against the evader's aircraft, each after the two fly apart to its distance;
-/// the evader's mean ground speed over each beside them.
-fn fly_against_plane(
-    h: &mut Harness,
-    evader: &mut plane_evader::EvaderPlane,
-    limits: [f64; 4],
-    short: bool,
-    radio: Option<Radio>,
-) -> Result<(Vec<Outcome>, Vec<f64>), String> {
-    let mut steer = PlaneSteer::of(evader);
-    let (mut outcomes, mut speeds) = (Vec::new(), Vec::new());
-    for (i, start) in plane_evader::starts(limits, short).into_iter().enumerate() {
-        let pursuer = Banked {
-            limit_deg: MEASURED_BANK_DEG,
-            send: &mut |h, bank| h.router.send_to_autopilot(&aircraft::roll_setpoint(bank)),
-        };
-        plane_evader::fly_apart(h, evader, -start.ahead, pursuer)?;
-        let terms = Terms {
-            eps: CAPTURE_RADIUS,
-            seed: 7 + i as u64,
-            field: radio,
-        };
-        let fixes = evader.harness.fixes.len();
-        let (outcome, [peak, mean]) =
-            evader::chase(h, &mut evader.harness, &mut steer, start, limits, terms)?;
-        println!(
-            "{}\n  {}\n  the evader's aircraft: ground speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s); {}",
-            report(&outcome, limits),
-            energy_line(&outcome, limits),
-            limits[2],
-            crab_line(&evader.harness.fixes[fixes..])
-        );
-        outcomes.push(outcome);
-        speeds.push(mean);
-    }
-    Ok((outcomes, speeds))
-}
-
 /// How far the wind turns an aircraft's yaw, which the unit steers by, off its course over
 /// ground, over `fixes`: the mean and the largest, degrees.
 fn crab_line(fixes: &[crate::harness::autopilot::harness::RoverFix]) -> String {
@@ -251,12 +279,12 @@ fn crab_line(fixes: &[crate::harness::autopilot::harness::RoverFix]) -> String {
     format!("its yaw (the unit's heading) off its course over ground by {mean:.1} deg on average, {most:.1} at most")
 }
 
-/// `cargo xtask run --link ardupilot --vehicle plane`; the exit code.
+/// `cargo xtask run --autopilot ardupilot --vehicle plane`; the exit code.
 pub fn run(options: &Options) -> i32 {
     match fly(options) {
         Ok(flown) => i32::from(!flown.outcomes.iter().all(|o| o.captured.is_some())),
         Err(e) => {
-            eprintln!("xtask run --link ardupilot --vehicle plane: {e}");
+            eprintln!("xtask run --autopilot ardupilot --vehicle plane: {e}");
             1
         }
     }

@@ -1,4 +1,4 @@
-//! The evader a second ArduPlane SITL (`cargo xtask run --link ardupilot|px4 --vehicle plane
+//! The evader a second ArduPlane SITL (`cargo xtask run --autopilot ardupilot|px4 --vehicle plane
 //! --plane-evader`): instance 1, started with the pursuer [`EAST_M`] east of it, taken off to
 //! [`HEIGHT`] (above the pursuer: capture is judged in the horizontal plane, so the two pass
 //! over each other), slowed to its AIRSPEED_CRUISE and measured at its bank limit as the

@@ -1,4 +1,4 @@
-//! The evader a second ArduPilot Rover SITL (`cargo xtask run --link ardupilot --rover-evader`):
+//! The evader a second ArduPilot Rover SITL (`cargo xtask run --autopilot ardupilot --rover-evader`):
 //! for each chase an instance started where the start puts it, at rest, made ready as the
 //! pursuer is (GUIDED, armed, its position stream at 20 Hz), and driven by an evader of the
 //! adversary suite through its own GUIDED SET_ATTITUDE_TARGET on the ground station's link.

@@ -1,4 +1,4 @@
-//! The target's fixes as a radio brings them (`cargo xtask run --link ardupilot --field`):
+//! The target's fixes as a radio brings them (`cargo xtask run --autopilot ardupilot --field`):
 //! sampled every [`Radio::interval_s`], with GPS noise on position and heading, each put on the
 //! unit's link [`Radio::lag_s`] after it was taken, stamped with the time it was taken
 //! (docs/field.md). The velocity goes as the target's autopilot sent it.

@@ -1,4 +1,4 @@
-//! The harness both autopilots' chases run in (`cargo xtask run --link ardupilot|px4`): the
+//! The harness both autopilots' chases run in (`cargo xtask run --autopilot ardupilot|px4`): the
 //! MAVLink router between the autopilot's SITL, the unit and the host; what the harness reads of
 //! the link; one chase against a simulated evader, its fixes through the field; the unit as a
 //! QEMU image or the companion binary; and what both autopilots' runs share: the starts, the
@@ -12,6 +12,7 @@ pub mod field;
 pub mod harness;
 pub mod message;
 pub mod router;
+pub mod script;
 pub mod unit;
 
 use std::time::Duration;

@@ -1,4 +1,4 @@
-//! `cargo xtask run --link px4 --vehicle plane`: PX4 SITL's SIH airplane flies the pursuer in
+//! `cargo xtask run --autopilot px4 --vehicle plane`: PX4 SITL's SIH airplane flies the pursuer in
 //! OFFBOARD under the unit's attitude setpoints with its own energy hold (TC_VEHICLE 4): PX4's
 //! offboard attitude control takes the thrust as a throttle and holds neither airspeed nor
 //! height (docs/px4.md).
@@ -12,12 +12,10 @@ use crate::harness::autopilot::chase::{self, Outcome, Start};
 use crate::harness::autopilot::evader::{self, Terms};
 use crate::harness::autopilot::harness::{Harness, Pursuer};
 use crate::harness::autopilot::router::Router;
-use crate::harness::autopilot::{
-    aircraft_limits, configure_unit, energy_line, report, set_unit_params, starts, unit,
-    TARGET_SYSTEM,
-};
+use crate::harness::autopilot::script::{self, Law, Vehicle};
+use crate::harness::autopilot::unit::{self, Unit};
+use crate::harness::autopilot::{aircraft_limits, energy_line, starts, TARGET_SYSTEM};
 use twocars_sim::autopilot::HOME;
-use twocars_sim::sim::theorem_threshold;
 
 /// The SIH vehicle.
 const MODEL: &str = "sihsim_airplane";
@@ -27,7 +25,7 @@ pub const CAPTURE_RADIUS: f64 = 3.0;
 /// A chase's time limit, s.
 const CHASE_LIMIT_S: f64 = 300.0;
 
-/// `cargo xtask run --link px4 --vehicle plane`'s options.
+/// `cargo xtask run --autopilot px4 --vehicle plane`'s options.
 #[derive(Debug, Clone, Default)]
 pub struct Options {
     /// The `px4` binary (default: `../shared/px4/bin/px4`).
@@ -39,7 +37,7 @@ pub struct Options {
     /// The evader an ArduPlane SITL flown by the suite's evaders in place of the simulated
     /// one, at the wall clock's pace as PX4.
     pub plane_evader: bool,
-    /// The evader's `arduplane` binary (default: as `--link ardupilot` finds it).
+    /// The evader's `arduplane` binary (default: as `--autopilot ardupilot` finds it).
     pub arduplane: Option<PathBuf>,
 }
 
@@ -66,94 +64,149 @@ pub struct Flown {
     pub left_offboard: Vec<bool>,
 }
 
+/// PX4's SIH airplane flying the pursuer, as the script asks: against the simulated evader, or
+/// against an ArduPlane SITL flown by the suite's evaders.
+struct Airplane<'a> {
+    options: &'a Options,
+    binary: PathBuf,
+    /// The unit and PX4, running until dropped.
+    running: Option<(Unit, sitl::Px4)>,
+    /// The airspeed the unit's energy hold keeps, m/s.
+    airspeed: f32,
+    /// The evader's aircraft, starting beside the pursuer, then joined.
+    evader_start: Option<std::thread::JoinHandle<Result<plane_evader::EvaderPlane, String>>>,
+    evader: Option<plane_evader::EvaderPlane>,
+    /// The airplane held level between chases.
+    held: Held,
+    aircraft: Option<aircraft::Flown>,
+    efficiency: f64,
+    left_offboard: Vec<bool>,
+}
+
+impl Vehicle for Airplane<'_> {
+    fn start(&mut self) -> Result<Harness, String> {
+        let (launched, unit) = unit::start(self.options.companion, None)?;
+        let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
+        if self.options.plane_evader {
+            self.evader_start = Some(plane_evader::launch(arduplane(self.options)?, EVADER));
+        }
+        let (px4, link) = sitl::Px4::start(&self.binary, MODEL, 0, home)?;
+        let mut h = Harness::new(Router::new(link, unit)?, HOME, TARGET_SYSTEM);
+        self.running = Some((launched, px4));
+        h.stop_text = "ailsafe";
+        h.pursuer = Pursuer::Aircraft;
+        h.chase_limit_s = CHASE_LIMIT_S;
+        println!("PX4 SITL ({MODEL}): {}", self.binary.display());
+        Ok(h)
+    }
+
+    fn ready(&mut self, h: &mut Harness) -> Result<String, String> {
+        let ready_s = aircraft::make_ready(h)?;
+        Ok(format!(
+            "OFFBOARD, armed and climbed out after {ready_s:.1} s"
+        ))
+    }
+
+    fn measure(&mut self, h: &mut Harness) -> Result<Law, String> {
+        let airspeed = self.airspeed;
+        let m = aircraft::measure(h, &mut self.held)?;
+        self.aircraft = Some(m);
+        println!(
+            "the airplane under attitude setpoints, the energy hold at {airspeed} m/s: {:.2} m/s ground speed level; at {MEASURED_BANK_DEG} deg of bank curvature {:.4} 1/m (radius {:.1} m), {:.0} % of a coordinated turn's; roll response {:.2} s",
+            m.speed,
+            m.curvature,
+            1.0 / m.curvature,
+            100.0 * m.efficiency,
+            m.response
+        );
+        if let Some(starting) = self.evader_start.take() {
+            let held = &mut self.held;
+            let mut keep = |h: &mut Harness| aircraft::fly_level(h, held, 0.0, 0.2);
+            self.evader = Some(plane_evader::join(starting, h, &mut keep)?);
+        }
+        // TC_V_PM is also the airspeed the unit's energy hold keeps: the law's speed is the
+        // airspeed held (in still air the ground speed measured).
+        let limits = aircraft_limits(f64::from(airspeed), m.curvature);
+        let limits = plane_evader::law_limits(limits, self.evader.as_ref())?;
+        let efficiency = (m.efficiency * 100.0).round() / 100.0;
+        self.efficiency = efficiency;
+        let period = (m.response * 100.0).round() / 100.0;
+        h.bank_turn = (airspeed, efficiency as f32);
+        Ok(Law {
+            limits,
+            period,
+            capture: CAPTURE_RADIUS,
+            unit_params: vec![("TC_VEHICLE", 4.0), ("TC_BANK_EFF", efficiency)],
+            note: format!(
+                "TC_VEHICLE 4, TC_BANK_EFF {efficiency}, TC_CAPTURE {CAPTURE_RADIUS} m, TC_PERIOD {period:.2} s (the roll response)"
+            ),
+        })
+    }
+
+    fn starts(&mut self, law: &Law) -> Vec<Start> {
+        match self.evader {
+            None => starts(law.limits, self.options.short),
+            Some(_) => plane_evader::starts(law.limits, self.options.short),
+        }
+    }
+
+    fn chase(
+        &mut self,
+        h: &mut Harness,
+        i: usize,
+        start: Start,
+        law: &Law,
+    ) -> Result<(Outcome, Vec<String>), String> {
+        aircraft::reenter_offboard(h, &mut self.held)?;
+        aircraft::fly_level(h, &mut self.held, 0.0, 2.0)?;
+        let (texts, modes) = (h.texts.len(), h.modes.len());
+        let seed = 7 + i as u64;
+        let mut notes = Vec::new();
+        let outcome = match &mut self.evader {
+            None => chase::fly(h, start, law.limits, CAPTURE_RADIUS, seed, None)?,
+            Some(e) => {
+                let (outcome, line) = chase_plane(h, &mut self.held, e, start, law.limits, seed)?;
+                notes.push(line);
+                outcome
+            }
+        };
+        notes.insert(0, energy_line(&outcome, law.limits));
+        self.left_offboard
+            .push(super::vehicle::left_offboard(h, texts, modes, &outcome));
+        Ok((outcome, notes))
+    }
+}
+
 /// Runs the chases.
 pub fn fly(options: &Options) -> Result<Flown, String> {
     let binary = sitl::find(options.px4.as_deref()).ok_or(
         "PX4 SITL not found: give --px4 PATH (a px4_sitl_default build with SIH, its etc/ \
          beside bin/; docs/px4.md)",
     )?;
-    let (launched, unit) = unit::start(options.companion, None)?;
-    let home = (f64::from(HOME.0) * 1e-7, f64::from(HOME.1) * 1e-7);
     let airspeed = match options.plane_evader {
         true => AIRSPEED_VS_PLANE,
         false => AIRSPEED,
     };
-    let evader_start = match options.plane_evader {
-        true => Some(plane_evader::launch(arduplane(options)?, EVADER)),
-        false => None,
+    let mut airplane = Airplane {
+        options,
+        binary,
+        running: None,
+        airspeed,
+        evader_start: None,
+        evader: None,
+        held: Held::new(airspeed),
+        aircraft: None,
+        efficiency: 0.0,
+        left_offboard: Vec::new(),
     };
-    let (_px4, link) = sitl::Px4::start(&binary, MODEL, 0, home)?;
-    let mut h = Harness::new(Router::new(link, unit)?, HOME, TARGET_SYSTEM);
-    h.stop_text = "ailsafe";
-    h.pursuer = Pursuer::Aircraft;
-    h.chase_limit_s = CHASE_LIMIT_S;
-    println!("PX4 SITL ({MODEL}): {}", binary.display());
-    let ready_s = aircraft::make_ready(&mut h)?;
-    println!("ready: OFFBOARD, armed and climbed out after {ready_s:.1} s");
-    let mut held = Held::new(airspeed);
-    let m = aircraft::measure(&mut h, &mut held)?;
-    println!(
-        "the airplane under attitude setpoints, the energy hold at {airspeed} m/s: {:.2} m/s ground speed level; at {MEASURED_BANK_DEG} deg of bank curvature {:.4} 1/m (radius {:.1} m), {:.0} % of a coordinated turn's; roll response {:.2} s",
-        m.speed,
-        m.curvature,
-        1.0 / m.curvature,
-        100.0 * m.efficiency,
-        m.response
-    );
-    let mut evader = match evader_start {
-        None => None,
-        Some(starting) => {
-            let mut keep = |h: &mut Harness| aircraft::fly_level(h, &mut held, 0.0, 0.2);
-            Some(plane_evader::join(starting, &mut h, &mut keep)?)
-        }
-    };
-    // TC_V_PM is also the airspeed the unit's energy hold keeps: the law's speed is the
-    // airspeed held (in still air the ground speed measured).
-    let limits = aircraft_limits(f64::from(airspeed), m.curvature);
-    let limits = plane_evader::law_limits(limits, evader.as_ref())?;
-    let efficiency = (m.efficiency * 100.0).round() / 100.0;
-    let period = (m.response * 100.0).round() / 100.0;
-    println!(
-        "the law: v_pm {} m/s, w_pm {} 1/m, v_em {} m/s, w_em {} 1/m; threshold {:.1} m; TC_VEHICLE 4, TC_BANK_EFF {efficiency}, TC_CAPTURE {CAPTURE_RADIUS} m, TC_PERIOD {period:.2} s (the roll response)",
-        limits[0],
-        limits[1],
-        limits[2],
-        limits[3],
-        theorem_threshold(limits),
-    );
-    set_unit_params(&mut h, &[("TC_VEHICLE", 4.0), ("TC_BANK_EFF", efficiency)])?;
-    configure_unit(&mut h, limits, CAPTURE_RADIUS, period)?;
-    h.bank_turn = (airspeed, efficiency as f32);
-    let mut outcomes = Vec::new();
-    let mut left_offboard = Vec::new();
-    let starts = match evader {
-        None => starts(limits, options.short),
-        Some(_) => plane_evader::starts(limits, options.short),
-    };
-    for (i, start) in starts.into_iter().enumerate() {
-        aircraft::reenter_offboard(&mut h, &mut held)?;
-        aircraft::fly_level(&mut h, &mut held, 0.0, 2.0)?;
-        let (texts, modes) = (h.texts.len(), h.modes.len());
-        let seed = 7 + i as u64;
-        let outcome = match &mut evader {
-            None => chase::fly(&mut h, start, limits, CAPTURE_RADIUS, seed, None)?,
-            Some(e) => chase_plane(&mut h, &mut held, e, start, limits, seed)?,
-        };
-        println!(
-            "{}\n  {}",
-            report(&outcome, limits),
-            energy_line(&outcome, limits)
-        );
-        left_offboard.push(super::vehicle::left_offboard(&h, texts, modes, &outcome));
-        outcomes.push(outcome);
-    }
-    drop(launched);
+    let (_h, law, outcomes) = script::fly(&mut airplane)?;
+    airplane.running = None;
     Ok(Flown {
         outcomes,
-        aircraft: m,
-        limits,
-        efficiency,
-        left_offboard,
+        aircraft: airplane.aircraft.ok_or("the airplane was not measured")?,
+        limits: law.limits,
+        efficiency: airplane.efficiency,
+        left_offboard: airplane.left_offboard,
     })
 }
 
@@ -167,7 +220,8 @@ fn arduplane(options: &Options) -> Result<PathBuf, String> {
 }
 
 /// One chase against the evader's aircraft `evader`: the two flown apart to the start's
-/// distance (the pursuer under `held`), then `start.evader` flies it.
+/// distance (the pursuer under `held`), then `start.evader` flies it; the outcome and the
+/// evader's speeds.
 fn chase_plane(
     h: &mut Harness,
     held: &mut Held,
@@ -175,7 +229,7 @@ fn chase_plane(
     start: Start,
     limits: [f64; 4],
     seed: u64,
-) -> Result<Outcome, String> {
+) -> Result<(Outcome, String), String> {
     let pursuer = Banked {
         limit_deg: MEASURED_BANK_DEG,
         send: &mut |h, bank| {
@@ -192,14 +246,14 @@ fn chase_plane(
     };
     let (outcome, [peak, mean]) =
         evader::chase(h, &mut evader.harness, &mut steer, start, limits, terms)?;
-    println!(
+    let line = format!(
         "the evader's aircraft: ground speed peak {peak:.2} m/s, mean {mean:.2} m/s (v_em {} m/s)",
         limits[2]
     );
-    Ok(outcome)
+    Ok((outcome, line))
 }
 
-/// `cargo xtask run --link px4 --vehicle plane`; the exit code.
+/// `cargo xtask run --autopilot px4 --vehicle plane`; the exit code.
 pub fn run(options: &Options) -> i32 {
     match fly(options) {
         Ok(flown) => {
@@ -211,7 +265,7 @@ pub fn run(options: &Options) -> i32 {
             i32::from(!(captured && clean))
         }
         Err(e) => {
-            eprintln!("xtask run --link px4 --vehicle plane: {e}");
+            eprintln!("xtask run --autopilot px4 --vehicle plane: {e}");
             1
         }
     }
