@@ -56,6 +56,7 @@
 //! | [`status`] | the statuses every door reports, and the crate's [`Error`] | |
 //! | [`num`] | the number types the law is written over: f32, f64, [`Fixed`] (Q17.14), `Micro` | `micromath` for `Micro` |
 //! | [`law`] | the paper's law: turning circles, tangents, capture times, the matrix game | |
+//! | [`geodetic`] | GPS fixes (degE7) to metres on a local plane and back | |
 //! | [`estimate`] | states for now from late, sparse, noisy fixes: one track per vehicle | |
 //! | [`value_tables`] | the game's value below the theorem's threshold, read from tables in flash | `value-tables` to play them |
 //! | [`guidance`] | the decision each control period: the sampled command, the policies, the near field | |
@@ -66,14 +67,14 @@
 //! | `board` | the board shells: QEMU mps2-an386, STM32F405, micro:bit, RP2040 | `board-*` |
 //!
 //! Each module imports only those above it in this table (`cargo xtask imports` checks that
-//! there is no cycle). Other features: `defmt` (logs from the loop), `qemu-log` (the QEMU
-//! image's defmt logs over semihosting), `tables-in-flash` (an image that carries tables),
-//! `panic-never` (the link-time proof that an image has no panic path). Without features the
-//! crate is the law, the estimator, the guidance and the serial protocol, for any target.
+//! there is no cycle). Without features the crate is the law, the estimator, the guidance and
+//! the serial protocol, for any target; the features are below.
 //!
 //! `unsafe` is in two places: the board shells (registers) and, on Cortex-M cores with an FPU,
 //! the square root's one `vsqrt.f32` instruction (`num::f32_math`); everything else is safe
 //! code, `#![deny(unsafe_code)]`.
+//!
+#![doc = include_str!("../docs/features.md")]
 #![cfg_attr(not(test), no_std)]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
@@ -126,7 +127,7 @@ pub use law::geometry::{
     CirclePairs, Direction, Limits, Point, TurningCircle, Units, ValidTangent, VehicleLimits,
     VehicleState,
 };
-pub use law::{evaluate_observation, Command, Decision, Evaluation, GameReport, Law, Observation};
+pub use law::{Command, Decision, Evaluation, GameReport, Law};
 pub use num::fixed::Fixed;
 #[cfg(feature = "micromath")]
 pub use num::micro::Micro;

@@ -242,7 +242,7 @@ pub struct LoopEnd<'a> {
     to_send: Producer<'a, u8, TX_CAPACITY>,
     faults: &'a LineFaults,
     /// Bytes taken from the receive queue, fed to the unit as a slice (kept here: a local
-    /// array was zeroed on every pass).
+    /// array would be zeroed on every pass).
     chunk: [u8; CHUNK],
 }
 

@@ -16,12 +16,10 @@
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{exit, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::hprintln;
+use twocars::law::{evaluate_observation, Observation};
 use twocars::num::fixed::Fixed;
 use twocars::num::micro::Micro;
-use twocars::{
-    evaluate_observation, Direction, Evaluation, Guidance, Law, Limits, Observation, Scalar,
-    Status, Variant,
-};
+use twocars::{Direction, Evaluation, Guidance, Law, Limits, Scalar, Status, Variant};
 
 /// The paper's limits: v_pm, w_pm, v_em, w_em (m/s, 1/m).
 const PAPER: [f32; 4] = [2.0, 2.0, 1.0, 1.0];

@@ -7,7 +7,8 @@
 
 use libfuzzer_sys::fuzz_target;
 use twocars::num::fixed::Fixed;
-use twocars::{evaluate_observation, Guidance, Law, Observation, Policy, Scalar, Status, Variant};
+use twocars::{Guidance, Law, Policy, Scalar, Status, Variant};
+use twocars::law::{evaluate_observation, Observation};
 
 /// Checks one backend; `slack` is the relative tolerance of |w| <= w_max after unit conversion.
 fn check<S: Scalar>(observation: &Observation, period: f32, slack: f64) {

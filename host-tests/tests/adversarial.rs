@@ -3,7 +3,8 @@
 
 use std::f32::consts::{PI, TAU};
 
-use twocars::{evaluate_observation, Evaluation, Guidance, Law, Observation, Status, Variant};
+use twocars::law::{evaluate_observation, Observation};
+use twocars::{Evaluation, Guidance, Law, Status, Variant};
 
 const PAPER: [f32; 4] = [2.0, 2.0, 1.0, 1.0];
 

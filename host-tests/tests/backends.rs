@@ -27,7 +27,7 @@ struct Errors {
 
 /// The game on backend `S`, with the units its values are in; `None` unless the status is `ok`.
 fn solve<S: Scalar>(s: &Scene) -> Option<(twocars::GameReport<S>, Units)> {
-    let ev = twocars::evaluate_observation::<S>(&s.observation(), twocars::Variant::Paper);
+    let ev = twocars::law::evaluate_observation::<S>(&s.observation(), twocars::Variant::Paper);
     (ev.status == Status::Ok).then_some(())?;
     Some((ev.report?, ev.units))
 }

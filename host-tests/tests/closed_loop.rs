@@ -20,7 +20,7 @@ const MAX_SIGN_FLIPS: u64 = 9;
 
 /// Run parameters with time for the predicted capture and a margin.
 fn params(s: &Scene, dt: f64) -> SimParams {
-    let predicted = twocars::evaluate_observation::<f32>(&s.observation(), Variant::Paper)
+    let predicted = twocars::law::evaluate_observation::<f32>(&s.observation(), Variant::Paper)
         .report
         .and_then(|r| r.solution.upper)
         .map_or(100.0, f64::from);

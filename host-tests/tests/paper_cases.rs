@@ -3,7 +3,8 @@
 
 mod common;
 
-use twocars::{evaluate_observation, Direction, Evaluation, Observation, Scalar, Status, Variant};
+use twocars::law::{evaluate_observation, Observation};
+use twocars::{Direction, Evaluation, Scalar, Status, Variant};
 use twocars_sim::reference;
 use twocars_sim::scenarios::{paper_cases, Case, PAPER_LIMITS};
 

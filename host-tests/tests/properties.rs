@@ -476,13 +476,14 @@ fn captured_only_within_the_capture_radius<S: Scalar>() {
                 f64::from(evader[1]) - f64::from(pursuer[1]),
             );
             let apart = dx.hypot(dy) / r_p;
-            let observation = twocars::Observation {
+            let observation = twocars::law::Observation {
                 limits: [2.0, 2.0, 1.0, 1.0],
                 pursuer,
                 evader,
             };
             let status =
-                twocars::evaluate_observation::<S>(&observation, twocars::Variant::Paper).status;
+                twocars::law::evaluate_observation::<S>(&observation, twocars::Variant::Paper)
+                    .status;
             let unresolved = S::NORMALISED && dx.abs().max(dy.abs()) / r_p < 1.0 / 32_768.0;
             match status {
                 Status::Captured => {

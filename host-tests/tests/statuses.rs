@@ -1,6 +1,7 @@
 //! Every status of the contract, reached from a concrete input, with its safe command.
 
-use twocars::{evaluate_observation, Evaluation, Observation, Status, Variant};
+use twocars::law::{evaluate_observation, Observation};
+use twocars::{Evaluation, Status, Variant};
 
 const PI: f32 = core::f32::consts::PI;
 

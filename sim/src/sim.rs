@@ -6,8 +6,9 @@
 use crate::adversary::{Adversary, Opponent};
 pub use crate::kinematics::{advance, angle_error, distance, wrap_pi};
 use twocars::law::geometry::Units;
+use twocars::law::Observation;
 use twocars::law::Scene;
-use twocars::{Direction, Guidance, Law, Observation, Policy, Scalar, Status, Variant};
+use twocars::{Direction, Guidance, Law, Policy, Scalar, Status, Variant};
 
 /// Number of sub-samples per step used to find the capture instant and the minimum distance.
 const SUBSAMPLES: usize = 16;
@@ -412,7 +413,7 @@ fn predict<S: Scalar>(
         pursuer: params.pursuer.map(|v| v as f32),
         evader: params.evader.map(|v| v as f32),
     };
-    let initial = twocars::evaluate_observation::<S>(&observation, variant);
+    let initial = twocars::law::evaluate_observation::<S>(&observation, variant);
     let units = initial.units;
     let (predicted, predicted_lower) = initial.report.map_or((f64::INFINITY, f64::INFINITY), |r| {
         let s = r.solution;

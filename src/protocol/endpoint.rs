@@ -126,8 +126,8 @@ struct Configured<S> {
 pub struct Endpoint<S = f32> {
     deframer: Deframer<MAX_FRAME>,
     session: Session<S>,
-    /// Written in place and lent to the caller: a reply by value was copied (76 bytes) at each
-    /// of its moves.
+    /// Written in place and lent to the caller: a reply by value would be copied (76 bytes) at
+    /// each of its moves.
     reply: Reply,
 }
 
@@ -572,8 +572,8 @@ fn sender_us(ms: u32) -> u32 {
 }
 
 /// `guidance`'s decision on both states as the estimator of `tracks` carries them (`None`: the
-/// target's track is stale). Out of line: the exact-state path keeps its stack frame as small
-/// as it was without an estimator.
+/// target's track is stale). Out of line: the exact-state path's stack frame holds nothing of
+/// the estimator.
 #[inline(never)]
 fn decide_on_estimates<S: Scalar>(
     guidance: &mut Guidance<S>,

@@ -68,8 +68,8 @@ pub fn paper_scene(extent: f64) -> impl Strategy<Value = Scene> {
 }
 
 impl Scene {
-    pub fn observation(&self) -> twocars::Observation {
-        twocars::Observation {
+    pub fn observation(&self) -> twocars::law::Observation {
+        twocars::law::Observation {
             limits: self.limits.map(|v| v as f32),
             pursuer: self.pursuer.map(|v| v as f32),
             evader: self.evader.map(|v| v as f32),

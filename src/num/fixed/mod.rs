@@ -533,8 +533,9 @@ impl Scalar for Fixed {
             _ => (-c, s),
         }
     }
-    // Inlined into the bearing (M0 2,901 -> 2,866 per evaluation, +152 B, when the law's pair
-    // called it too; the pair now reaches `angle_of` through `tangent_heading`).
+    // Inlined into the bearing (35 fewer M0 instructions per evaluation for 152 B, measured
+    // where the law's pair called it too; the pair reaches `angle_of` through
+    // `tangent_heading`).
     #[inline(always)]
     fn atan2(y: Self, x: Self) -> Self {
         if y.is_invalid() || x.is_invalid() {

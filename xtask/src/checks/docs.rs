@@ -1,6 +1,7 @@
 //! The docs step of `cargo xtask test`: the crate's rustdoc without a warning with the default
 //! features and with docs.rs's (Cargo.toml's `package.metadata.docs.rs`, `--cfg docsrs`), no
-//! item of the core hidden from it, and the count of its public items in each.
+//! item of the core hidden from it, README's feature table the one the crate's front page
+//! includes (docs/features.md), and the count of its public items in each.
 
 use std::path::Path;
 use std::process::Command;
@@ -52,6 +53,28 @@ fn hidden(dir: &Path) -> Vec<String> {
     found
 }
 
+/// The lines of `text`'s table under the heading `## Features`.
+fn features_table(text: &str) -> Vec<&str> {
+    text.lines()
+        .skip_while(|line| *line != "## Features")
+        .skip(1)
+        .take_while(|line| !line.starts_with("## "))
+        .filter(|line| line.starts_with('|'))
+        .collect()
+}
+
+/// Whether README's feature table is the one the crate's docs include (docs/features.md).
+fn features_agree() -> Result<(), String> {
+    let read =
+        |name: &str| std::fs::read_to_string(root().join(name)).map_err(|e| format!("{name}: {e}"));
+    let (readme, docs) = (read("README.md")?, read("docs/features.md")?);
+    let (ours, theirs) = (features_table(&readme), features_table(&docs));
+    match !ours.is_empty() && ours == theirs {
+        true => Ok(()),
+        false => Err("README.md's feature table differs from docs/features.md's".to_string()),
+    }
+}
+
 /// `cargo doc` of the core with `features` (none: the defaults), warnings denied; its public
 /// items.
 fn document(cargo: &str, features: Option<&str>) -> Result<usize, String> {
@@ -89,6 +112,10 @@ pub fn core(cargo: &str) -> bool {
             return false;
         }
     };
+    if let Err(e) = features_agree() {
+        eprintln!("== xtask test: {e}");
+        return false;
+    }
     let counted = document(cargo, None)
         .and_then(|default| document(cargo, Some(&features)).map(|all| (default, all)));
     match counted {
@@ -103,5 +130,17 @@ pub fn core(cargo: &str) -> bool {
             eprintln!("== xtask test: docs: {e}");
             false
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::features_table;
+
+    #[test]
+    fn the_feature_table_is_the_rows_under_its_heading() {
+        let text = "# A\n| not |\n## Features\n\nintro\n| f | g |\n|---|---|\n## Next\n| x |\n";
+        assert_eq!(features_table(text), ["| f | g |", "|---|---|"]);
+        assert!(features_table("| f |\n").is_empty());
     }
 }

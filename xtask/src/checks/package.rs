@@ -9,11 +9,15 @@ use std::process::{Command, Stdio};
 use crate::util::workspace::root;
 
 /// What a README command must print, besides exiting with 0: (the command's start, the text).
-const EXPECTED: [(&str, &str); 6] = [
+const EXPECTED: [(&str, &str); 7] = [
     ("cargo run --example paper_case_1", "value: 5.6575 s"),
     ("cargo run --example closed_loop", "captured at 5.6"),
     ("cargo run --example field_chase", "captured within 0.3 m"),
     ("cargo run --example mavlink_stream", "\"TC: captured\""),
+    (
+        "cargo run --example table_policy",
+        "the tables: captured within 0.5 m",
+    ),
     ("cargo run --release --example cortex_m", "captured at 5.6"),
     ("cargo xtask run", "firmware exited with code 0"),
 ];
@@ -153,11 +157,12 @@ pub fn check_rust_version() -> (u64, u64) {
 
 /// The examples as a user builds them from the published crate: (name, features, target; none
 /// for the host).
-const EXAMPLES: [(&str, &str, Option<&str>); 7] = [
+const EXAMPLES: [(&str, &str, Option<&str>); 8] = [
     ("paper_case_1", "", None),
     ("closed_loop", "", None),
     ("field_chase", "", None),
     ("mavlink_stream", "mavlink", None),
+    ("table_policy", "value-tables", None),
     ("cortex_m4f", "board-qemu", Some("thumbv7em-none-eabihf")),
     ("cortex_m0", "board-microbit", Some("thumbv6m-none-eabi")),
     (

@@ -2,7 +2,8 @@
 
 use crate::commands::csv::{narrow, number, optional, parse_fields, run_door};
 use crate::harness::host::{with_numeric, Options};
-use twocars::{evaluate_observation, Evaluation, Observation, Scalar, Status};
+use twocars::law::{evaluate_observation, Observation};
+use twocars::{Evaluation, Scalar, Status};
 
 /// Input header of `eval`.
 pub const INPUT_HEADER: &str = "v_pm,w_pm,v_em,w_em,x_p,y_p,theta_p,x_e,y_e,theta_e";

@@ -121,8 +121,8 @@ pub fn monte_carlo(
     states
         .into_par_iter()
         .map(|(params, regime, seed)| {
-            let predicted = twocars::evaluate_observation::<f32>(
-                &twocars::Observation {
+            let predicted = twocars::law::evaluate_observation::<f32>(
+                &twocars::law::Observation {
                     limits: params.limits.map(|v| v as f32),
                     pursuer: params.pursuer.map(|v| v as f32),
                     evader: params.evader.map(|v| v as f32),

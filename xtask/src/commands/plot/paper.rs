@@ -1,7 +1,8 @@
 //! The paper's law as the figures read it: states, observations and the law's report at the
 //! paper's limits.
 
-use twocars::{Observation, Variant, VehicleState};
+use twocars::law::Observation;
+use twocars::{Variant, VehicleState};
 use twocars_sim::scenarios::PAPER_LIMITS;
 
 pub(crate) fn state(s: [f64; 3]) -> VehicleState<f64> {
@@ -26,7 +27,7 @@ pub(crate) fn paper_report(
     pursuer: [f64; 3],
     evader: [f64; 3],
 ) -> Option<twocars::GameReport<f64>> {
-    twocars::evaluate_observation::<f64>(
+    twocars::law::evaluate_observation::<f64>(
         &observation(PAPER_LIMITS, pursuer, evader),
         Variant::Paper,
     )

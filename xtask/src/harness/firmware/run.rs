@@ -4,8 +4,9 @@
 //! the law's matrix at t = 0, the capture time in closed loop with the firmware, the host-only
 //! simulation of the same case, frames and counters.
 
+use twocars::law::{evaluate_observation, Observation};
 use twocars::value_tables::ValueTables;
-use twocars::{evaluate_observation, Observation, Policy, Scalar};
+use twocars::{Policy, Scalar};
 use twocars_sim::scenarios::Case;
 use twocars_sim::scenarios::EPS;
 use twocars_sim::sim::{SimParams, SimResult, SimStatus};
