@@ -13,7 +13,7 @@ use crate::util::workspace::root;
 /// The fuzz targets.
 pub const TARGETS: [&str; 7] = [
     "frame_decoder",
-    "unit_step",
+    "serial_endpoint",
     "law",
     "conversion",
     "mavlink_input",
@@ -118,9 +118,13 @@ fn seeds(target: &str) -> Vec<Vec<u8>> {
     use twocars_sim::session::{paper_configure, paper_state, script};
     let mut out = Vec::new();
     match target {
-        "frame_decoder" | "unit_step" => {
-            // unit_step reads its first byte as "configure first" when odd.
-            let prefix: &[u8] = if target == "unit_step" { &[1] } else { &[] };
+        "frame_decoder" | "serial_endpoint" => {
+            // serial_endpoint reads its first byte as "configure first" when odd.
+            let prefix: &[u8] = if target == "serial_endpoint" {
+                &[1]
+            } else {
+                &[]
+            };
             for step in script() {
                 out.push([prefix, &step.bytes].concat());
             }
