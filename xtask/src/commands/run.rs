@@ -66,9 +66,8 @@ pub struct RunArgs {
     /// docs/px4.md).
     #[arg(long, value_enum, conflicts_with = "link")]
     autopilot: Option<RunAutopilot>,
-    /// With `--board qemu` or `stm32f405`: the image with the value tables in flash (QEMU's
-    /// plays them: the policy defaults to the tables', Configure's policy byte 2, and the host
-    /// simulation plays the same tables).
+    /// With `--board qemu`: the image with the value tables in flash; the policy defaults to
+    /// the tables' (Configure's policy byte 2), and the host simulation plays the same tables.
     #[arg(long)]
     tables: bool,
     /// With `--link mavlink` or `--autopilot ardupilot`: build the MAVLink image with this signing key (a
