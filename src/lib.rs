@@ -60,6 +60,7 @@
 //! | [`estimate`] | states for now from late, sparse, noisy fixes: one track per vehicle | |
 //! | [`value_tables`] | the game's value below the theorem's threshold, read from tables in flash | `value-tables` to play them |
 //! | [`guidance`] | the decision each control period: the sampled command, the policies, the near field | |
+//! | [`team`] | several pursuers against one evader: each on its own guidance, a chaser named with hysteresis | |
 //! | [`protocol`] | the serial protocol: COBS frames, messages, the guidance unit that answers them | |
 //! | `serial` | the firmware's interrupt-driven UART path over `heapless` queues | `firmware` |
 //! | `polled` | the unit over any embedded-hal serial port, polled | `polled` |
@@ -107,6 +108,7 @@ pub mod protocol;
 #[cfg(feature = "firmware")]
 pub mod serial;
 pub mod status;
+pub mod team;
 pub mod value_tables;
 
 pub use error::Error;
@@ -120,6 +122,11 @@ pub struct ReadmeDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/field.md")]
 pub struct FieldDoctests;
+
+/// docs/team.md's Rust block, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/team.md")]
+pub struct TeamDoctests;
 pub use guidance::{Guidance, Policy};
 pub use law::capture::{CaptureTime, Variant};
 pub use law::game::{GameSolution, MatrixGame};

@@ -21,4 +21,5 @@ pub mod session;
 pub mod sim;
 pub mod starts;
 pub mod stats;
+pub mod team;
 pub mod uart_model;

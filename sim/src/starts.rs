@@ -5,6 +5,25 @@ use std::f64::consts::PI;
 use crate::rng::Rng;
 use crate::sim::SimParams;
 
+/// Where the limits of a run come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitSet {
+    /// Seeded random limits (Assumption 1: v_pm > v_em, w_pm > w_em).
+    Random,
+    /// The paper's 2, 2, 1, 1.
+    Paper,
+}
+
+impl LimitSet {
+    /// The reports' name of the set.
+    pub fn name(self) -> &'static str {
+        match self {
+            LimitSet::Random => "random",
+            LimitSet::Paper => "paper",
+        }
+    }
+}
+
 /// Random limits under Assumption 1 (m/s, 1/m), drawn in this order: v_em in [0.5, 3], v_pm
 /// 1.1 to 3 times it, w_em in [0.2, 2], w_pm 1.1 to 4 times it.
 pub fn random_limits(rng: &mut Rng) -> [f64; 4] {

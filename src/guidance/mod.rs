@@ -247,6 +247,13 @@ impl<S: Scalar> Guidance<S> {
         ]
     }
 
+    /// The control period, s.
+    pub fn period(&self) -> f32 {
+        let units = self.law.limits.units;
+        self.dt
+            .to_f32_scaled(units.metres / units.metres_per_second)
+    }
+
     /// Forgets the previous choice (a new engagement).
     pub fn reset(&mut self) {
         self.sampling.previous = None;

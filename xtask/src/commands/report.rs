@@ -14,7 +14,7 @@ use twocars_sim::rng::Rng;
 use twocars_sim::scenarios::EPS;
 use twocars_sim::scenarios::PAPER_LIMITS;
 use twocars_sim::sim::{simulate_against, theorem_threshold, SimParams, SimResult, SimStatus};
-use twocars_sim::starts::{random_limits, random_start};
+use twocars_sim::starts::{random_limits, random_start, LimitSet};
 use twocars_sim::stats::quantile_f64;
 
 use crate::util::progress::Progress;
@@ -29,24 +29,6 @@ pub enum Regime {
     Far,
     /// d0 below it.
     Near,
-}
-
-/// Where the limits of a run come from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LimitSet {
-    /// Seeded random limits (Assumption 1: v_pm > v_em, w_pm > w_em).
-    Random,
-    /// The paper's 2, 2, 1, 1.
-    Paper,
-}
-
-impl LimitSet {
-    fn name(self) -> &'static str {
-        match self {
-            LimitSet::Random => "random",
-            LimitSet::Paper => "paper",
-        }
-    }
 }
 
 /// One seeded initial state: random limits (or the paper's), half the runs within the
@@ -360,6 +342,15 @@ pub struct ReportArgs {
     /// With `--field`: only the cells with a fix every period, or 5 per full turn.
     #[arg(long, value_enum, default_value = "all")]
     fixes: FixesArg,
+    /// Instead: this many pursuers (2, 3, 4 or 8) against one evader, the team beside each
+    /// pursuer alone and beside all flying their 1-on-1 flight policies without roles
+    /// (docs/team.md).
+    #[arg(long, conflicts_with = "field")]
+    team: Option<usize>,
+    /// With `--team`: the noise on each position the team's roles are named from, standard
+    /// deviation in the pursuers' least turning radius r_p.
+    #[arg(long, default_value_t = 0.1, requires = "team")]
+    role_noise: f64,
 }
 
 /// The field's cells by their fixes.
@@ -435,6 +426,16 @@ pub fn command(args: &ReportArgs) -> i32 {
             return 2;
         }
     };
+    if let Some(n) = args.team {
+        return super::team::command(&super::team::TeamReport {
+            n,
+            runs: o.runs,
+            seed: o.seed,
+            dt: o.dt,
+            sigma_rp: args.role_noise,
+            sets: &o.limits,
+        });
+    }
     let started = std::time::Instant::now();
     println!(
         "# Closed-loop Monte Carlo: {} seeded states per table row pair (seed {}), dt = {} s, eps = {EPS} m\n",

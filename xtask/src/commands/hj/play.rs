@@ -27,7 +27,8 @@ use twocars_sim::sim::{
 use twocars_sim::stats::quantile_f64;
 
 use crate::commands::hj::reference::{capture_radius, table_value, DT};
-use crate::commands::report::{random_state, LimitSet, Regime};
+use crate::commands::report::{random_state, Regime};
+use twocars_sim::starts::LimitSet;
 
 /// One start, played by both pursuers.
 struct Play {

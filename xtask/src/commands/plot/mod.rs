@@ -311,7 +311,7 @@ pub fn command(args: &PlotArgs) -> i32 {
             600,
             2019,
             0.01,
-            crate::commands::report::LimitSet::Random,
+            twocars_sim::starts::LimitSet::Random,
             None,
             Some(&progress),
         );
@@ -325,7 +325,7 @@ pub fn command(args: &PlotArgs) -> i32 {
                 300,
                 2019,
                 0.01,
-                crate::commands::report::LimitSet::Random,
+                twocars_sim::starts::LimitSet::Random,
                 opponent,
                 Some(&progress),
             );

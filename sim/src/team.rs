@@ -1,0 +1,270 @@
+//! The team's chase on the host: `N` pursuers, each with its own limits, against one evader,
+//! all moved exactly (Dubins arcs) for a control period at a time. The pursuers fly as a team
+//! (`twocars::team::Team`, the roles named on states with position noise), as `N` independent
+//! 1-on-1 flight policies, or one of them alone; the evader goes straight, plays the law
+//! against the pursuer it thinks will capture, or knows the team.
+
+use crate::kinematics::{advance, distance};
+use crate::rng::Rng;
+use twocars::team::{time_to_go, Team};
+use twocars::{Guidance, Law, Limits, Policy, Variant};
+
+/// How the pursuers fly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TeamPursuit {
+    /// The team: roles on the time to go, each pursuer on its own flight policy.
+    Team,
+    /// Each on its own 1-on-1 flight policy, without roles.
+    Independent,
+    /// This pursuer alone, on its flight policy (the others take no part).
+    Alone(usize),
+}
+
+/// How the evader flies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TeamEvader {
+    /// Of {-w_em, 0, +w_em} for one period, the turn whose least time to go over the pursuers
+    /// afterwards is longest (`twocars::team::time_to_go`). Against one pursuer it flees its
+    /// collision course. The law's game value would not do: below the theorem's threshold an
+    /// evader that ascends it can run head-on into the pursuer (docs/team.md).
+    TeamAware,
+    /// The paper's law against the pursuer with the least game value (it does not see the
+    /// team's roles).
+    Law,
+    /// Straight ahead.
+    Straight,
+}
+
+impl TeamEvader {
+    /// Every evader, with the report's names.
+    pub const ALL: [(TeamEvader, &'static str); 3] = [
+        (TeamEvader::TeamAware, "team-aware"),
+        (TeamEvader::Law, "law"),
+        (TeamEvader::Straight, "straight"),
+    ];
+}
+
+/// A start: each pursuer's limits (v_pm, w_pm, v_em, w_em; m/s, 1/m: the evader's as each
+/// pursuer's guidance assumes them, the same evader in all) and state, and the evader's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TeamStart<const N: usize> {
+    pub limits: [[f64; 4]; N],
+    pub pursuers: [[f64; 3]; N],
+    pub evader: [f64; 3],
+}
+
+/// How a chase runs: period and length (s), capture radius (m), and the standard deviation
+/// of the noise on each position the team's roles are named from (m; the seed of its draws).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TeamParams {
+    pub dt: f64,
+    pub t_max: f64,
+    pub eps: f64,
+    pub sigma: f64,
+    pub seed: u64,
+}
+
+/// What a chase gave.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TeamRun<const N: usize> {
+    /// Time of capture (any pursuer that takes part within `eps`), s; `None` within `t_max`.
+    pub captured: Option<f64>,
+    /// The team's predicted capture time at the start, s.
+    pub predicted: Option<f64>,
+    /// How often each pursuer's role changed.
+    pub swaps: [u32; N],
+}
+
+/// Each pursuer's flight-policy guidance at period `dt`, told the capture radius `eps`.
+fn guidance<const N: usize>(
+    limits: &[[f64; 4]; N],
+    dt: f64,
+    eps: f64,
+) -> Option<[Guidance<f32>; N]> {
+    let mut out = Vec::with_capacity(N);
+    for l in limits {
+        let limits = Limits::<f32>::new(l[0] as f32, l[1] as f32, l[2] as f32, l[3] as f32).ok()?;
+        let g = Guidance::new(Law::new(limits, Variant::Paper), dt as f32, Policy::Flight).ok()?;
+        out.push(g.with_capture_radius(eps as f32).ok()?);
+    }
+    out.try_into().ok()
+}
+
+fn narrow<const K: usize>(s: [f64; K]) -> [f32; K] {
+    s.map(|v| v as f32)
+}
+
+/// The least game value over the pursuers at `start`, s: what the team predicts.
+pub fn predicted<const N: usize>(start: &TeamStart<N>) -> Option<f64> {
+    let mut least: Option<f64> = None;
+    for (limits, pursuer) in start.limits.iter().zip(&start.pursuers) {
+        let [v_pm, w_pm, v_em, w_em] = narrow(*limits);
+        let law = Law::new(
+            Limits::<f32>::new(v_pm, w_pm, v_em, w_em).ok()?,
+            Variant::Paper,
+        );
+        let Ok((p, e)) = law.limits.states(narrow(*pursuer), narrow(start.evader)) else {
+            continue;
+        };
+        if let Some(upper) = law.evaluate(&p, &e).report.and_then(|r| r.solution.upper) {
+            least = Some(least.map_or(f64::from(upper), |l| l.min(f64::from(upper))));
+        }
+    }
+    least
+}
+
+/// The team-aware evader's turn: of {0, +w_em, -w_em}, the one whose least time to go over
+/// the `active` pursuers, after each has flown `curvatures` for `dt`, is longest.
+fn team_aware<const N: usize>(
+    start: &TeamStart<N>,
+    pursuers: &[[f64; 3]; N],
+    evader: [f64; 3],
+    (curvatures, active): (&[f64; N], &[bool; N]),
+    (dt, eps): (f64, f64),
+) -> f64 {
+    let [_, _, v_em, w_em] = start.limits[0];
+    let moved: [[f64; 3]; N] =
+        core::array::from_fn(|i| advance(pursuers[i], start.limits[i][0], curvatures[i], dt));
+    let score = |w: f64| {
+        let e = advance(evader, v_em, w, dt);
+        let mut least = f64::INFINITY;
+        for i in (0..N).filter(|&i| active[i]) {
+            if distance(moved[i], e) <= eps {
+                return f64::NEG_INFINITY;
+            }
+            let t = time_to_go(narrow(moved[i]), narrow(e), narrow(start.limits[i]));
+            least = least.min(t.map_or(f64::INFINITY, f64::from));
+        }
+        least
+    };
+    [0.0, w_em, -w_em]
+        .into_iter()
+        .map(|w| (w, score(w)))
+        .fold(
+            (0.0, f64::NEG_INFINITY),
+            |b, c| if c.1 > b.1 { c } else { b },
+        )
+        .0
+}
+
+/// One period's commands of the pursuers (curvature, 1/m; 0 for those not taking part), the
+/// law's evader's turn against the one it thinks captures, and the team's predicted time.
+struct Period<const N: usize> {
+    curvatures: [f64; N],
+    law_evader: f64,
+    predicted: Option<f32>,
+}
+
+/// The independent (or lone) pursuers' period: each on its own guidance.
+fn independent<const N: usize>(
+    own: &mut [Guidance<f32>; N],
+    active: &[bool; N],
+    pursuers: &[[f64; 3]; N],
+    evader: [f64; 3],
+) -> Period<N> {
+    let mut out = Period {
+        curvatures: [0.0; N],
+        law_evader: 0.0,
+        predicted: None,
+    };
+    for i in (0..N).filter(|&i| active[i]) {
+        let limits = own[i].law().limits;
+        let Ok((p, e)) = limits.states(narrow(pursuers[i]), narrow(evader)) else {
+            continue;
+        };
+        let d = own[i].decide(&p, &e);
+        let [w_p, w_e] = d.curvatures();
+        out.curvatures[i] = f64::from(w_p);
+        if let Some(time) = d.value_seconds() {
+            if out.predicted.is_none_or(|b| time < b) {
+                out.predicted = Some(time);
+                out.law_evader = f64::from(w_e);
+            }
+        }
+    }
+    out
+}
+
+/// Chases from `start` with `params`; captured within `eps` of any pursuer that takes part.
+/// `None` where a pursuer's limits are invalid.
+pub fn chase<const N: usize>(
+    start: &TeamStart<N>,
+    pursuit: TeamPursuit,
+    evader_kind: TeamEvader,
+    params: TeamParams,
+) -> Option<TeamRun<N>> {
+    let TeamParams { dt, eps, .. } = params;
+    let mut own = guidance(&start.limits, dt, eps)?;
+    let mut team = Team::new(own, start.limits.map(narrow)).ok()?;
+    let active: [bool; N] = core::array::from_fn(|i| match pursuit {
+        TeamPursuit::Alone(k) => i == k,
+        _ => true,
+    });
+    let mut noise = Rng::new(params.seed);
+    let (mut pursuers, mut evader) = (start.pursuers, start.evader);
+    let mut chaser = None;
+    let mut run = TeamRun {
+        captured: None,
+        predicted: None,
+        swaps: [0; N],
+    };
+    let v_em = start.limits[0][2];
+    for k in 0..=(params.t_max / dt).ceil() as u64 {
+        if (0..N).any(|i| active[i] && distance(pursuers[i], evader) <= eps) {
+            run.captured = Some(k as f64 * dt);
+            break;
+        }
+        let period =
+            match pursuit {
+                TeamPursuit::Team => {
+                    let mut seen = |s: [f64; 3]| {
+                        let (dx, dy) =
+                            (params.sigma * noise.normal(), params.sigma * noise.normal());
+                        narrow([s[0] + dx, s[1] + dy, s[2]])
+                    };
+                    let d = team.decide(&pursuers.map(&mut seen), seen(evader));
+                    if k > 0 && d.chaser != chaser {
+                        for i in [chaser, d.chaser].into_iter().flatten() {
+                            run.swaps[i] += 1;
+                        }
+                    }
+                    chaser = d.chaser;
+                    // The law's evader against the least game value, as without roles.
+                    let least = d.decisions.iter().flatten().fold(
+                        None,
+                        |best: Option<(f32, f32)>, d| match (d.value_seconds(), best) {
+                            (Some(t), Some((b, _))) if t >= b => best,
+                            (Some(t), _) => Some((t, d.curvatures()[1])),
+                            (None, _) => best,
+                        },
+                    );
+                    let law_evader = least.map_or(0.0, |(_, w)| w);
+                    Period {
+                        curvatures: core::array::from_fn(|i| f64::from(d.curvature(i))),
+                        law_evader: f64::from(law_evader),
+                        predicted: d.team_time(),
+                    }
+                }
+                _ => independent(&mut own, &active, &pursuers, evader),
+            };
+        if k == 0 {
+            run.predicted = period.predicted.map(f64::from);
+        }
+        let w_e = match evader_kind {
+            TeamEvader::Straight => 0.0,
+            TeamEvader::Law => period.law_evader,
+            TeamEvader::TeamAware => team_aware(
+                start,
+                &pursuers,
+                evader,
+                (&period.curvatures, &active),
+                (dt, eps),
+            ),
+        };
+        for i in (0..N).filter(|&i| active[i]) {
+            pursuers[i] = advance(pursuers[i], start.limits[i][0], period.curvatures[i], dt);
+        }
+        evader = advance(evader, v_em, w_e, dt);
+    }
+    Some(run)
+}
