@@ -95,3 +95,26 @@ pub const ESTIMATE_FIXES: u32 = 24;
 pub const ESTIMATE_INTERVAL_US: u32 = 200_000;
 /// One sigma of their noise: position (m), heading (rad).
 pub const ESTIMATE_NOISE: [f32; 2] = [0.1, 0.05];
+
+/// Periods the team bench decides for each team size.
+pub const TEAM_PERIODS: u32 = 12;
+
+/// The team bench's sizes (pursuers).
+pub const TEAM_SIZES: [usize; 3] = [2, 4, 8];
+
+/// Pursuer `i` of the team bench (x, y metres, heading radians): 4 + 3 i m from the origin
+/// at bearing 0.8 i rad, heading half a radian off the line back to it, so that the pursuers
+/// sit both beyond and below the theorem's threshold (14.6 m) on both sides.
+pub fn team_pursuer(i: usize) -> [f32; 3] {
+    let k = i as f32;
+    let (d, bearing) = (4.0 + 3.0 * k, 0.8 * k);
+    let (sin, cos) = (libm::sinf(bearing), libm::cosf(bearing));
+    [d * cos, d * sin, bearing + core::f32::consts::PI + 0.5]
+}
+
+/// The team bench's evader in period `k` of [`DT`]: from the origin along +x at 1 m/s, its
+/// heading turning left 1 rad/s from 0.3 rad.
+pub fn team_evader(k: u32) -> [f32; 3] {
+    let t = k as f32 * DT;
+    [t, 0.0, 0.3 + t]
+}

@@ -12,3 +12,4 @@ pub mod replay;
 pub mod serial;
 #[cfg(feature = "tables")]
 pub mod table;
+pub mod team;

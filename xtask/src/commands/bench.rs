@@ -55,7 +55,7 @@ fn host_throughput() -> (f64, f64) {
 
 /// Runs the bench, prints its report and writes it to `docs/bench.md`; returns the exit code.
 pub fn run() -> i32 {
-    let sections: [fn() -> Result<String, String>; 9] = [
+    let sections: [fn() -> Result<String, String>; 10] = [
         crate::harness::bench::law::section,
         || crate::harness::bench::serial::section(LoopImage::M4fFloat),
         || crate::harness::bench::serial::section(LoopImage::M0Fixed),
@@ -69,6 +69,7 @@ pub fn run() -> i32 {
                 .map(|m| crate::harness::bench::table::paragraph(&m))
         },
         crate::harness::bench::estimate::section,
+        crate::harness::bench::team::section,
         || Ok(firmware_sizes()),
         || Ok(host()),
     ];

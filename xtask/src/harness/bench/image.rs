@@ -142,7 +142,7 @@ pub(crate) fn build_and_print_with(
 }
 
 /// The bench images (`bench/src/bin/`) and the features of `twocars-bench` each needs.
-const IMAGES: [(&str, &str); 16] = [
+const IMAGES: [(&str, &str); 18] = [
     ("law", "qemu"),
     ("empty", "qemu"),
     ("law_fixed", "qemu"),
@@ -159,6 +159,8 @@ const IMAGES: [(&str, &str); 16] = [
     ("table", "qemu,tables"),
     ("estimate", "qemu"),
     ("estimate_fixed", "qemu"),
+    ("team", "qemu"),
+    ("team_fixed", "qemu"),
 ];
 
 /// Builds the bench image `bin` for `cpu`, with only the features it needs (so that the core
