@@ -75,6 +75,10 @@ pub struct TeamRun<const N: usize> {
     pub swaps: [u32; N],
 }
 
+/// One period of a traced chase: time (s), the pursuers' and the evader's states (m, rad),
+/// and the chaser (the team's; `None` without roles).
+pub type TeamSample<const N: usize> = (f64, [[f64; 3]; N], [f64; 3], Option<usize>);
+
 /// Each pursuer's flight-policy guidance at period `dt`, told the capture radius `eps`.
 fn guidance<const N: usize>(
     limits: &[[f64; 4]; N],
@@ -193,6 +197,17 @@ pub fn chase<const N: usize>(
     evader_kind: TeamEvader,
     params: TeamParams,
 ) -> Option<TeamRun<N>> {
+    chase_traced(start, pursuit, evader_kind, params, None)
+}
+
+/// [`chase`], each period's states and chaser pushed to `trace`.
+pub fn chase_traced<const N: usize>(
+    start: &TeamStart<N>,
+    pursuit: TeamPursuit,
+    evader_kind: TeamEvader,
+    params: TeamParams,
+    mut trace: Option<&mut Vec<TeamSample<N>>>,
+) -> Option<TeamRun<N>> {
     let TeamParams { dt, eps, .. } = params;
     let mut own = guidance(&start.limits, dt, eps)?;
     let mut team = Team::new(own, start.limits.map(narrow)).ok()?;
@@ -212,6 +227,9 @@ pub fn chase<const N: usize>(
     for k in 0..=(params.t_max / dt).ceil() as u64 {
         if (0..N).any(|i| active[i] && distance(pursuers[i], evader) <= eps) {
             run.captured = Some(k as f64 * dt);
+            if let Some(trace) = trace.as_deref_mut() {
+                trace.push((k as f64 * dt, pursuers, evader, chaser));
+            }
             break;
         }
         let period =
@@ -249,6 +267,9 @@ pub fn chase<const N: usize>(
             };
         if k == 0 {
             run.predicted = period.predicted.map(f64::from);
+        }
+        if let Some(trace) = trace.as_deref_mut() {
+            trace.push((k as f64 * dt, pursuers, evader, chaser));
         }
         let w_e = match evader_kind {
             TeamEvader::Straight => 0.0,

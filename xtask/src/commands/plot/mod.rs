@@ -8,6 +8,7 @@ mod field;
 mod figure;
 mod near_field;
 mod paper;
+mod team;
 
 use std::path::{Path, PathBuf};
 
@@ -284,6 +285,9 @@ pub struct PlotArgs {
     /// The field's figures only (late, sparse, noisy fixes; the control period).
     #[arg(long)]
     field: bool,
+    /// Only the team's figures (`team-vs-<evader>.svg`).
+    #[arg(long, conflicts_with = "field")]
+    team: bool,
 }
 
 /// `cargo xtask plot [--field]`.
@@ -294,6 +298,9 @@ pub fn command(args: &PlotArgs) -> i32 {
         if args.field {
             return field::figures(&dir);
         }
+        if args.team {
+            return team::figures(&dir);
+        }
         let mut written = Vec::new();
         for case in paper_cases() {
             written.push(paper_case(&dir, case.name, case.pursuer, case.evader)?);
@@ -301,6 +308,7 @@ pub fn command(args: &PlotArgs) -> i32 {
         written.extend(value_map(&dir)?);
         written.extend(near_field::maps(&dir)?);
         written.extend(field::figures(&dir)?);
+        written.extend(team::figures(&dir)?);
         let evaders = twocars_sim::adversary::EvaderKind::ALL;
         let progress = crate::util::progress::Progress::new(
             600 + 300 * evaders.len() as u64,
