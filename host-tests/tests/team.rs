@@ -2,29 +2,14 @@
 //! captures every evader, no later than its best pursuer alone would, and its roles swap
 //! rarely on noisy states. `cargo xtask report --team N` measures the same over 1,000 starts.
 
-use std::f64::consts::PI;
 use twocars_sim::rng::Rng;
 use twocars_sim::scenarios::PAPER_LIMITS;
-use twocars_sim::sim::theorem_threshold;
 use twocars_sim::team::{chase, predicted, TeamEvader, TeamParams, TeamPursuit, TeamStart};
 
-/// Seeded starts of three pursuers at the paper's limits, 0.3 to 1.5 thresholds from the
-/// evader at random bearings and headings.
+/// Seeded starts of three pursuers at the paper's limits (`TeamStart::random`).
 fn starts(n: usize) -> Vec<TeamStart<3>> {
-    let threshold = theorem_threshold(PAPER_LIMITS);
     (0..n as u64)
-        .map(|seed| {
-            let mut rng = Rng::new(7000 + seed);
-            let pursuers = core::array::from_fn(|_| {
-                let (d, b) = (threshold * rng.uniform(0.3, 1.5), rng.uniform(-PI, PI));
-                [d * b.cos(), d * b.sin(), rng.uniform(-PI, PI)]
-            });
-            TeamStart {
-                limits: [PAPER_LIMITS; 3],
-                pursuers,
-                evader: [0.0, 0.0, rng.uniform(-PI, PI)],
-            }
-        })
+        .map(|seed| TeamStart::random(&mut Rng::new(7000 + seed), PAPER_LIMITS))
         .collect()
 }
 

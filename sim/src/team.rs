@@ -53,6 +53,26 @@ pub struct TeamStart<const N: usize> {
     pub evader: [f64; 3],
 }
 
+impl<const N: usize> TeamStart<N> {
+    /// A seeded start at `limits` for every pursuer: the evader at the origin, each pursuer 0.3
+    /// to 1.5 thresholds away at a random bearing; every heading random. Drawn in this order:
+    /// the evader's heading, then each pursuer's distance, bearing and heading.
+    pub fn random(rng: &mut Rng, limits: [f64; 4]) -> Self {
+        let threshold = crate::sim::theorem_threshold(limits);
+        let pi = std::f64::consts::PI;
+        let evader = [0.0, 0.0, rng.uniform(-pi, pi)];
+        let pursuers = core::array::from_fn(|_| {
+            let (d, bearing) = (threshold * rng.uniform(0.3, 1.5), rng.uniform(-pi, pi));
+            [d * bearing.cos(), d * bearing.sin(), rng.uniform(-pi, pi)]
+        });
+        TeamStart {
+            limits: [limits; N],
+            pursuers,
+            evader,
+        }
+    }
+}
+
 /// How a chase runs: period and length (s), capture radius (m), and the standard deviation
 /// of the noise on each position the team's roles are named from (m; the seed of its draws).
 #[derive(Clone, Copy, Debug, PartialEq)]

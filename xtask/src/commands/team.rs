@@ -6,7 +6,6 @@
 use rayon::prelude::*;
 use twocars_sim::rng::Rng;
 use twocars_sim::scenarios::PAPER_LIMITS;
-use twocars_sim::sim::theorem_threshold;
 use twocars_sim::starts::{random_limits, LimitSet};
 use twocars_sim::stats::quantile_f64;
 use twocars_sim::team::{chase, predicted, TeamEvader, TeamParams, TeamPursuit, TeamStart};
@@ -25,25 +24,13 @@ pub struct TeamReport<'a> {
     pub sets: &'a [LimitSet],
 }
 
-/// A start for `N`: the limit set's limits for every pursuer, the evader at the origin, each
-/// pursuer 0.3 to 1.5 thresholds away at a random bearing; every heading random.
+/// A start for `N`: the limit set's limits for every pursuer (`TeamStart::random`).
 fn start<const N: usize>(rng: &mut Rng, set: LimitSet) -> TeamStart<N> {
     let limits = match set {
         LimitSet::Paper => PAPER_LIMITS,
         LimitSet::Random => random_limits(rng),
     };
-    let threshold = theorem_threshold(limits);
-    let pi = std::f64::consts::PI;
-    let evader = [0.0, 0.0, rng.uniform(-pi, pi)];
-    let pursuers = core::array::from_fn(|_| {
-        let (d, bearing) = (threshold * rng.uniform(0.3, 1.5), rng.uniform(-pi, pi));
-        [d * bearing.cos(), d * bearing.sin(), rng.uniform(-pi, pi)]
-    });
-    TeamStart {
-        limits: [limits; N],
-        pursuers,
-        evader,
-    }
+    TeamStart::random(rng, limits)
 }
 
 /// One start's chases, capture times in s.

@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 
 use twocars_sim::rng::Rng;
 use twocars_sim::scenarios::PAPER_LIMITS;
-use twocars_sim::sim::theorem_threshold;
 use twocars_sim::team::{
     chase_traced, predicted, TeamEvader, TeamParams, TeamPursuit, TeamSample, TeamStart,
 };
@@ -16,22 +15,9 @@ use super::figure::{metres, Figure};
 const PURSUERS: [&str; 3] = ["#1f5fbf", "#2a9d3a", "#8a4fbf"];
 const EVADER: &str = "#d62728";
 
-/// The start: three pursuers 0.3 to 1.5 thresholds from the evader, as `report --team` draws
-/// them (seed 2019).
+/// The start: three pursuers as `report --team` draws them (seed 2019).
 fn start() -> TeamStart<3> {
-    let mut rng = Rng::new(2019);
-    let threshold = theorem_threshold(PAPER_LIMITS);
-    let pi = std::f64::consts::PI;
-    let evader = [0.0, 0.0, rng.uniform(-pi, pi)];
-    let pursuers = core::array::from_fn(|_| {
-        let (d, bearing) = (threshold * rng.uniform(0.3, 1.5), rng.uniform(-pi, pi));
-        [d * bearing.cos(), d * bearing.sin(), rng.uniform(-pi, pi)]
-    });
-    TeamStart {
-        limits: [PAPER_LIMITS; 3],
-        pursuers,
-        evader,
-    }
+    TeamStart::random(&mut Rng::new(2019), PAPER_LIMITS)
 }
 
 /// One figure per evader: `team-vs-<evader>.svg`.
