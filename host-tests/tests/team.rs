@@ -21,6 +21,7 @@ fn params(start: &TeamStart<3>, sigma: f64) -> TeamParams {
         eps: 0.1 * r_p,
         sigma: sigma * r_p,
         seed: 1,
+        teammate_lag: None,
     }
 }
 

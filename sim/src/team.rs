@@ -73,8 +73,9 @@ impl<const N: usize> TeamStart<N> {
     }
 }
 
-/// How a chase runs: period and length (s), capture radius (m), and the standard deviation
-/// of the noise on each position the team's roles are named from (m; the seed of its draws).
+/// How a chase runs: period and length (s), capture radius (m), the standard deviation of
+/// the noise on each position the team's roles are named from (m; the seed of its draws),
+/// and how late each vehicle hears its teammates' states (s; `None`: one team, no views).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TeamParams {
     pub dt: f64,
@@ -82,6 +83,7 @@ pub struct TeamParams {
     pub eps: f64,
     pub sigma: f64,
     pub seed: u64,
+    pub teammate_lag: Option<f64>,
 }
 
 /// What a chase gave.
@@ -93,6 +95,70 @@ pub struct TeamRun<const N: usize> {
     pub predicted: Option<f64>,
     /// How often each pursuer's role changed.
     pub swaps: [u32; N],
+    /// With a teammate lag: the share of periods in which the vehicles' own teams named
+    /// different chasers, and the longest such stretch (s).
+    pub disagreement: Option<(f64, f64)>,
+}
+
+/// Each vehicle's own team, as it runs in that vehicle: its own state as it is, its
+/// teammates' as heard `lag` periods ago and carried forward in a straight line, the evader's
+/// as it is.
+struct Views<const N: usize> {
+    teams: Vec<Team<f32, N>>,
+    dt: f64,
+    limits: [[f64; 4]; N],
+    heard: std::collections::VecDeque<[[f64; 3]; N]>,
+    lag: usize,
+    periods: u32,
+    apart: u32,
+    stretch: u32,
+    longest: u32,
+}
+
+impl<const N: usize> Views<N> {
+    fn new(team: &Team<f32, N>, lag: usize, dt: f64, limits: [[f64; 4]; N]) -> Self {
+        Views {
+            teams: vec![team.clone(); N],
+            dt,
+            limits,
+            heard: std::collections::VecDeque::new(),
+            lag,
+            periods: 0,
+            apart: 0,
+            stretch: 0,
+            longest: 0,
+        }
+    }
+
+    /// One period: each vehicle's chaser, and whether they agree.
+    fn step(&mut self, pursuers: &[[f64; 3]; N], evader: [f64; 3]) {
+        self.heard.push_back(*pursuers);
+        if self.heard.len() > self.lag + 1 {
+            self.heard.pop_front();
+        }
+        // Each teammate's state as heard, carried forward along its heading at its speed to
+        // now, as a vehicle's estimator would without its turn rate.
+        let ahead = (self.heard.len() - 1) as f64 * self.dt;
+        let carried: [[f64; 3]; N] =
+            core::array::from_fn(|j| advance(self.heard[0][j], self.limits[j][0], 0.0, ahead));
+        let mut named = self.teams.iter_mut().enumerate().map(|(i, team)| {
+            let mut seen = carried;
+            seen[i] = pursuers[i];
+            team.decide(&seen.map(narrow), narrow(evader)).chaser
+        });
+        let first = named.next().flatten();
+        let agree = named.fold(true, |all, c| all && c == first);
+        self.periods += 1;
+        self.stretch = if agree { 0 } else { self.stretch + 1 };
+        self.apart += u32::from(!agree);
+        self.longest = self.longest.max(self.stretch);
+    }
+
+    /// The share of periods apart, and the longest stretch (s).
+    fn disagreement(&self, dt: f64) -> (f64, f64) {
+        let share = f64::from(self.apart) / f64::from(self.periods.max(1));
+        (share, f64::from(self.longest) * dt)
+    }
 }
 
 /// One period of a traced chase: time (s), the pursuers' and the evader's states (m, rad),
@@ -242,7 +308,11 @@ pub fn chase_traced<const N: usize>(
         captured: None,
         predicted: None,
         swaps: [0; N],
+        disagreement: None,
     };
+    let mut views = params
+        .teammate_lag
+        .map(|lag| Views::new(&team, (lag / dt).round() as usize, dt, start.limits));
     let v_em = start.limits[0][2];
     for k in 0..=(params.t_max / dt).ceil() as u64 {
         if (0..N).any(|i| active[i] && distance(pursuers[i], evader) <= eps) {
@@ -252,39 +322,26 @@ pub fn chase_traced<const N: usize>(
             }
             break;
         }
-        let period =
-            match pursuit {
-                TeamPursuit::Team => {
-                    let mut seen = |s: [f64; 3]| {
-                        let (dx, dy) =
-                            (params.sigma * noise.normal(), params.sigma * noise.normal());
-                        narrow([s[0] + dx, s[1] + dy, s[2]])
-                    };
-                    let d = team.decide(&pursuers.map(&mut seen), seen(evader));
-                    if k > 0 && d.chaser != chaser {
-                        for i in [chaser, d.chaser].into_iter().flatten() {
-                            run.swaps[i] += 1;
-                        }
-                    }
-                    chaser = d.chaser;
-                    // The law's evader against the least game value, as without roles.
-                    let least = d.decisions.iter().flatten().fold(
-                        None,
-                        |best: Option<(f32, f32)>, d| match (d.value_seconds(), best) {
-                            (Some(t), Some((b, _))) if t >= b => best,
-                            (Some(t), _) => Some((t, d.curvatures()[1])),
-                            (None, _) => best,
-                        },
-                    );
-                    let law_evader = least.map_or(0.0, |(_, w)| w);
-                    Period {
-                        curvatures: core::array::from_fn(|i| f64::from(d.curvature(i))),
-                        law_evader: f64::from(law_evader),
-                        predicted: d.team_time(),
+        let period = match pursuit {
+            TeamPursuit::Team => {
+                let mut seen = |s: [f64; 3]| {
+                    let (dx, dy) = (params.sigma * noise.normal(), params.sigma * noise.normal());
+                    narrow([s[0] + dx, s[1] + dy, s[2]])
+                };
+                let (period, named) = team_period(&mut team, pursuers.map(&mut seen), seen(evader));
+                if k > 0 && named != chaser {
+                    for i in [chaser, named].into_iter().flatten() {
+                        run.swaps[i] += 1;
                     }
                 }
-                _ => independent(&mut own, &active, &pursuers, evader),
-            };
+                chaser = named;
+                if let Some(views) = views.as_mut() {
+                    views.step(&pursuers, evader);
+                }
+                period
+            }
+            _ => independent(&mut own, &active, &pursuers, evader),
+        };
         if k == 0 {
             run.predicted = period.predicted.map(f64::from);
         }
@@ -307,5 +364,33 @@ pub fn chase_traced<const N: usize>(
         }
         evader = advance(evader, v_em, w_e, dt);
     }
+    run.disagreement = views.map(|v| v.disagreement(dt));
     Some(run)
+}
+
+/// The team's period on the states as seen, and its chaser: each pursuer's command, the law's
+/// evader against the least game value (as without roles), the team's time.
+fn team_period<const N: usize>(
+    team: &mut Team<f32, N>,
+    pursuers: [[f32; 3]; N],
+    evader: [f32; 3],
+) -> (Period<N>, Option<usize>) {
+    let d = team.decide(&pursuers, evader);
+    let least = d
+        .decisions
+        .iter()
+        .flatten()
+        .fold(None, |best: Option<(f32, f32)>, d| {
+            match (d.value_seconds(), best) {
+                (Some(t), Some((b, _))) if t >= b => best,
+                (Some(t), _) => Some((t, d.curvatures()[1])),
+                (None, _) => best,
+            }
+        });
+    let period = Period {
+        curvatures: core::array::from_fn(|i| f64::from(d.curvature(i))),
+        law_evader: least.map_or(0.0, |(_, w)| f64::from(w)),
+        predicted: d.team_time(),
+    };
+    (period, d.chaser)
 }

@@ -351,6 +351,10 @@ pub struct ReportArgs {
     /// deviation in the pursuers' least turning radius r_p.
     #[arg(long, default_value_t = 0.1, requires = "team")]
     role_noise: f64,
+    /// With `--team`: how late each vehicle hears its teammates' states, s, for the share of
+    /// periods in which the vehicles' own roles disagree.
+    #[arg(long, default_value_t = 0.3, requires = "team")]
+    teammate_lag: f64,
 }
 
 /// The field's cells by their fixes.
@@ -433,6 +437,7 @@ pub fn command(args: &ReportArgs) -> i32 {
             seed: o.seed,
             dt: o.dt,
             sigma_rp: args.role_noise,
+            teammate_lag: args.teammate_lag,
             sets: &o.limits,
         });
     }

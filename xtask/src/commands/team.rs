@@ -21,6 +21,8 @@ pub struct TeamReport<'a> {
     pub seed: u64,
     pub dt: f64,
     pub sigma_rp: f64,
+    /// How late each vehicle hears its teammates' states, s.
+    pub teammate_lag: f64,
     pub sets: &'a [LimitSet],
 }
 
@@ -41,6 +43,9 @@ struct Chases {
     /// The team's on noisy states: captured, and its pursuers' most role changes.
     noisy: Option<f64>,
     swaps: u32,
+    /// Each vehicle's own roles, its teammates heard late: the share of periods they named
+    /// different chasers, and the longest such stretch (s).
+    apart: (f64, f64),
 }
 
 fn chases<const N: usize>(
@@ -57,6 +62,7 @@ fn chases<const N: usize>(
         eps: EPS_RP * r_p,
         sigma: 0.0,
         seed,
+        teammate_lag: None,
     };
     let captured = |pursuit, params| Some(chase(s, pursuit, evader, params)?.captured);
     let mut best_alone: Option<f64> = None;
@@ -67,6 +73,7 @@ fn chases<const N: usize>(
     }
     let noisy_params = TeamParams {
         sigma: report.sigma_rp * r_p,
+        teammate_lag: Some(report.teammate_lag),
         ..exact
     };
     let noisy = chase(s, TeamPursuit::Team, evader, noisy_params)?;
@@ -76,6 +83,7 @@ fn chases<const N: usize>(
         best_alone,
         noisy: noisy.captured,
         swaps: noisy.swaps.into_iter().max().unwrap_or(0),
+        apart: noisy.disagreement.unwrap_or((0.0, 0.0)),
     })
 }
 
@@ -124,8 +132,11 @@ fn rows<const N: usize>(report: &TeamReport) {
             let (share, worst) = at_or_below(&all, report.dt);
             let mut swaps: Vec<f64> = all.iter().map(|c| f64::from(c.swaps)).collect();
             swaps.sort_by(f64::total_cmp);
+            let apart =
+                100.0 * all.iter().map(|c| c.apart.0).sum::<f64>() / all.len().max(1) as f64;
+            let longest = all.iter().map(|c| c.apart.1).fold(0.0, f64::max);
             println!(
-                "| {N} | {} | {name} | {} | {never} / {never_noisy} | {share:.1} % | {worst:.2} | {} | {} | {} | {:.0} / {:.0} |",
+                "| {N} | {} | {name} | {} | {never} / {never_noisy} | {share:.1} % | {worst:.2} | {} | {} | {} | {:.0} / {:.0} | {apart:.2} % / {longest:.2} |",
                 set.name(),
                 all.len(),
                 quantiles(all.iter().map(|c| c.team)),
@@ -142,11 +153,11 @@ fn rows<const N: usize>(report: &TeamReport) {
 pub fn command(report: &TeamReport) -> i32 {
     let started = std::time::Instant::now();
     println!(
-        "# {} pursuers against one evader: {} seeded starts per row (seed {}), dt = {} s, capture within {EPS_RP} r_p, roles' noise {} r_p\n",
-        report.n, report.runs, report.seed, report.dt, report.sigma_rp
+        "# {} pursuers against one evader: {} seeded starts per row (seed {}), dt = {} s, capture within {EPS_RP} r_p, roles' noise {} r_p, teammates heard {} s late\n",
+        report.n, report.runs, report.seed, report.dt, report.sigma_rp, report.teammate_lag
     );
-    println!("| pursuers | limits | evader | starts | never: team / noisy | team <= best alone + 1.5 dt | worst excess (s) | team p50 / p90 (s) | best alone p50 / p90 (s) | independent p50 / p90 (s) | role swaps, noisy: p50 / max |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| pursuers | limits | evader | starts | never: team / noisy | team <= best alone + 1.5 dt | worst excess (s) | team p50 / p90 (s) | best alone p50 / p90 (s) | independent p50 / p90 (s) | role swaps, noisy: p50 / max | vehicles' chasers apart: periods / longest (s) |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     match report.n {
         2 => rows::<2>(report),
         3 => rows::<3>(report),

@@ -29,6 +29,7 @@ pub fn figures(dir: &Path) -> Result<Vec<PathBuf>, String> {
         eps: 0.1 / PAPER_LIMITS[1],
         sigma: 0.0,
         seed: 2019,
+        teammate_lag: None,
     };
     let mut written = Vec::new();
     for (evader, name) in TeamEvader::ALL {
