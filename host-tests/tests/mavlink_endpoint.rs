@@ -10,8 +10,8 @@ use twocars_sim::mavlink_spec::{
     follow_target_payload, param_request_list_payload, param_request_read_payload,
     param_set_payload, position_payload_at, position_payload_in_air, read_v2, v2_from,
     vfr_hud_payload, Sent, FOLLOW_TARGET, GLOBAL_POSITION_INT, HEARTBEAT, NAMED_VALUE_FLOAT,
-    PARAM_REQUEST_LIST, PARAM_REQUEST_READ, PARAM_SET, PARAM_VALUE, SENT_BY_ENDPOINT,
-    SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED, STATUSTEXT, VFR_HUD,
+    NAMED_VALUE_INT, PARAM_REQUEST_LIST, PARAM_REQUEST_READ, PARAM_SET, PARAM_VALUE,
+    SENT_BY_ENDPOINT, SET_ATTITUDE_TARGET, SET_POSITION_TARGET_LOCAL_NED, STATUSTEXT, VFR_HUD,
 };
 
 /// MAV_SEVERITY_WARNING and MAV_SEVERITY_INFO.
@@ -239,11 +239,16 @@ fn parameters_are_listed_read_and_set_as_the_contract_says() {
         ("TC_TGT_SIGH", 0.0),
         ("TC_LEAD", 0.0),
         ("TC_BANK_EFF", 1.0),
+        ("TC_TEAM_SYS", 0.0),
+        ("TC_TEAM_N", 0.0),
     ];
     assert_eq!(got, want.map(|(n, v)| (n.to_string(), v)));
     for (i, s) in list.iter().enumerate() {
         // param_count, param_index, param_type REAL32.
-        assert_eq!((s.u16(4), s.u16(6), s.u8(24)), (16, i as u16, 9));
+        assert_eq!(
+            (s.u16(4), s.u16(6), s.u8(24)),
+            (want.len() as u16, i as u16, 9)
+        );
     }
     let by_name = link.send(
         (255, 190),
@@ -999,4 +1004,77 @@ fn an_own_vehicle_off_its_speed_or_turn_rate_is_said_once() {
             "{speed} m/s, {turn_rate} rad/s: {none:?}"
         );
     }
+}
+
+/// NAMED_VALUE_INT's name and value.
+fn named_int(s: &Sent) -> (String, i32) {
+    assert_eq!(s.id, NAMED_VALUE_INT.0);
+    (s.text(8, 10), s.i32(4))
+}
+
+/// In a team (TC_TEAM_SYS 1, TC_TEAM_N 3: systems 1 to 3) each period says the chaser's system
+/// id (NAMED_VALUE_INT TC_CHASER), with a STATUSTEXT when it changes: this unit chases while
+/// its teammates are far or unheard; a teammate near the target takes over after the dwell
+/// (three full turns, 4.7 s here); a teammate heard more than TC_TIMEOUT ago gives the role
+/// back. Without a team nothing is said.
+#[test]
+fn a_team_names_its_chaser_each_period_and_says_when_it_changes() {
+    let mut link = Link::new();
+    link.scale_tenfold();
+    link.set("TC_TGT_SYSID", 9.0);
+    let (target, mate) = ((9, 1), (2, 1));
+    let (pursuer, evader) = CASE1;
+    link.position(target, 0, evader, 0.0);
+    let sent = link.position(OWN, 0, pursuer, 0.0);
+    assert!(!of(&sent, SET_ATTITUDE_TARGET).is_empty());
+    assert!(
+        of(&sent, NAMED_VALUE_INT).is_empty(),
+        "no team, no TC_CHASER"
+    );
+    link.set("TC_TEAM_SYS", 1.0);
+    link.set("TC_TEAM_N", 3.0);
+    // Every 100 ms: the target, the teammate (far for the first second, then 20 m behind the
+    // target, then silent after 8 s), our own state; what each period said.
+    let mut said: Vec<(u32, i32, Vec<String>)> = Vec::new();
+    for k in 1..=120u32 {
+        link.now_ms = 100 * k;
+        link.position(target, 100 * k, evader, 0.0);
+        let near = [evader[0] - 20.0, evader[1], evader[2]];
+        let far = [5_000.0, 5_000.0, 0.0];
+        match k {
+            1..=10 => link.position(mate, 100 * k, far, 0.0),
+            11..=80 => link.position(mate, 100 * k, near, 0.0),
+            _ => Vec::new(),
+        };
+        let sent = link.position(OWN, 100 * k, pursuer, 0.0);
+        let chasers = of(&sent, NAMED_VALUE_INT);
+        assert_eq!(chasers.len(), 1, "one TC_CHASER a period");
+        let (name, chaser) = named_int(chasers[0]);
+        assert_eq!(name, "TC_CHASER");
+        // The own vehicle stands still here: the departure watch's texts aside.
+        let texts = of(&sent, STATUSTEXT)
+            .iter()
+            .map(|s| status(s).1)
+            .filter(|text| text.starts_with("TC: team"))
+            .collect();
+        said.push((link.now_ms, chaser, texts));
+    }
+    let changes: Vec<(u32, i32, &str)> = said
+        .iter()
+        .filter(|(_, _, texts)| !texts.is_empty())
+        .map(|(t, c, texts)| (*t, *c, texts[0].as_str()))
+        .collect();
+    assert_eq!(changes.len(), 3, "{changes:?}");
+    assert_eq!(changes[0], (100, 1, "TC: team: this unit chases"));
+    // The teammate near from 1.1 s: it takes over once our dwell of 4.7 s is over.
+    let (t, chaser, text) = changes[1];
+    assert!((4_700..=5_000).contains(&t), "{t}");
+    assert_eq!(
+        (chaser, text),
+        (2, "TC: team: a teammate chases (TC_CHASER)")
+    );
+    // Silent from 8.1 s: past TC_TIMEOUT (1 s) it has no time and gives the role back.
+    let (t, chaser, text) = changes[2];
+    assert!((9_000..=9_200).contains(&t), "{t}");
+    assert_eq!((chaser, text), (1, "TC: team: this unit chases"));
 }

@@ -197,6 +197,9 @@ pub const SET_ATTITUDE_TARGET: (u32, u8) = (82, 49);
 pub const SET_POSITION_TARGET_LOCAL_NED: (u32, u8) = (84, 143);
 /// (message id, CRC_EXTRA).
 pub const NAMED_VALUE_FLOAT: (u32, u8) = (251, 170);
+/// (message id, CRC_EXTRA): the CRC over "NAMED_VALUE_INT " and "uint32_t time_boot_ms
+/// int32_t value char name " with the name's length, 10.
+pub const NAMED_VALUE_INT: (u32, u8) = (252, 44);
 /// (message id, CRC_EXTRA).
 pub const STATUSTEXT: (u32, u8) = (253, 83);
 
@@ -228,6 +231,10 @@ impl Sent {
     /// An f32 field at `offset`.
     pub fn f32(&self, offset: usize) -> f32 {
         f32::from_le_bytes(self.bytes(offset))
+    }
+    /// An i32 field at `offset`.
+    pub fn i32(&self, offset: usize) -> i32 {
+        i32::from_le_bytes(self.bytes(offset))
     }
     /// A u16 field at `offset`.
     pub fn u16(&self, offset: usize) -> u16 {
@@ -286,11 +293,12 @@ pub fn read_v2(stream: &[u8], extras: &[(u32, u8)]) -> Result<Vec<Sent>, String>
 }
 
 /// Every message id the endpoint sends, with its CRC_EXTRA.
-pub const SENT_BY_ENDPOINT: [(u32, u8); 6] = [
+pub const SENT_BY_ENDPOINT: [(u32, u8); 7] = [
     HEARTBEAT,
     PARAM_VALUE,
     SET_ATTITUDE_TARGET,
     SET_POSITION_TARGET_LOCAL_NED,
     NAMED_VALUE_FLOAT,
+    NAMED_VALUE_INT,
     STATUSTEXT,
 ];

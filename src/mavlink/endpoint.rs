@@ -35,6 +35,7 @@ use super::outgoing::{Outbox, COMPONENT, MAX_PARAM_VALUE};
 use super::params::{index, Params, Refusal, SPECS};
 use super::setpoint::{setpoint, Address, Setpoint, Turn, FIXED_WING_ENERGY};
 use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN, LINK_ID, PROVISIONED};
+use super::team::{MateFix, TeamWatch, CHASER};
 use super::tracking::{ClockRate, Tracking};
 use crate::estimate::Stale;
 use crate::geodetic::{
@@ -230,6 +231,10 @@ struct Session {
     /// The next PARAM_VALUE of a PARAM_REQUEST_LIST still being answered.
     listing: Option<usize>,
     counters: EndpointCounters,
+    /// The team of pursuers (TC_TEAM_SYS, TC_TEAM_N) and the own and target states (m, rad,
+    /// the local plane) the law last decided on.
+    team: TeamWatch,
+    decided_on: Option<([f32; 3], [f32; 3])>,
 }
 
 impl Default for Endpoint {
@@ -268,6 +273,8 @@ impl Endpoint {
             signing_base: 0,
             listing: None,
             counters: EndpointCounters::default(),
+            team: TeamWatch::new(&params),
+            decided_on: None,
         };
         session.rebuild_guidance();
         Endpoint {
@@ -525,6 +532,7 @@ impl Session {
                 .ok()
         });
         self.tracking = Tracking::new(&self.params);
+        self.team = TeamWatch::new(&self.params);
     }
 
     fn handle(&mut self, frame: &Frame<'_>, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
@@ -545,7 +553,7 @@ impl Session {
                 } else if frame.system == self.params.byte(index::TGT_SYSID) {
                     let fix = position_fix(&m, now_ms);
                     self.target_fix(fix, now_ms, (frame.system, frame.component, false));
-                } else {
+                } else if !self.teammate_fix(frame.system, &m, now_ms) {
                     self.counters.ignored = self.counters.ignored.wrapping_add(1);
                 }
             }
@@ -738,11 +746,55 @@ impl Session {
             Ok(decision) => {
                 self.setpoint(&decision, fix.heading, now_ms, send);
                 self.watch_departure(&fix, now_ms, send);
+                self.name_roles(now_ms, send);
             }
             Err(halt) => {
                 self.departure.reset();
                 self.halt(halt, send);
             }
+        }
+    }
+
+    /// A teammate's GLOBAL_POSITION_INT (its autopilot's, from system `system`) into the team;
+    /// whether it was one.
+    fn teammate_fix(&mut self, system: u8, m: &GLOBAL_POSITION_INT_DATA, now_ms: u32) -> bool {
+        let Some(fix) = position_fix(m, now_ms) else {
+            return false;
+        };
+        let mate = MateFix {
+            lat: fix.lat,
+            lon: fix.lon,
+            heading: fix.heading,
+            speed: fix.speed.unwrap_or(0.0),
+            arrived_ms: now_ms,
+        };
+        self.team.hear(&self.params, system, mate)
+    }
+
+    /// In a team: the roles of this period, NAMED_VALUE_INT [`CHASER`] (the chaser's system
+    /// id, 0 for none), and a STATUSTEXT (INFO) when the chaser changes.
+    fn name_roles(&mut self, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
+        let (Some(origin), Some(states)) = (self.origin, self.decided_on) else {
+            return;
+        };
+        if !self.team.active() {
+            return;
+        }
+        let period = self.guidance.as_ref().map_or(0.1, Guidance::period);
+        let chaser = self
+            .team
+            .name(&self.params, &origin, states, (now_ms, period));
+        let sysid = self.sysid();
+        let value = chaser.map_or(0, i32::from);
+        self.outbox.named_int(sysid, now_ms, CHASER, value, send);
+        if self.team.changed(chaser) {
+            let text = match chaser {
+                Some(c) if c == sysid => "TC: team: this unit chases",
+                Some(_) => "TC: team: a teammate chases (TC_CHASER)",
+                None => "TC: team: no chaser",
+            };
+            let severity = MavSeverity::MAV_SEVERITY_INFO;
+            self.outbox.status_text(sysid, severity, text, send);
         }
     }
 
@@ -824,6 +876,8 @@ impl Session {
             Err(Stale::Own) => return Err(Halt::OwnStale),
             Err(Stale::Target) => return Err(Halt::TargetStale),
         };
+        // f32 is an SI backend: the estimated states are metres and radians.
+        self.decided_on = Some((estimated.own, estimated.target));
         let decision = guidance
             .decide_estimated(estimated)
             .map_err(|e| Halt::Law(e.status()))?;

@@ -16,6 +16,7 @@ pub mod params;
 pub mod service;
 mod setpoint;
 pub mod signing;
+pub mod team;
 mod tracking;
 
 pub use endpoint::{

@@ -4,7 +4,7 @@
 
 use ::mavlink::dialects::common::{
     MavAutopilot, MavModeFlag, MavParamType, MavSeverity, MavState, MavType, HEARTBEAT_DATA,
-    NAMED_VALUE_FLOAT_DATA, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+    NAMED_VALUE_FLOAT_DATA, NAMED_VALUE_INT_DATA, PARAM_VALUE_DATA, STATUSTEXT_DATA,
 };
 use ::mavlink::{MavlinkVersion, MessageData};
 
@@ -148,6 +148,23 @@ impl Outbox {
         send: &mut dyn FnMut(&[u8]),
     ) {
         let message = NAMED_VALUE_FLOAT_DATA {
+            time_boot_ms,
+            value,
+            name: name.into(),
+        };
+        self.send(system, &message, send);
+    }
+
+    /// NAMED_VALUE_INT `name` = `value`, stamped `time_boot_ms` (our clock).
+    pub fn named_int(
+        &mut self,
+        system: u8,
+        time_boot_ms: u32,
+        name: &str,
+        value: i32,
+        send: &mut dyn FnMut(&[u8]),
+    ) {
+        let message = NAMED_VALUE_INT_DATA {
             time_boot_ms,
             value,
             name: name.into(),

@@ -1,4 +1,4 @@
-//! The endpoint's parameters (docs/mavlink.md): fifteen REAL32 values
+//! The endpoint's parameters (docs/mavlink.md): eighteen REAL32 values
 //! read and set by name or index, each checked against its range, the limits also as a whole.
 
 use crate::law::geometry::Limits;
@@ -79,11 +79,16 @@ pub mod index {
     /// The share of a coordinated turn's rate the aircraft makes at a bank: the bank for turn
     /// rate omega is atan(v_pm omega / (TC_BANK_EFF g)).
     pub const BANK_EFF: usize = 15;
+    /// The first system id of the unit's team of pursuers (docs/team.md).
+    pub const TEAM_SYS: usize = 16;
+    /// How many pursuers the team has, consecutive system ids from TC_TEAM_SYS, this unit's
+    /// TC_SYSID among them (below 2: no team).
+    pub const TEAM_N: usize = 17;
 }
 
 /// Every parameter, in index order. Speeds and curvatures span the law's envelope
 /// ([`crate::law::geometry::MAX_SPEED`] and its kin); the limits are also checked together.
-pub const SPECS: [Spec; 16] = [
+pub const SPECS: [Spec; 18] = [
     real("TC_V_PM", 2.0, 1.0e-3, 1.0e4),
     real("TC_W_PM", 2.0, 1.0e-4, 1.0e4),
     real("TC_V_EM", 1.0, 1.0e-3, 1.0e4),
@@ -100,6 +105,8 @@ pub const SPECS: [Spec; 16] = [
     real("TC_TGT_SIGH", 0.0, 0.0, 3.0),
     real("TC_LEAD", 0.0, 0.0, 5.0),
     real("TC_BANK_EFF", 1.0, 0.1, 2.0),
+    whole("TC_TEAM_SYS", 0.0, 0.0, 255.0),
+    whole("TC_TEAM_N", 0.0, 0.0, 8.0),
 ];
 
 /// Why a PARAM_SET was refused (the STATUSTEXT says which).
@@ -218,6 +225,13 @@ impl Params {
     pub fn limits(&self) -> Option<Limits<f32>> {
         let [v_pm, w_pm, v_em, w_em, ..] = self.values;
         Limits::new(v_pm, w_pm, v_em, w_em).ok()
+    }
+
+    /// The limits as SI values: v_pm, w_pm, v_em, w_em (m/s, 1/m); `None` as for
+    /// [`Params::limits`].
+    pub fn limits_si(&self) -> Option<[f32; 4]> {
+        let [v_pm, w_pm, v_em, w_em, ..] = self.values;
+        self.limits().map(|_| [v_pm, w_pm, v_em, w_em])
     }
 
     /// A whole-number parameter as a byte (ids, vehicle kind, policy).
