@@ -301,17 +301,17 @@ def session(port):
 
     peer.send_as(GCS, mavlink.MAVLink_param_request_list_message(*UNIT))
     values = []
-    for _ in range(18):
+    for _ in range(16):
         m, _ = peer.wait("PARAM_VALUE", timeout=1.0)
         if m is not None:
             values.append(m)
     want = {"TC_V_PM": 2, "TC_W_PM": 2, "TC_V_EM": 1, "TC_W_EM": 1, "TC_TGT_SYSID": 2,
             "TC_VEHICLE": 0, "TC_POLICY": 1, "TC_TIMEOUT": 1, "TC_SYSID": 1, "TC_CAPTURE": 0,
             "TC_PERIOD": 0, "TC_TGT_LAG": 0, "TC_TGT_SIG": 0, "TC_TGT_SIGH": 0, "TC_LEAD": 0,
-            "TC_BANK_EFF": 1, "TC_TEAM_SYS": 0, "TC_TEAM_N": 0}
+            "TC_BANK_EFF": 1}
     got = {m.param_id: m.param_value for m in values}
-    check("PARAM_REQUEST_LIST: eighteen REAL32 parameters at their defaults",
-          got == want and all(m.param_count == 18 and m.param_type ==
+    check("PARAM_REQUEST_LIST: sixteen REAL32 parameters at their defaults",
+          got == want and all(m.param_count == 16 and m.param_type ==
                               mavlink.MAV_PARAM_TYPE_REAL32 for m in values), got)
     peer.send_as(GCS, mavlink.MAVLink_param_request_read_message(*UNIT, b"TC_TIMEOUT", -1))
     m, _ = peer.wait("PARAM_VALUE", timeout=1.0)

@@ -35,6 +35,7 @@ use super::outgoing::{Outbox, COMPONENT, MAX_PARAM_VALUE};
 use super::params::{index, Params, Refusal, SPECS};
 use super::setpoint::{setpoint, Address, Setpoint, Turn, FIXED_WING_ENERGY};
 use super::signing::{SignatureRefusal, Signer, Verifier, KEY_LEN, LINK_ID, PROVISIONED};
+#[cfg(feature = "mavlink-team")]
 use super::team::{MateFix, TeamWatch, CHASER};
 use super::tracking::{ClockRate, Tracking};
 use crate::estimate::Stale;
@@ -233,7 +234,9 @@ struct Session {
     counters: EndpointCounters,
     /// The team of pursuers (TC_TEAM_SYS, TC_TEAM_N) and the own and target states (m, rad,
     /// the local plane) the law last decided on.
+    #[cfg(feature = "mavlink-team")]
     team: TeamWatch,
+    #[cfg(feature = "mavlink-team")]
     decided_on: Option<([f32; 3], [f32; 3])>,
 }
 
@@ -273,7 +276,9 @@ impl Endpoint {
             signing_base: 0,
             listing: None,
             counters: EndpointCounters::default(),
+            #[cfg(feature = "mavlink-team")]
             team: TeamWatch::new(&params),
+            #[cfg(feature = "mavlink-team")]
             decided_on: None,
         };
         session.rebuild_guidance();
@@ -532,7 +537,10 @@ impl Session {
                 .ok()
         });
         self.tracking = Tracking::new(&self.params);
-        self.team = TeamWatch::new(&self.params);
+        #[cfg(feature = "mavlink-team")]
+        {
+            self.team = TeamWatch::new(&self.params);
+        }
     }
 
     fn handle(&mut self, frame: &Frame<'_>, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
@@ -746,6 +754,7 @@ impl Session {
             Ok(decision) => {
                 self.setpoint(&decision, fix.heading, now_ms, send);
                 self.watch_departure(&fix, now_ms, send);
+                #[cfg(feature = "mavlink-team")]
                 self.name_roles(now_ms, send);
             }
             Err(halt) => {
@@ -757,7 +766,11 @@ impl Session {
 
     /// A teammate's GLOBAL_POSITION_INT (its autopilot's, from system `system`) into the team;
     /// whether it was one.
+    #[cfg(feature = "mavlink-team")]
     fn teammate_fix(&mut self, system: u8, m: &GLOBAL_POSITION_INT_DATA, now_ms: u32) -> bool {
+        if !self.team.is_teammate(&self.params, system) {
+            return false;
+        }
         let Some(fix) = position_fix(m, now_ms) else {
             return false;
         };
@@ -773,6 +786,7 @@ impl Session {
 
     /// In a team: the roles of this period, NAMED_VALUE_INT [`CHASER`] (the chaser's system
     /// id, 0 for none), and a STATUSTEXT (INFO) when the chaser changes.
+    #[cfg(feature = "mavlink-team")]
     fn name_roles(&mut self, now_ms: u32, send: &mut dyn FnMut(&[u8])) {
         let (Some(origin), Some(states)) = (self.origin, self.decided_on) else {
             return;
@@ -796,6 +810,12 @@ impl Session {
             let severity = MavSeverity::MAV_SEVERITY_INFO;
             self.outbox.status_text(sysid, severity, text, send);
         }
+    }
+
+    /// Without the `mavlink-team` feature no system is a teammate.
+    #[cfg(not(feature = "mavlink-team"))]
+    fn teammate_fix(&mut self, _: u8, _: &GLOBAL_POSITION_INT_DATA, _: u32) -> bool {
+        false
     }
 
     /// The own fix under setpoints into the departure watch: its speed the autopilot's
@@ -877,7 +897,10 @@ impl Session {
             Err(Stale::Target) => return Err(Halt::TargetStale),
         };
         // f32 is an SI backend: the estimated states are metres and radians.
-        self.decided_on = Some((estimated.own, estimated.target));
+        #[cfg(feature = "mavlink-team")]
+        if self.team.active() {
+            self.decided_on = Some((estimated.own, estimated.target));
+        }
         let decision = guidance
             .decide_estimated(estimated)
             .map_err(|e| Halt::Law(e.status()))?;

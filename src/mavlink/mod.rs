@@ -16,6 +16,8 @@ pub mod params;
 pub mod service;
 mod setpoint;
 pub mod signing;
+#[cfg(feature = "mavlink-team")]
+#[cfg_attr(docsrs, doc(cfg(feature = "mavlink-team")))]
 pub mod team;
 mod tracking;
 

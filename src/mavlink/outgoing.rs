@@ -4,7 +4,7 @@
 
 use ::mavlink::dialects::common::{
     MavAutopilot, MavModeFlag, MavParamType, MavSeverity, MavState, MavType, HEARTBEAT_DATA,
-    NAMED_VALUE_FLOAT_DATA, NAMED_VALUE_INT_DATA, PARAM_VALUE_DATA, STATUSTEXT_DATA,
+    NAMED_VALUE_FLOAT_DATA, PARAM_VALUE_DATA, STATUSTEXT_DATA,
 };
 use ::mavlink::{MavlinkVersion, MessageData};
 
@@ -156,6 +156,7 @@ impl Outbox {
     }
 
     /// NAMED_VALUE_INT `name` = `value`, stamped `time_boot_ms` (our clock).
+    #[cfg(feature = "mavlink-team")]
     pub fn named_int(
         &mut self,
         system: u8,
@@ -164,7 +165,7 @@ impl Outbox {
         value: i32,
         send: &mut dyn FnMut(&[u8]),
     ) {
-        let message = NAMED_VALUE_INT_DATA {
+        let message = ::mavlink::dialects::common::NAMED_VALUE_INT_DATA {
             time_boot_ms,
             value,
             name: name.into(),

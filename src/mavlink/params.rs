@@ -1,4 +1,5 @@
-//! The endpoint's parameters (docs/mavlink.md): eighteen REAL32 values
+//! The endpoint's parameters (docs/mavlink.md): sixteen REAL32 values (eighteen with the
+//! `mavlink-team` feature)
 //! read and set by name or index, each checked against its range, the limits also as a whole.
 
 use crate::law::geometry::Limits;
@@ -80,15 +81,17 @@ pub mod index {
     /// rate omega is atan(v_pm omega / (TC_BANK_EFF g)).
     pub const BANK_EFF: usize = 15;
     /// The first system id of the unit's team of pursuers (docs/team.md).
+    #[cfg(feature = "mavlink-team")]
     pub const TEAM_SYS: usize = 16;
     /// How many pursuers the team has, consecutive system ids from TC_TEAM_SYS, this unit's
     /// TC_SYSID among them (below 2: no team).
+    #[cfg(feature = "mavlink-team")]
     pub const TEAM_N: usize = 17;
 }
 
 /// Every parameter, in index order. Speeds and curvatures span the law's envelope
 /// ([`crate::law::geometry::MAX_SPEED`] and its kin); the limits are also checked together.
-pub const SPECS: [Spec; 18] = [
+pub const SPECS: [Spec; 16 + TEAM_SPECS.len()] = with_team([
     real("TC_V_PM", 2.0, 1.0e-3, 1.0e4),
     real("TC_W_PM", 2.0, 1.0e-4, 1.0e4),
     real("TC_V_EM", 1.0, 1.0e-3, 1.0e4),
@@ -105,9 +108,27 @@ pub const SPECS: [Spec; 18] = [
     real("TC_TGT_SIGH", 0.0, 0.0, 3.0),
     real("TC_LEAD", 0.0, 0.0, 5.0),
     real("TC_BANK_EFF", 1.0, 0.1, 2.0),
+]);
+
+/// The team's parameters, after the others (`mavlink-team`).
+#[cfg(feature = "mavlink-team")]
+const TEAM_SPECS: [Spec; 2] = [
     whole("TC_TEAM_SYS", 0.0, 0.0, 255.0),
     whole("TC_TEAM_N", 0.0, 0.0, 8.0),
 ];
+#[cfg(not(feature = "mavlink-team"))]
+const TEAM_SPECS: [Spec; 0] = [];
+
+/// `base` followed by [`TEAM_SPECS`].
+const fn with_team<const N: usize>(base: [Spec; 16]) -> [Spec; N] {
+    let mut out = [base[0]; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = if i < 16 { base[i] } else { TEAM_SPECS[i - 16] };
+        i += 1;
+    }
+    out
+}
 
 /// Why a PARAM_SET was refused (the STATUSTEXT says which).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

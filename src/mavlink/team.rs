@@ -55,17 +55,26 @@ impl TeamWatch {
         self.roles.is_some()
     }
 
+    /// Whether system `system` is a teammate (not this unit).
+    pub fn is_teammate(&self, params: &Params, system: u8) -> bool {
+        self.slot(params, system).is_some()
+    }
+
     /// A fix of system `system`: kept where it is a teammate; whether it was.
     pub fn hear(&mut self, params: &Params, system: u8, fix: MateFix) -> bool {
-        let Some((first, size, own)) = members(params) else {
+        let Some(slot) = self.slot(params, system) else {
             return false;
         };
-        let slot = usize::from(system.wrapping_sub(first));
-        if self.roles.is_none() || slot >= size || slot == own {
-            return false;
-        }
         self.mates[slot] = Some(fix);
         true
+    }
+
+    /// Teammate `system`'s place in the team.
+    fn slot(&self, params: &Params, system: u8) -> Option<usize> {
+        self.roles?;
+        let (first, size, own) = members(params)?;
+        let slot = usize::from(system.wrapping_sub(first));
+        (slot < size && slot != own).then_some(slot)
     }
 
     /// The chaser's system id this period of `period_s`, from the own state `own` and the
