@@ -141,13 +141,18 @@ impl<const N: usize> Views<N> {
         let ahead = (self.heard.len() - 1) as f64 * self.dt;
         let carried: [[f64; 3]; N] =
             core::array::from_fn(|j| advance(self.heard[0][j], self.limits[j][0], 0.0, ahead));
-        let mut named = self.teams.iter_mut().enumerate().map(|(i, team)| {
-            let mut seen = carried;
-            seen[i] = pursuers[i];
-            team.decide(&seen.map(narrow), narrow(evader)).chaser
-        });
-        let first = named.next().flatten();
-        let agree = named.fold(true, |all, c| all && c == first);
+        // Every vehicle decides every period (its team's hysteresis runs on), then they compare.
+        let named: Vec<Option<usize>> = self
+            .teams
+            .iter_mut()
+            .enumerate()
+            .map(|(i, team)| {
+                let mut seen = carried;
+                seen[i] = pursuers[i];
+                team.decide(&seen.map(narrow), narrow(evader)).chaser
+            })
+            .collect();
+        let agree = named.iter().all(|&c| c == named[0]);
         self.periods += 1;
         self.stretch = if agree { 0 } else { self.stretch + 1 };
         self.apart += u32::from(!agree);
