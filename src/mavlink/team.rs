@@ -65,8 +65,13 @@ impl TeamWatch {
         let Some(slot) = self.slot(params, system) else {
             return false;
         };
-        self.mates[slot] = Some(fix);
-        true
+        match self.mates.get_mut(slot) {
+            Some(mate) => {
+                *mate = Some(fix);
+                true
+            }
+            None => false,
+        }
     }
 
     /// Teammate `system`'s place in the team.
@@ -94,7 +99,12 @@ impl TeamWatch {
             if slot == own_slot {
                 return time_to_go(own, target, limits);
             }
-            let fix = self.mates[slot].filter(|_| slot < size)?;
+            let fix = self
+                .mates
+                .get(slot)
+                .copied()
+                .flatten()
+                .filter(|_| slot < size)?;
             let age_ms = now_ms.wrapping_sub(fix.arrived_ms);
             if age_ms > timeout_ms {
                 return None;

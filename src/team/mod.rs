@@ -146,7 +146,9 @@ impl<S: Scalar, const N: usize> Team<S, N> {
             Ok(_) => time_to_go(pursuers[i], evader, self.limits[i]),
             Err(_) => None,
         });
-        let chaser = self.roles.name(&times_to_go, self.guidance[0].period());
+        // Every guidance runs at the same period; a team of none has no chaser.
+        let period = self.guidance.first().map_or(0.0, Guidance::period);
+        let chaser = self.roles.name(&times_to_go, period);
         let roles = core::array::from_fn(|i| match chaser == Some(i) {
             true => Role::Chaser,
             false => Role::Support,
@@ -191,6 +193,13 @@ mod tests {
             .iter()
             .filter_map(|d| d.unwrap().value_seconds());
         assert_eq!(d.team_time(), least.reduce(f32::min));
+    }
+
+    #[test]
+    fn a_team_of_none_decides_nothing() {
+        let mut team = Team::<f32, 0>::new([], []).unwrap();
+        let d = team.decide(&[], [0.0; 3]);
+        assert_eq!((d.chaser, d.team_time(), d.curvature(0)), (None, None, 0.0));
     }
 
     #[test]

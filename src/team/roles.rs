@@ -86,7 +86,10 @@ impl<const N: usize> Roles<N> {
     /// time is shorter by the margin, and in any case for [`DWELL_TURNS`] of its full turns
     /// after taking it and within [`TERMINAL_TURNS`] of one from the capture.
     pub fn name(&mut self, times: &[Option<f32>; N], dt: f32) -> Option<usize> {
-        let next = match self.chaser.is_some_and(|c| self.locked(c, times[c])) {
+        let held = self
+            .chaser
+            .is_some_and(|c| self.locked(c, times.get(c).copied().flatten()));
+        let next = match held {
             true => self.chaser,
             false => next_chaser(self.chaser, times, self.margin),
         };
@@ -101,10 +104,9 @@ impl<const N: usize> Roles<N> {
     /// Whether chaser `c`, with time to go `time` (s), keeps its role whatever the others'
     /// times. A pursuer without a time never does.
     fn locked(&self, c: usize, time: Option<f32>) -> bool {
-        let Some(time) = time else {
+        let (Some(time), Some(&turn)) = (time, self.turns.get(c)) else {
             return false;
         };
-        let turn = self.turns[c];
         self.held < DWELL_TURNS * turn || time < TERMINAL_TURNS * turn
     }
 }
