@@ -4,10 +4,17 @@
 //! 1-on-1 flight policies, or one of them alone; the evader goes straight, plays the law
 //! against the pursuer it thinks will capture, or knows the team.
 
+mod evader;
+mod period;
+
+use evader::team_aware;
+pub use evader::{EvaderPlay, TeamEvader};
+use period::{guidance, independent, narrow, Period};
+
 use crate::kinematics::{advance, distance};
 use crate::rng::Rng;
-use twocars::team::{time_to_go, Team};
-use twocars::{Guidance, Law, Limits, Policy, Variant};
+use twocars::team::Team;
+use twocars::{Law, Limits, Variant};
 
 /// How the pursuers fly.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,30 +25,6 @@ pub enum TeamPursuit {
     Independent,
     /// This pursuer alone, on its flight policy (the others take no part).
     Alone(usize),
-}
-
-/// How the evader flies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TeamEvader {
-    /// Of {-w_em, 0, +w_em} for one period, the turn whose least time to go over the pursuers
-    /// afterwards is longest (`twocars::team::time_to_go`). Against one pursuer it flees its
-    /// collision course. The law's game value would not do: below the theorem's threshold an
-    /// evader that ascends it can run head-on into the pursuer (docs/team.md).
-    TeamAware,
-    /// The paper's law against the pursuer with the least game value (it does not see the
-    /// team's roles).
-    Law,
-    /// Straight ahead.
-    Straight,
-}
-
-impl TeamEvader {
-    /// Every evader, with the report's names.
-    pub const ALL: [(TeamEvader, &'static str); 3] = [
-        (TeamEvader::TeamAware, "team-aware"),
-        (TeamEvader::Law, "law"),
-        (TeamEvader::Straight, "straight"),
-    ];
 }
 
 /// A start: each pursuer's limits (v_pm, w_pm, v_em, w_em; m/s, 1/m: the evader's as each
@@ -91,6 +74,8 @@ pub struct TeamParams {
 pub struct TeamRun<const N: usize> {
     /// Time of capture (any pursuer that takes part within `eps`), s; `None` within `t_max`.
     pub captured: Option<f64>,
+    /// The pursuer that captured (the first of those within `eps`).
+    pub by: Option<usize>,
     /// The team's predicted capture time at the start, s.
     pub predicted: Option<f64>,
     /// How often each pursuer's role changed.
@@ -170,25 +155,6 @@ impl<const N: usize> Views<N> {
 /// and the chaser (the team's; `None` without roles).
 pub type TeamSample<const N: usize> = (f64, [[f64; 3]; N], [f64; 3], Option<usize>);
 
-/// Each pursuer's flight-policy guidance at period `dt`, told the capture radius `eps`.
-fn guidance<const N: usize>(
-    limits: &[[f64; 4]; N],
-    dt: f64,
-    eps: f64,
-) -> Option<[Guidance<f32>; N]> {
-    let mut out = Vec::with_capacity(N);
-    for l in limits {
-        let limits = Limits::<f32>::new(l[0] as f32, l[1] as f32, l[2] as f32, l[3] as f32).ok()?;
-        let g = Guidance::new(Law::new(limits, Variant::Paper), dt as f32, Policy::Flight).ok()?;
-        out.push(g.with_capture_radius(eps as f32).ok()?);
-    }
-    out.try_into().ok()
-}
-
-fn narrow<const K: usize>(s: [f64; K]) -> [f32; K] {
-    s.map(|v| v as f32)
-}
-
 /// The least game value over the pursuers at `start`, s: what the team predicts.
 pub fn predicted<const N: usize>(start: &TeamStart<N>) -> Option<f64> {
     let mut least: Option<f64> = None;
@@ -206,78 +172,6 @@ pub fn predicted<const N: usize>(start: &TeamStart<N>) -> Option<f64> {
         }
     }
     least
-}
-
-/// The team-aware evader's turn: of {0, +w_em, -w_em}, the one whose least time to go over
-/// the `active` pursuers, after each has flown `curvatures` for `dt`, is longest.
-fn team_aware<const N: usize>(
-    start: &TeamStart<N>,
-    pursuers: &[[f64; 3]; N],
-    evader: [f64; 3],
-    (curvatures, active): (&[f64; N], &[bool; N]),
-    (dt, eps): (f64, f64),
-) -> f64 {
-    let [_, _, v_em, w_em] = start.limits[0];
-    let moved: [[f64; 3]; N] =
-        core::array::from_fn(|i| advance(pursuers[i], start.limits[i][0], curvatures[i], dt));
-    let score = |w: f64| {
-        let e = advance(evader, v_em, w, dt);
-        let mut least = f64::INFINITY;
-        for i in (0..N).filter(|&i| active[i]) {
-            if distance(moved[i], e) <= eps {
-                return f64::NEG_INFINITY;
-            }
-            let t = time_to_go(narrow(moved[i]), narrow(e), narrow(start.limits[i]));
-            least = least.min(t.map_or(f64::INFINITY, f64::from));
-        }
-        least
-    };
-    [0.0, w_em, -w_em]
-        .into_iter()
-        .map(|w| (w, score(w)))
-        .fold(
-            (0.0, f64::NEG_INFINITY),
-            |b, c| if c.1 > b.1 { c } else { b },
-        )
-        .0
-}
-
-/// One period's commands of the pursuers (curvature, 1/m; 0 for those not taking part), the
-/// law's evader's turn against the one it thinks captures, and the team's predicted time.
-struct Period<const N: usize> {
-    curvatures: [f64; N],
-    law_evader: f64,
-    predicted: Option<f32>,
-}
-
-/// The independent (or lone) pursuers' period: each on its own guidance.
-fn independent<const N: usize>(
-    own: &mut [Guidance<f32>; N],
-    active: &[bool; N],
-    pursuers: &[[f64; 3]; N],
-    evader: [f64; 3],
-) -> Period<N> {
-    let mut out = Period {
-        curvatures: [0.0; N],
-        law_evader: 0.0,
-        predicted: None,
-    };
-    for i in (0..N).filter(|&i| active[i]) {
-        let limits = own[i].law().limits;
-        let Ok((p, e)) = limits.states(narrow(pursuers[i]), narrow(evader)) else {
-            continue;
-        };
-        let d = own[i].decide(&p, &e);
-        let [w_p, w_e] = d.curvatures();
-        out.curvatures[i] = f64::from(w_p);
-        if let Some(time) = d.value_seconds() {
-            if out.predicted.is_none_or(|b| time < b) {
-                out.predicted = Some(time);
-                out.law_evader = f64::from(w_e);
-            }
-        }
-    }
-    out
 }
 
 /// Chases from `start` with `params`; captured within `eps` of any pursuer that takes part.
@@ -311,6 +205,7 @@ pub fn chase_traced<const N: usize>(
     let mut chaser = None;
     let mut run = TeamRun {
         captured: None,
+        by: None,
         predicted: None,
         swaps: [0; N],
         disagreement: None,
@@ -320,8 +215,9 @@ pub fn chase_traced<const N: usize>(
         .map(|lag| Views::new(&team, (lag / dt).round() as usize, dt, start.limits));
     let v_em = start.limits[0][2];
     for k in 0..=(params.t_max / dt).ceil() as u64 {
-        if (0..N).any(|i| active[i] && distance(pursuers[i], evader) <= eps) {
+        if let Some(i) = (0..N).find(|&i| active[i] && distance(pursuers[i], evader) <= eps) {
             run.captured = Some(k as f64 * dt);
+            run.by = Some(i);
             if let Some(trace) = trace.as_deref_mut() {
                 trace.push((k as f64 * dt, pursuers, evader, chaser));
             }
@@ -357,9 +253,8 @@ pub fn chase_traced<const N: usize>(
             TeamEvader::Straight => 0.0,
             TeamEvader::Law => period.law_evader,
             TeamEvader::TeamAware => team_aware(
-                start,
-                &pursuers,
-                evader,
+                &start.limits,
+                (&pursuers, evader),
                 (&period.curvatures, &active),
                 (dt, eps),
             ),
