@@ -1,5 +1,6 @@
 //! `cargo xtask test`: every check the project has, as a list of named steps run in order;
-//! stops at the first failure. `--quick` is the edit loop's tier, `--only` and `--skip` pick steps.
+//! stops at the first failure. `--quick` is the edit loop's tier, `--only` and `--skip` pick steps;
+//! a step of the asked tier runs only where `--only` names it.
 
 use super::Tally;
 use std::io::{BufRead, BufReader};
@@ -208,36 +209,44 @@ impl Suite {
     }
 }
 
-/// A step of the suite: its name for `--only` and `--skip`, whether `--quick` runs it, and
-/// what it does (true if it passed).
+/// Which runs take a step: `--quick` and the full run, the full run, or only `--only`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Tier {
+    Quick,
+    Full,
+    Asked,
+}
+
+/// A step of the suite: its name for `--only` and `--skip`, its tier, and what it does (true
+/// if it passed).
 struct Step {
     name: &'static str,
-    quick: bool,
+    tier: Tier,
     run: fn(&mut Suite) -> bool,
 }
 
 impl Step {
     /// A step of the full run and of `--quick`.
     const fn quick(name: &'static str, run: fn(&mut Suite) -> bool) -> Self {
-        Step {
-            name,
-            quick: true,
-            run,
-        }
+        let tier = Tier::Quick;
+        Step { name, tier, run }
     }
 
     /// A step of the full run only.
     const fn full(name: &'static str, run: fn(&mut Suite) -> bool) -> Self {
-        Step {
-            name,
-            quick: false,
-            run,
-        }
+        let tier = Tier::Full;
+        Step { name, tier, run }
+    }
+
+    /// A step run only when `--only` names it.
+    const fn asked(name: &'static str, run: fn(&mut Suite) -> bool) -> Self {
+        let tier = Tier::Asked;
+        Step { name, tier, run }
     }
 }
 
 /// The suite, in order; the full run stops at the first step that fails.
-const STEPS: [Step; 20] = [
+const STEPS: [Step; 21] = [
     Step::quick("format", format),
     Step::quick("imports", |suite| {
         println!(
@@ -299,6 +308,11 @@ const STEPS: [Step; 20] = [
         suite.count(counts)
     }),
     Step::full("fuzz", fuzz),
+    Step::asked("ardupilot-team", |suite| {
+        named_tests(suite, "the ArduPilot SITL team's tests", |tally| {
+            crate::checks::sitl::ardupilot_team(&mut |name, outcome| tally.record(name, outcome))
+        })
+    }),
 ];
 
 /// Runs the steps `args` selects; returns the exit code. The last line is `N passed, N failed`.
@@ -312,9 +326,11 @@ pub fn run(args: &TestArgs) -> i32 {
     };
     let chosen = |step: &&Step| {
         let asked = if args.quick {
-            step.quick
+            step.tier == Tier::Quick
+        } else if args.only.is_empty() {
+            step.tier != Tier::Asked
         } else {
-            args.only.is_empty() || args.only.contains(&step.name)
+            args.only.contains(&step.name)
         };
         asked && !args.skip.contains(&step.name)
     };
@@ -542,8 +558,10 @@ fn named_tests(suite: &mut Suite, title: &str, run: impl FnOnce(&mut Tally)) -> 
     suite.count((tally.passed, tally.failed))
 }
 
-/// Each libFuzzer target for 10 s from its seed corpus.
+/// Each libFuzzer target for 10 s from its seed corpus, two at a time (one per core: each
+/// run is one process on one thread).
 fn fuzz(suite: &mut Suite) -> bool {
+    use crate::harness::fuzz::{run_target, Budget, FuzzRun, TARGETS};
     println!("== xtask test: fuzz smoke run, 10 s per target from the seed corpora");
     let fuzzing = Instant::now();
     let built = match crate::harness::fuzz::build_targets() {
@@ -554,35 +572,41 @@ fn fuzz(suite: &mut Suite) -> bool {
             return false;
         }
     };
-    let ok = crate::harness::fuzz::TARGETS.iter().all(|target| {
-        match crate::harness::fuzz::run_target(
-            target,
-            &built,
-            crate::harness::fuzz::Budget::Seconds(10),
-        ) {
-            Ok(r) if !r.failed && r.executions > 0 => {
-                println!(
-                    "test fuzz::{target} ... ok ({} executions, corpus {})",
-                    r.executions, r.corpus
-                );
-                suite.passed += 1;
-                true
-            }
-            Ok(r) => {
-                println!(
-                    "test fuzz::{target} ... FAILED ({} executions)",
-                    r.executions
-                );
-                suite.failed += 1;
-                false
-            }
-            Err(e) => {
-                println!("test fuzz::{target} ... FAILED: {e}");
-                suite.failed += 1;
-                false
-            }
-        }
+    let half = TARGETS.len().div_ceil(2);
+    let runs: Vec<(&str, Result<FuzzRun, String>)> = std::thread::scope(|scope| {
+        let built = &built;
+        let workers: Vec<_> = TARGETS
+            .chunks(half)
+            .map(|chunk| {
+                scope.spawn(move || {
+                    let run = |&t: &&'static str| (t, run_target(t, built, Budget::Seconds(10)));
+                    chunk.iter().map(run).collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().unwrap_or_default())
+            .collect()
     });
+    let mut ok = runs.len() == TARGETS.len();
+    if !ok {
+        println!("test fuzz ... FAILED: a worker stopped before its targets ran");
+        suite.failed += 1;
+    }
+    for (target, run) in runs {
+        let line = match run {
+            Ok(r) if !r.failed && r.executions > 0 => {
+                suite.passed += 1;
+                format!("ok ({} executions, corpus {})", r.executions, r.corpus)
+            }
+            Ok(r) => format!("FAILED ({} executions)", r.executions),
+            Err(e) => format!("FAILED: {e}"),
+        };
+        ok &= line.starts_with("ok");
+        suite.failed += u64::from(!line.starts_with("ok"));
+        println!("test fuzz::{target} ... {line}");
+    }
     println!(
         "== xtask test: the fuzz smoke run took {:.1} s",
         fuzzing.elapsed().as_secs_f64()

@@ -90,6 +90,11 @@ pub struct RunArgs {
     /// (docs/ardupilot.md, docs/px4.md).
     #[arg(long)]
     rover_evader: bool,
+    /// With `--autopilot ardupilot`: three rovers, each with its own companion unit in a team,
+    /// against a fourth rover flown by the team's evaders, the target's fixes through the
+    /// rovers' radio (docs/team.md).
+    #[arg(long, conflicts_with_all = ["rover_evader", "signing_key", "field"])]
+    team: bool,
     /// With `--autopilot ardupilot` or `px4`: the unit the `twocars-companion` binary on the host
     /// (over TCP to the router) in place of the QEMU image (docs/companion.md).
     #[arg(long)]
@@ -176,6 +181,10 @@ pub fn run(args: &RunArgs) -> i32 {
         );
         return 2;
     }
+    if args.team && args.autopilot() != Some(RunAutopilot::Ardupilot) {
+        eprintln!("xtask run: --team flies ArduPilot Rover SITL: give --autopilot ardupilot");
+        return 2;
+    }
     if args.autopilot() == Some(RunAutopilot::Px4) {
         return px4(args);
     }
@@ -229,6 +238,12 @@ fn px4(args: &RunArgs) -> i32 {
 
 /// `--autopilot ardupilot`: the rover or the plane, signed with `key` where given.
 fn ardupilot(args: &RunArgs, key: Option<SigningKey>) -> i32 {
+    if args.team {
+        return crate::harness::ardupilot::team::run(&crate::harness::ardupilot::team::Options {
+            ardurover: args.ardurover.clone(),
+            short: false,
+        });
+    }
     if args.vehicle == RunVehicle::Plane {
         return crate::harness::ardupilot::plane::run(&crate::harness::ardupilot::plane::Options {
             arduplane: args.arduplane.clone(),

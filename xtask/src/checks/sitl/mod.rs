@@ -3,6 +3,7 @@
 
 mod ardupilot_plane;
 mod ardupilot_rover;
+mod ardupilot_team;
 mod px4_plane;
 mod px4_rover;
 
@@ -10,6 +11,11 @@ mod px4_rover;
 pub fn ardupilot(record: &mut impl FnMut(&str, Result<String, String>)) {
     ardupilot_plane::record(record);
     ardupilot_rover::record(record);
+}
+
+/// Three ArduPilot Rover pursuers in a team against a fourth rover.
+pub fn ardupilot_team(record: &mut impl FnMut(&str, Result<String, String>)) {
+    ardupilot_team::record(record);
 }
 
 /// PX4's rover, then its airplane.

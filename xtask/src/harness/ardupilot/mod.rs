@@ -9,6 +9,7 @@ pub mod plane;
 pub mod plane_evader;
 pub mod rover_evader;
 mod sitl;
+pub mod team;
 mod telemetry;
 mod vehicle;
 

@@ -70,9 +70,9 @@ pub fn launch(
 }
 
 /// The evader's rover told its strategy's turn as a GUIDED yaw rate and thrust.
-struct RoverSteer {
+pub(super) struct RoverSteer {
     /// The evader's speed at thrust 1, m/s.
-    wp_speed: f64,
+    pub wp_speed: f64,
 }
 
 impl Steer for RoverSteer {

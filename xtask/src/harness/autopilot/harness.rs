@@ -19,6 +19,10 @@ pub const UNIT_COMPONENT: u8 = 191;
 const STRAIGHT: f64 = 0.01;
 /// HEARTBEAT base_mode's armed flag.
 const ARMED: u8 = 128;
+/// A team's unit's NAMED_VALUE_INT naming the chaser (`twocars::mavlink::team::CHASER`, which
+/// xtask's build of the core lacks: without the `mavlink-team` feature, as the images it
+/// checks are built).
+const CHASER: &[u8] = b"TC_CHASER";
 
 /// The rover as its GLOBAL_POSITION_INT reports it, in the plane about home.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -101,6 +105,9 @@ pub struct Harness {
     pub setpoints: Vec<Setpoint>,
     /// The unit's TC_T at the rover's time.
     pub tc_t: Vec<(u32, f32)>,
+    /// The unit's TC_CHASER (the system id its team names the chaser; 0: none) at the rover's
+    /// time, where it is in a team.
+    pub chasers: Vec<(u32, i32)>,
     /// The unit's last TC_BADFRM.
     pub bad_frames: Option<f32>,
     /// The unit's last signature refusals by kind (TC_NOSIG, TC_BADSIG, TC_OLDSIG), where it
@@ -156,6 +163,7 @@ impl Harness {
             texts: Vec::new(),
             setpoints: Vec::new(),
             tc_t: Vec::new(),
+            chasers: Vec::new(),
             bad_frames: None,
             refusals: [None; 3],
             autopilot_signed: (0, 0),
@@ -323,6 +331,9 @@ impl Harness {
                     thrust: s.vx.hypot(s.vy),
                     bank: 0.0,
                 });
+            }
+            MavMessage::NAMED_VALUE_INT(n) if from_unit && n.name.starts_with(CHASER) => {
+                self.chasers.push((now, n.value));
             }
             MavMessage::NAMED_VALUE_FLOAT(n) if from_unit => {
                 let name = String::from_utf8_lossy(&n.name[..])

@@ -13,6 +13,7 @@ pub mod harness;
 pub mod message;
 pub mod router;
 pub mod script;
+pub mod team;
 pub mod unit;
 
 use std::time::Duration;

@@ -38,10 +38,18 @@ pub fn start(companion: bool, key: Option<&SigningKey>) -> Result<(Unit, TcpStre
         };
         return Ok((unit, link));
     }
-    let binary = build_companion()?;
+    start_companion(&build_companion()?, key)
+}
+
+/// Starts the companion `binary` (built by [`build_companion`]) and its link, signing with
+/// `key` where given.
+pub fn start_companion(
+    binary: &std::path::Path,
+    key: Option<&SigningKey>,
+) -> Result<(Unit, TcpStream), String> {
     let listener = TcpListener::bind("127.0.0.1:0").map_err(|e| e.to_string())?;
     let port = listener.local_addr().map_err(|e| e.to_string())?.port();
-    let mut command = Command::new(&binary);
+    let mut command = Command::new(binary);
     command
         .arg("--tcp")
         .arg(format!("127.0.0.1:{port}"))
@@ -61,7 +69,7 @@ pub fn start(companion: bool, key: Option<&SigningKey>) -> Result<(Unit, TcpStre
 }
 
 /// `cargo build --release -p twocars-companion`; the binary's path.
-fn build_companion() -> Result<std::path::PathBuf, String> {
+pub fn build_companion() -> Result<std::path::PathBuf, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let status = Command::new(cargo)
         .current_dir(crate::util::workspace::root())
