@@ -16,10 +16,10 @@
 use twocars::num::Scalar;
 use twocars::protocol::endpoint::Endpoint;
 use twocars::protocol::frame::{
-    cobs_encode, encode_frame_as, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME, VERSION_1,
+    cobs_encode, encode_frame_as, Deframer, Feed, Writer, CRC_LEN, MAX_FRAME, VERSION_1, VERSION_2,
 };
 use twocars::protocol::message::{
-    kind, Configure, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER,
+    kind, Configure, FieldConfig, StateMsg, TeamConfig, ROLE_EVADER, ROLE_PURSUER,
 };
 use twocars::serial::{service, Board, Line, RxFlags, UartRegisters};
 
@@ -115,7 +115,7 @@ pub fn script(with_states: bool, tables: bool, out: &mut [u8]) -> Option<usize> 
 
 /// [`script`] in protocol `version` (1 or [`twocars::protocol::frame::VERSION`]): from version 2 the Configure carries
 /// the field's settings (exact: the states go through the unit's estimator as they come) and
-/// each State its evader fix's time.
+/// each State its evader fix's time; from version 3 the Configure says it has no team.
 pub fn script_as(version: u8, with_states: bool, tables: bool, out: &mut [u8]) -> Option<usize> {
     let mut script = Script {
         out,
@@ -134,13 +134,12 @@ pub fn script_as(version: u8, with_states: bool, tables: bool, out: &mut [u8]) -
             variant: 0,
             policy,
             field: FieldConfig::EXACT,
+            team: TeamConfig::NONE,
         };
-        script.frame(kind::CONFIGURE, |w| {
-            if v1 {
-                configure.emit_v1(w)
-            } else {
-                configure.emit(w)
-            }
+        script.frame(kind::CONFIGURE, |w| match version {
+            VERSION_1 => configure.emit_v1(w),
+            VERSION_2 => configure.emit_v2(w),
+            _ => configure.emit(w),
         })?;
         if with_states {
             for (i, (pursuer, evader)) in states(tables).enumerate() {

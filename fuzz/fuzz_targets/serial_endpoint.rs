@@ -1,5 +1,5 @@
 //! The whole unit, bytes in -> bytes out: after an optional valid Configure (first input byte
-//! odd), arbitrary bytes; every reply must itself be a valid frame of a known type whose payload
+//! odd; in a team of three where its bit 2 is set), arbitrary bytes; every reply must itself be a valid frame of a known type whose payload
 //! parses, every command finite and within +-v_max w_max, and never `ok` for a refused input;
 //! on the f32 and the fixed-point backends.
 #![no_main]
@@ -8,7 +8,9 @@ use libfuzzer_sys::fuzz_target;
 use twocars::num::fixed::Fixed;
 use twocars::protocol::endpoint::Endpoint;
 use twocars::protocol::frame::{encode_frame, Deframer, Feed, Frame, MAX_ENCODED, MAX_FRAME};
-use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, FieldConfig};
+use twocars::protocol::message::{
+    kind, CommandMsg, Configure, Counters, ErrorMsg, FieldConfig, TeamConfig, NO_MEMBER,
+};
 use twocars::Scalar;
 
 const LIMITS: [f32; 4] = [2.0, 2.0, 1.0, 1.0];
@@ -35,6 +37,7 @@ fn check_reply(bytes: &[u8]) {
                             );
                         }
                         assert!(!c.predicted.is_nan() && !c.upper.is_nan() && !c.lower.is_nan());
+                        assert!(c.chaser < 3 || c.chaser == NO_MEMBER, "chaser {}", c.chaser);
                     }
                     kind::ERROR => {
                         ErrorMsg::parse(p).expect("error parses");
@@ -44,7 +47,9 @@ fn check_reply(bytes: &[u8]) {
                     }
                     // The policy in effect (docs/protocol.md).
                     kind::CONFIGURE_ACK => assert!(matches!(p, [0..=2])),
-                    kind::SHUTDOWN_ACK | kind::RESET_ACK => assert!(p.is_empty()),
+                    kind::SHUTDOWN_ACK | kind::RESET_ACK | kind::TEAMMATE_ACK => {
+                        assert!(p.is_empty())
+                    }
                     other => panic!("unknown reply type {other:#x}"),
                 }
             }
@@ -80,6 +85,12 @@ fn session<S: Scalar>(data: &[u8]) {
                 }
             } else {
                 FieldConfig::EXACT
+            },
+            // A quarter of them in a team of three, this unit's pursuer the second.
+            team: if data.first().is_some_and(|b| b & 4 == 4) {
+                TeamConfig { size: 3, own: 1 }
+            } else {
+                TeamConfig::NONE
             },
         };
         let mut out = [0u8; MAX_ENCODED];

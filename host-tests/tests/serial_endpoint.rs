@@ -388,12 +388,12 @@ fn last_reply_bytes(unit: &mut Endpoint, bytes: &[u8], now_ms: u32) -> Option<Ve
     reply
 }
 
-/// Golden bytes: a State of protocol version 3, sequence 0x0278, valid CRC.
+/// Golden bytes: a State of protocol version 4, sequence 0x0278, valid CRC.
 /// Its header is readable, so the Error (code 6, bad_version) echoes its sequence: reply body
-/// `02 8f 78 02 06 01` (in the unit's own version, 2) with CRC 0xd128, COBS-framed.
+/// `03 8f 78 02 06 01` (in the unit's own version, 3) with CRC 0x9488, COBS-framed.
 #[test]
 fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
-    let mut body = vec![0x03, 0x02, 0x78, 0x02];
+    let mut body = vec![0x04, 0x02, 0x78, 0x02];
     body.extend([0x5a; 44]);
     let crc = twocars::protocol::frame::crc16(&body);
     body.extend(crc.to_le_bytes());
@@ -404,14 +404,14 @@ fn a_frame_of_another_version_gets_bad_version_with_its_sequence_echoed() {
     let reply = last_reply_bytes(&mut Endpoint::<f32>::new(), &frame, 0);
     assert_eq!(
         reply.as_deref(),
-        Some(&[0x09, 0x02, 0x8f, 0x78, 0x02, 0x06, 0x01, 0x28, 0xd1, 0x00][..])
+        Some(&[0x09, 0x03, 0x8f, 0x78, 0x02, 0x06, 0x01, 0x88, 0x94, 0x00][..])
     );
 }
 
 /// Golden bytes: the contract checks non-finite fields before the envelope,
 /// across the whole State. A State (sequence 0x0102) whose pursuer heading is out of the envelope
 /// (2e4 rad) and whose evader y is NaN gets Error 7 (non_finite_field) with its sequence echoed,
-/// `02 8f 02 01 07 01` with CRC 0x9197, not Error 8 (out_of_range_field) for the heading met
+/// `03 8f 02 01 07 01` with CRC 0xd437, not Error 8 (out_of_range_field) for the heading met
 /// first.
 #[test]
 fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_state() {
@@ -424,7 +424,7 @@ fn a_non_finite_field_is_refused_before_an_out_of_range_one_anywhere_in_the_stat
     let reply = last_reply_bytes(&mut unit, &link::state(0x0102, &state), 10);
     assert_eq!(
         reply.as_deref(),
-        Some(&[0x09, 0x02, 0x8f, 0x02, 0x01, 0x07, 0x01, 0x97, 0x91, 0x00][..])
+        Some(&[0x09, 0x03, 0x8f, 0x02, 0x01, 0x07, 0x01, 0x37, 0xd4, 0x00][..])
     );
 }
 

@@ -233,7 +233,7 @@ fn impossible_field_settings_are_refused() {
     }
 }
 
-/// A version-1 frame is answered in version 1, after a version-2 Configure too; a version-1
+/// A version-1 frame is answered in version 1, version 2's in 2, version 3's in 3; a version-1
 /// Configure leaves the estimator out.
 #[test]
 fn version_1_frames_are_answered_in_version_1() {
@@ -243,8 +243,10 @@ fn version_1_frames_are_answered_in_version_1() {
     assert_eq!(version_of(&ack), 1);
     let reply = unit_reply(&mut unit, &link::state_v1(2, &paper_state(0, 10)), 10);
     assert_eq!(version_of(&reply), 1);
-    let reply = unit_reply(&mut unit, &link::state(3, &paper_state(0, 20)), 20);
+    let reply = unit_reply(&mut unit, &link::state_v2(3, &paper_state(0, 20)), 20);
     assert_eq!(version_of(&reply), 2);
+    let reply = unit_reply(&mut unit, &link::state(3, &paper_state(0, 25)), 25);
+    assert_eq!(version_of(&reply), 3);
     let counters = unit_reply(&mut unit, &link::read_counters(4), 30);
     let counters = ReplyDecoder::default().feed(&counters);
     let Ok(Reply::Counters(_, counters)) = counters[0] else {

@@ -4,7 +4,9 @@ use twocars::protocol::frame::{
     cobs_encode, crc16, encode_frame, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME,
     VERSION,
 };
-use twocars::protocol::message::{CommandMsg, Configure, FieldConfig, StateMsg};
+use twocars::protocol::message::{
+    CommandMsg, Configure, FieldConfig, StateMsg, TeamConfig, TeammateMsg, NO_MEMBER,
+};
 
 /// The one frame a deframer of `N` decoded bytes makes of `encoded` (delimiter included), or its
 /// refusal; panics unless exactly the last byte ends it.
@@ -125,12 +127,12 @@ fn golden_state_frame() {
         ..StateMsg::exact(1, [0.0, 0.0, 1.0], [-3.0, -6.0, 1.0])
     };
     let bytes = twocars_sim::link::state(0x0102, &state);
-    // version 2, type 2, seq 0x0102 LE, t = 1 LE, then f32s, then the evader's fix time;
+    // version 3, type 2, seq 0x0102 LE, t = 1 LE, then f32s, then the evader's fix time;
     // zeros stuffed by COBS.
     let decoded = &deframe::<MAX_FRAME>(&bytes).unwrap()[..];
     assert_eq!(
         &decoded[..8],
-        &[0x02, 0x02, 0x02, 0x01, 0x01, 0x00, 0x00, 0x00]
+        &[0x03, 0x02, 0x02, 0x01, 0x01, 0x00, 0x00, 0x00]
     );
     assert_eq!(&decoded[16..20], &1.0f32.to_le_bytes());
     assert_eq!(&decoded[20..24], &(-3.0f32).to_le_bytes());
@@ -141,7 +143,7 @@ fn golden_state_frame() {
     assert_eq!(*bytes.last().unwrap(), 0);
     let frame = Frame::new_checked(decoded).unwrap();
     assert_eq!(frame.sequence(), 0x0102);
-    assert_eq!(frame.version(), 2);
+    assert_eq!(frame.version(), 3);
     assert_eq!(StateMsg::parse(frame.payload()).unwrap(), state);
     // Version 1's State is the first 28 bytes, its evader fixed at the timestamp.
     let v1 = StateMsg::parse_v1(&frame.payload()[..StateMsg::LEN_V1]).unwrap();
@@ -167,6 +169,7 @@ fn messages_round_trip() {
             target_heading_sigma: 0.05,
             own_lead: 0.3,
         },
+        team: TeamConfig { size: 3, own: 2 },
     };
     let mut buf = [0u8; 64];
     let mut w = twocars::protocol::frame::Writer::new(&mut buf);
@@ -175,12 +178,22 @@ fn messages_round_trip() {
     assert_eq!(n, Configure::LEN);
     assert_eq!(Configure::parse(&buf[..n]).unwrap(), c);
     assert_eq!(Configure::parse(&buf[..n - 1]), Err(WireError::Truncated));
+    // Version 2 is the same first 43 bytes, without the team.
+    let v2 = Configure::parse_v2(&buf[..Configure::LEN_V2]).unwrap();
+    assert_eq!(
+        v2,
+        Configure {
+            team: TeamConfig::NONE,
+            ..c
+        }
+    );
     // Version 1 is the same first 27 bytes, without the field's settings.
     let v1 = Configure::parse_v1(&buf[..Configure::LEN_V1]).unwrap();
     assert_eq!(
         v1,
         Configure {
             field: FieldConfig::EXACT,
+            team: TeamConfig::NONE,
             ..c
         }
     );
@@ -198,15 +211,37 @@ fn messages_round_trip() {
         predicted: 5.5,
         upper: 5.5,
         lower: f32::INFINITY,
+        chaser: 2,
     };
     let mut buf = [0u8; 64];
     let mut w = twocars::protocol::frame::Writer::new(&mut buf);
     cmd.emit(&mut w).unwrap();
     let n = w.len();
+    assert_eq!(n, CommandMsg::LEN);
     assert_eq!(CommandMsg::parse(&buf[..n]).unwrap(), cmd);
     let mut long = buf[..n].to_vec();
     long.push(0);
     assert_eq!(CommandMsg::parse(&long), Err(WireError::Oversized));
+    // Versions 1 and 2: the first 24 bytes, no chaser.
+    let v2 = CommandMsg::parse(&buf[..CommandMsg::LEN_V2]).unwrap();
+    assert_eq!(
+        v2,
+        CommandMsg {
+            chaser: NO_MEMBER,
+            ..cmd
+        }
+    );
+    let mate = TeammateMsg {
+        index: 1,
+        time_ms: 70_000,
+        state: [3.0, -4.0, 0.5],
+    };
+    let mut w = twocars::protocol::frame::Writer::new(&mut buf);
+    mate.emit(&mut w).unwrap();
+    let n = w.len();
+    assert_eq!(n, TeammateMsg::LEN);
+    assert_eq!(TeammateMsg::parse(&buf[..n]).unwrap(), mate);
+    assert_eq!(TeammateMsg::parse(&buf[..n - 1]), Err(WireError::Truncated));
 }
 
 #[test]

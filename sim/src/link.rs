@@ -3,8 +3,11 @@
 
 use twocars::protocol::frame::{
     encode_frame_as, Deframer, Feed, Frame, WireError, MAX_ENCODED, MAX_FRAME, VERSION, VERSION_1,
+    VERSION_2,
 };
-use twocars::protocol::message::{kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg};
+use twocars::protocol::message::{
+    kind, CommandMsg, Configure, Counters, ErrorMsg, StateMsg, TeammateMsg,
+};
 
 /// A decoded reply of the unit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -22,6 +25,8 @@ pub enum Reply {
     ShutdownAck(u16),
     /// Reset accepted (echoed sequence).
     ResetAck(u16),
+    /// Teammate accepted (echoed sequence).
+    TeammateAck(u16),
 }
 
 fn frame(
@@ -59,6 +64,21 @@ pub fn state_v1(sequence: u16, m: &StateMsg) -> Vec<u8> {
     frame_as(VERSION_1, kind::STATE, sequence, |w| m.emit_v1(w))
 }
 
+/// A State frame of protocol version 2 (a Command without the chaser in reply).
+pub fn state_v2(sequence: u16, m: &StateMsg) -> Vec<u8> {
+    frame_as(VERSION_2, kind::STATE, sequence, |w| m.emit(w))
+}
+
+/// A Configure frame of protocol version 2 (no team).
+pub fn configure_v2(sequence: u16, m: &Configure) -> Vec<u8> {
+    frame_as(VERSION_2, kind::CONFIGURE, sequence, |w| m.emit_v2(w))
+}
+
+/// A Teammate frame.
+pub fn teammate(sequence: u16, m: &TeammateMsg) -> Vec<u8> {
+    frame(kind::TEAMMATE, sequence, |w| m.emit(w))
+}
+
 /// A Configure frame of protocol version 1 (no field settings).
 pub fn configure_v1(sequence: u16, m: &Configure) -> Vec<u8> {
     frame_as(VERSION_1, kind::CONFIGURE, sequence, |w| m.emit_v1(w))
@@ -82,6 +102,11 @@ pub fn shutdown(sequence: u16) -> Vec<u8> {
 /// A frame of any type with any payload (for tests of refusals).
 pub fn raw(message_type: u8, sequence: u16, payload: &[u8]) -> Vec<u8> {
     frame(message_type, sequence, |w| w.put(payload))
+}
+
+/// [`raw`] in protocol `version`.
+pub fn raw_as(version: u8, message_type: u8, sequence: u16, payload: &[u8]) -> Vec<u8> {
+    frame_as(version, message_type, sequence, |w| w.put(payload))
 }
 
 /// The frames (decoded) and refusals a deframer of `MAX_FRAME` bytes makes of `stream`: fed byte
@@ -145,6 +170,7 @@ fn decode(bytes: &[u8]) -> Result<Reply, WireError> {
         kind::CONFIGURE_ACK => Ok(Reply::ConfigureAck(seq, f.payload().first().copied())),
         kind::SHUTDOWN_ACK => Ok(Reply::ShutdownAck(seq)),
         kind::RESET_ACK => Ok(Reply::ResetAck(seq)),
+        kind::TEAMMATE_ACK => Ok(Reply::TeammateAck(seq)),
         kind::COMMAND => Ok(Reply::Command(seq, CommandMsg::parse(f.payload())?)),
         kind::COUNTERS => Ok(Reply::Counters(seq, Counters::parse(f.payload())?)),
         kind::ERROR => {

@@ -3,8 +3,10 @@
 //! through the firmware in QEMU and compares the replies byte for byte.
 
 use crate::link;
-use twocars::protocol::frame::{cobs_encode, crc16, WireError};
-use twocars::protocol::message::{Configure, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER};
+use twocars::protocol::frame::{cobs_encode, crc16, WireError, VERSION};
+use twocars::protocol::message::{
+    Configure, FieldConfig, StateMsg, TeamConfig, ROLE_EVADER, ROLE_PURSUER,
+};
 
 /// What a step must get back.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,11 +44,12 @@ pub fn paper_configure() -> Configure {
         variant: 0,
         policy: 0,
         field: FieldConfig::EXACT,
+        team: TeamConfig::NONE,
     }
 }
 
 fn with_bad_version(sequence: u16) -> Vec<u8> {
-    let mut raw = vec![3u8, 0x02, sequence as u8, (sequence >> 8) as u8];
+    let mut raw = vec![VERSION + 1, 0x02, sequence as u8, (sequence >> 8) as u8];
     let crc = crc16(&raw);
     raw.extend(crc.to_le_bytes());
     let mut out = [0u8; 32];

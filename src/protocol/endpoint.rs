@@ -19,8 +19,10 @@ use crate::protocol::frame::{
 };
 use crate::protocol::message::{
     kind, policy_of_byte, CommandMsg, Configure, Counters, ErrorMsg, LineCounts, StateMsg,
-    NO_CIRCLE, ROLE_EVADER, ROLE_PURSUER,
+    NO_CIRCLE, NO_MEMBER, ROLE_EVADER, ROLE_PURSUER,
 };
+#[cfg(feature = "serial-team")]
+use crate::protocol::{message::TeammateMsg, team::Team};
 use crate::status::Status;
 use crate::value_tables::ValueTables;
 
@@ -149,6 +151,9 @@ struct Session<S> {
     estimator: Option<Estimator<S>>,
     /// The last State's evader fix time, ms: the same again is no new fix.
     last_target_ms: Option<u32>,
+    /// The team of a version-3 Configure, where it has one.
+    #[cfg(feature = "serial-team")]
+    team: Option<Team>,
 }
 
 /// The stale-input watchdog. Latched: once input went stale, States get the safe command until
@@ -197,6 +202,8 @@ impl<S: Scalar> Endpoint<S> {
                 version: VERSION,
                 estimator: None,
                 last_target_ms: None,
+                #[cfg(feature = "serial-team")]
+                team: None,
             },
             reply: Reply::EMPTY,
         }
@@ -294,8 +301,9 @@ impl<S: Scalar> Session<S> {
                 if now_ms.wrapping_sub(arrived_ms) > configured.watchdog_ms =>
             {
                 self.latch();
-                reply.write(configured.version, kind::COMMAND, 0, |w| {
-                    stale_command(configured.roles).emit(w)
+                let version = configured.version;
+                reply.write(version, kind::COMMAND, 0, |w| {
+                    stale_command(configured.roles).emit_in(version, w)
                 })
             }
             _ => false,
@@ -320,6 +328,10 @@ impl<S: Scalar> Session<S> {
         let handled = match frame.message_type() {
             kind::CONFIGURE => self.on_configure(frame.payload(), sequence, reply),
             kind::STATE => self.on_state(frame.payload(), sequence, now_ms, reply),
+            #[cfg(feature = "serial-team")]
+            kind::TEAMMATE if self.version == VERSION => {
+                self.on_teammate(frame.payload(), sequence, reply)
+            }
             request @ (kind::READ_COUNTERS | kind::RESET | kind::SHUTDOWN) => {
                 self.on_request(request, frame.payload(), sequence, reply)
             }
@@ -338,16 +350,17 @@ impl<S: Scalar> Session<S> {
         reply: &mut Reply,
     ) -> Result<bool, WireError> {
         let version = self.version;
-        let message = if version == VERSION_1 {
-            Configure::parse_v1(payload)?
-        } else {
-            Configure::parse(payload)?
-        };
+        let message = Configure::parse_in(version, payload)?;
+        check_team(&message)?;
         // Written in place; only its policy byte is read back (a copy of the whole
         // configuration kept for the ack cost the M0's loop 264 B of stack).
         let configured = self
             .configured
             .insert(configure(&message, version, self.tables)?);
+        #[cfg(feature = "serial-team")]
+        {
+            self.team = Team::of(message.team, message.limits).ok().flatten();
+        }
         self.last_target_ms = None;
         self.estimator = None;
         if version != VERSION_1 {
@@ -404,7 +417,7 @@ impl<S: Scalar> Session<S> {
                 self.latch();
             }
             return Ok(reply.write(version, kind::COMMAND, sequence, |w| {
-                stale_command(roles).emit(w)
+                stale_command(roles).emit_in(version, w)
             }));
         }
         let decision = if let Some(estimator) = self.estimator.as_mut() {
@@ -420,19 +433,44 @@ impl<S: Scalar> Session<S> {
                 // States is.
                 self.latch();
                 return Ok(reply.write(version, kind::COMMAND, sequence, |w| {
-                    stale_command(roles).emit(w)
+                    stale_command(roles).emit_in(version, w)
                 }));
             };
             decision
         } else {
             configured.guidance.decide(&pursuer, &evader)
         };
-        let command = command_message(&decision, configured);
+        #[cfg_attr(not(feature = "serial-team"), allow(unused_mut))]
+        let mut command = command_message(&decision, configured);
+        #[cfg(feature = "serial-team")]
+        if let Some(team) = self.team.as_mut() {
+            let timing = (message.time_ms, configured.watchdog_ms);
+            let period = configured.guidance.period();
+            command.chaser = team.name((message.pursuer, message.evader), timing, period);
+        }
         self.watchdog = Watchdog::Armed {
             arrived_ms: now_ms,
             stamp_ms: message.time_ms,
         };
-        Ok(reply.write(version, kind::COMMAND, sequence, |w| command.emit(w)))
+        Ok(reply.write(version, kind::COMMAND, sequence, |w| {
+            command.emit_in(version, w)
+        }))
+    }
+
+    /// Teammate: kept, acknowledged (protocol version 3, a team configured).
+    #[cfg(feature = "serial-team")]
+    #[inline(never)]
+    fn on_teammate(
+        &mut self,
+        payload: &[u8],
+        sequence: u16,
+        reply: &mut Reply,
+    ) -> Result<bool, WireError> {
+        let message = TeammateMsg::parse(payload)?;
+        let team = self.team.as_mut().ok_or(WireError::NotConfigured)?;
+        team.hear(&message)?;
+        let version = self.version;
+        Ok(reply.write(version, kind::TEAMMATE_ACK, sequence, |_| Some(())))
     }
 
     /// ReadCounters, Reset and Shutdown: requests without a payload.
@@ -462,10 +500,33 @@ impl<S: Scalar> Session<S> {
                 if let Some(estimator) = self.estimator.as_mut() {
                     estimator.clear();
                 }
+                #[cfg(feature = "serial-team")]
+                if let Some(team) = self.team.as_mut() {
+                    team.clear();
+                }
                 reply.write(version, kind::RESET_ACK, sequence, |_| Some(()))
             }
             _ => reply.write(version, kind::SHUTDOWN_ACK, sequence, |_| Some(())),
         })
+    }
+}
+
+/// A team a Configure may ask for: none (size 0 or 1, own 0), or with the `serial-team`
+/// feature 2 to 8 members and an own index among them.
+///
+/// # Errors
+/// `InvalidConfig` for any other.
+fn check_team(message: &Configure) -> Result<(), WireError> {
+    let (size, own) = (message.team.size, message.team.own);
+    let none = size <= 1 && own == 0;
+    #[cfg(feature = "serial-team")]
+    let team = (2..=crate::protocol::team::MAX_TEAM as u8).contains(&size) && own < size;
+    #[cfg(not(feature = "serial-team"))]
+    let team = false;
+    if none || team {
+        Ok(())
+    } else {
+        Err(WireError::InvalidConfig)
     }
 }
 
@@ -648,6 +709,7 @@ fn stale_command(roles: u8) -> CommandMsg {
         predicted: f32::INFINITY,
         upper: f32::INFINITY,
         lower: f32::INFINITY,
+        chaser: NO_MEMBER,
     }
 }
 
@@ -688,5 +750,6 @@ fn command_message<S: Scalar>(evaluation: &Decision<S>, configured: &Configured<
         predicted: value(solution.map(|s| s.upper)),
         upper: value(solution.map(|s| s.upper)),
         lower: value(solution.map(|s| s.lower)),
+        chaser: NO_MEMBER,
     }
 }

@@ -6,9 +6,11 @@
 //! every byte before it. Parsing never panics: every malformed input is a [`WireError`].
 
 /// Protocol version carried in every frame the unit writes unasked, and the one its hosts
-/// should speak: version 2 carries the target fix's time in State and the field's settings in
-/// Configure.
-pub const VERSION: u8 = 2;
+/// should speak: version 3 adds the team (Configure's team, Teammate, Command's chaser).
+pub const VERSION: u8 = 3;
+/// The field's version: the target fix's time in State and the field's settings in Configure.
+/// Still read, and answered in version 2.
+pub const VERSION_2: u8 = 2;
 /// The first protocol version, exact states only: still read, and answered in version 1.
 pub const VERSION_1: u8 = 1;
 /// Largest decoded frame (header, payload and CRC), bytes.
@@ -35,13 +37,13 @@ pub enum WireError {
     Oversized = 4,
     /// Unknown message type.
     UnknownType = 5,
-    /// Unknown protocol version (neither 1 nor 2).
+    /// Unknown protocol version (not 1, 2 or 3).
     BadVersion = 6,
     /// NaN or infinity in a field.
     NonFiniteField = 7,
     /// A field outside the law's envelope (coordinates, headings, limits, period).
     OutOfRangeField = 8,
-    /// A State arrived before any valid Configure.
+    /// A State arrived before any valid Configure, or a Teammate before one of a team.
     NotConfigured = 9,
     /// Configure with limits that violate v_pm > v_em > 0 and w_pm > w_em > 0.
     InvalidLimits = 10,
@@ -302,7 +304,7 @@ impl<'a> Frame<'a> {
         Ok(Frame { bytes: body })
     }
 
-    /// Protocol version: [`VERSION_1`] or [`VERSION`].
+    /// Protocol version: [`VERSION_1`], [`VERSION_2`] or [`VERSION`].
     pub fn version(&self) -> u8 {
         self.bytes.get(field::VERSION).copied().unwrap_or(VERSION)
     }

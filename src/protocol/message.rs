@@ -18,6 +18,8 @@ pub mod kind {
     /// Host -> unit: clear a latched watchdog (and the law's remembered choice); the
     /// configuration stays.
     pub const RESET: u8 = 0x05;
+    /// Host -> unit: a teammate's state (protocol version 3).
+    pub const TEAMMATE: u8 = 0x06;
     /// Unit -> host: Configure accepted.
     pub const CONFIGURE_ACK: u8 = 0x81;
     /// Unit -> host: the command for a State (or the watchdog's safe command).
@@ -28,6 +30,8 @@ pub mod kind {
     pub const SHUTDOWN_ACK: u8 = 0x84;
     /// Unit -> host: Reset accepted.
     pub const RESET_ACK: u8 = 0x85;
+    /// Unit -> host: Teammate accepted.
+    pub const TEAMMATE_ACK: u8 = 0x86;
     /// Unit -> host: an input was refused.
     pub const ERROR: u8 = 0x8F;
 }
@@ -84,6 +88,24 @@ pub struct Configure {
     pub policy: u8,
     /// The field's settings (protocol version 2; 0 in version 1).
     pub field: FieldConfig,
+    /// The team this unit's pursuer is in (protocol version 3; none in earlier versions).
+    pub team: TeamConfig,
+}
+
+/// The team in a [`Configure`] (protocol version 3): how many pursuers, and which of them
+/// this unit's is. Every member has the Configure's limits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct TeamConfig {
+    /// Members, 0 or 1 for no team, at most 8 (the `serial-team` feature's
+    /// `protocol::team::MAX_TEAM`; without it a unit refuses a team).
+    pub size: u8,
+    /// This unit's pursuer's index in the team, below `size`.
+    pub own: u8,
+}
+
+impl TeamConfig {
+    /// No team.
+    pub const NONE: TeamConfig = TeamConfig { size: 0, own: 0 };
 }
 
 /// The field's settings in a [`Configure`] (protocol version 2): what the unit's estimator
@@ -113,7 +135,9 @@ impl FieldConfig {
 
 impl Configure {
     /// Payload length, bytes.
-    pub const LEN: usize = 43;
+    pub const LEN: usize = 45;
+    /// Payload length in protocol version 2, bytes.
+    pub const LEN_V2: usize = 43;
     /// Payload length in protocol version 1, bytes.
     pub const LEN_V1: usize = 27;
 
@@ -122,16 +146,15 @@ impl Configure {
     /// # Errors
     /// `Truncated` if short, `Oversized` if long.
     pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
-        let mut r = Reader::new(payload);
-        let mut m = Self::parse_common(&mut r)?;
-        m.field = FieldConfig {
-            target_lag: r.f32()?,
-            target_sigma: r.f32()?,
-            target_heading_sigma: r.f32()?,
-            own_lead: r.f32()?,
-        };
-        r.finish()?;
-        Ok(m)
+        Self::parse_in(crate::protocol::frame::VERSION, payload)
+    }
+
+    /// Parses a payload of protocol version 2 (no team).
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse_v2(payload: &[u8]) -> Result<Self, WireError> {
+        Self::parse_in(2, payload)
     }
 
     /// Parses a payload of protocol version 1 (the field's settings 0).
@@ -139,14 +162,17 @@ impl Configure {
     /// # Errors
     /// `Truncated` if short, `Oversized` if long.
     pub fn parse_v1(payload: &[u8]) -> Result<Self, WireError> {
-        let mut r = Reader::new(payload);
-        let m = Self::parse_common(&mut r)?;
-        r.finish()?;
-        Ok(m)
+        Self::parse_in(1, payload)
     }
 
-    fn parse_common(r: &mut Reader<'_>) -> Result<Self, WireError> {
-        Ok(Configure {
+    /// Parses a payload of protocol `version`: the field's settings from version 2, the team
+    /// from 3. One body for every version, so that a unit carries one parser.
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse_in(version: u8, payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let mut m = Configure {
             limits: [r.f32()?, r.f32()?, r.f32()?, r.f32()?],
             dt: r.f32()?,
             watchdog: r.f32()?,
@@ -154,11 +180,35 @@ impl Configure {
             variant: r.u8()?,
             policy: r.u8()?,
             field: FieldConfig::EXACT,
-        })
+            team: TeamConfig::NONE,
+        };
+        if version >= 2 {
+            m.field = FieldConfig {
+                target_lag: r.f32()?,
+                target_sigma: r.f32()?,
+                target_heading_sigma: r.f32()?,
+                own_lead: r.f32()?,
+            };
+        }
+        if version >= 3 {
+            m.team = TeamConfig {
+                size: r.u8()?,
+                own: r.u8()?,
+            };
+        }
+        r.finish()?;
+        Ok(m)
     }
 
     /// Writes the payload of the current version.
     pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        self.emit_v2(w)?;
+        w.u8(self.team.size)?;
+        w.u8(self.team.own)
+    }
+
+    /// Writes the payload of protocol version 2 (without the team).
+    pub fn emit_v2(&self, w: &mut Writer<'_>) -> Option<()> {
         self.emit_v1(w)?;
         let field = &self.field;
         w.f32(field.target_lag)?;
@@ -182,7 +232,7 @@ impl Configure {
 
 /// State: the sender's timestamp (ms) and both vehicles' (x, y, theta) in metres and radians;
 /// from protocol version 2 the time of the evader's fix on the sender's clock, which version 1
-/// takes to be the timestamp.
+/// takes to be the timestamp (version 3's State is version 2's).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StateMsg {
     /// Sender's timestamp, milliseconds: when the pursuer was where it says.
@@ -265,6 +315,51 @@ impl StateMsg {
     }
 }
 
+/// Teammate (protocol version 3): a teammate's (x, y, theta), metres and radians, in the
+/// States' frame, and when it was there, ms on the States' sender's clock.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TeammateMsg {
+    /// The teammate's index in the team (not this unit's own).
+    pub index: u8,
+    /// When the teammate was where it says, milliseconds on the sender's clock.
+    pub time_ms: u32,
+    /// The teammate's x, y, theta.
+    pub state: [f32; 3],
+}
+
+impl TeammateMsg {
+    /// Payload length, bytes.
+    pub const LEN: usize = 17;
+
+    /// Parses a payload.
+    ///
+    /// # Errors
+    /// `Truncated` if short, `Oversized` if long.
+    pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
+        let mut r = Reader::new(payload);
+        let m = TeammateMsg {
+            index: r.u8()?,
+            time_ms: r.u32()?,
+            state: [r.f32()?, r.f32()?, r.f32()?],
+        };
+        r.finish()?;
+        Ok(m)
+    }
+
+    /// Writes the payload.
+    pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        w.u8(self.index)?;
+        w.u32(self.time_ms)?;
+        for v in self.state {
+            w.f32(v)?;
+        }
+        Some(())
+    }
+}
+
+/// Wire code of no team member: a Command's chaser where there is no team or no chaser.
+pub const NO_MEMBER: u8 = 0xFF;
+
 /// Wire code of a circle: 0 = A, 1 = C, 0xFF = none.
 pub const NO_CIRCLE: u8 = 0xFF;
 
@@ -290,19 +385,24 @@ pub struct CommandMsg {
     pub upper: f32,
     /// Lower value, seconds.
     pub lower: f32,
+    /// The team's chaser (its index; [`NO_MEMBER`] without a team or a chaser): protocol
+    /// version 3's append.
+    pub chaser: u8,
 }
 
 impl CommandMsg {
     /// Payload length, bytes.
-    pub const LEN: usize = 24;
+    pub const LEN: usize = 25;
+    /// Payload length in protocol versions 1 and 2 (no chaser), bytes.
+    pub const LEN_V2: usize = 24;
 
-    /// Parses a payload.
+    /// Parses a payload: [`CommandMsg::LEN`] bytes, or [`CommandMsg::LEN_V2`] (no chaser).
     ///
     /// # Errors
     /// `Truncated` if short, `Oversized` if long.
     pub fn parse(payload: &[u8]) -> Result<Self, WireError> {
         let mut r = Reader::new(payload);
-        let m = CommandMsg {
+        let mut m = CommandMsg {
             status: r.u8()?,
             roles: r.u8()?,
             pursuer_rate: r.f32()?,
@@ -312,13 +412,27 @@ impl CommandMsg {
             predicted: r.f32()?,
             upper: r.f32()?,
             lower: r.f32()?,
+            chaser: NO_MEMBER,
         };
+        if payload.len() > Self::LEN_V2 {
+            m.chaser = r.u8()?;
+        }
         r.finish()?;
         Ok(m)
     }
 
-    /// Writes the payload.
+    /// Writes the payload of the current version.
     pub fn emit(&self, w: &mut Writer<'_>) -> Option<()> {
+        self.emit_in(crate::protocol::frame::VERSION, w)
+    }
+
+    /// Writes the payload of protocol versions 1 and 2 (without the chaser).
+    pub fn emit_v2(&self, w: &mut Writer<'_>) -> Option<()> {
+        self.emit_in(2, w)
+    }
+
+    /// Writes the payload of protocol `version`: the chaser from version 3.
+    pub fn emit_in(&self, version: u8, w: &mut Writer<'_>) -> Option<()> {
         w.u8(self.status)?;
         w.u8(self.roles)?;
         w.f32(self.pursuer_rate)?;
@@ -327,7 +441,11 @@ impl CommandMsg {
         w.u8(self.col)?;
         w.f32(self.predicted)?;
         w.f32(self.upper)?;
-        w.f32(self.lower)
+        w.f32(self.lower)?;
+        if version >= 3 {
+            w.u8(self.chaser)?;
+        }
+        Some(())
     }
 }
 

@@ -1,7 +1,7 @@
 //! The serial loop's bench on the target: the session of [`crate::main_loop`] served by the
 //! firmware's serial path (the UART interrupt's handler and `twocars::serial::service` over the
-//! queues, fed by a scripted UART), with and without the bench states, in protocol versions 1
-//! and 2 (version 1 alone with the value tables), one line per session: `loop <version> <with
+//! queues, fed by a scripted UART), with and without the bench states, in protocol version 1
+//! and the current one (version 1 alone with the value tables), one line per session: `loop <version> <with
 //! states> <ticks> <stack bytes> <replies> <digest> <accepted> <refused>`.
 
 use core::hint::black_box;
@@ -25,8 +25,10 @@ pub fn run(
     let Some(line) = cortex_m::singleton!(: Line = Line::new()) else {
         probe::fail();
     };
-    // Protocol version 1 with the states and without, then version 2 (not with the tables).
-    let sessions = [(1, true), (1, false), (2, true), (2, false)];
+    // Protocol version 1 with the states and without, then the current version (not with the
+    // tables).
+    let current = twocars::protocol::frame::VERSION;
+    let sessions = [(1, true), (1, false), (current, true), (current, false)];
     let count = if tables.is_empty() { 4 } else { 2 };
     for (version, with_states) in sessions.into_iter().take(count) {
         let Some(script) = script_as(version, with_states, !tables.is_empty(), &mut bytes)

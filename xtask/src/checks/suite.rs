@@ -392,21 +392,27 @@ fn clippy_host(suite: &mut Suite) -> bool {
 /// images' build (a release build of the bare library here cost ~32 s per target on a clean
 /// clone and proved nothing more).
 fn clippy_core(suite: &mut Suite) -> bool {
-    THUMB_TARGETS.iter().all(|target| {
+    // The team's doors, which no image carries, on the M0 (no FPU, no atomics) once.
+    let team = (
+        "mavlink,mavlink-team,serial-team,polled",
+        "thumbv6m-none-eabi",
+    );
+    let runs = THUMB_TARGETS.iter().map(|&t| ("mavlink,polled", t));
+    runs.chain([team]).all(|(features, target)| {
         let clippy = [
             "clippy",
             "-p",
             "twocars",
             "--release",
             "--features",
-            "mavlink,polled",
+            features,
             "--target",
             target,
             "--",
             "-D",
             "warnings",
         ];
-        let title = format!("clippy of the no_std core for {target}");
+        let title = format!("clippy of the no_std core for {target} ({features})");
         step(&title, &suite.cargo, &clippy, &[])
     })
 }

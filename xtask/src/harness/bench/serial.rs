@@ -31,11 +31,11 @@ pub struct LoopMeasured {
     /// Command encoded and written (the session with the states minus the one without, over
     /// its State frames).
     pub per_state: f64,
-    /// The same in protocol version 2 (the states through the unit's estimator), where the
-    /// image serves it.
-    pub per_state_v2: Option<f64>,
-    /// The loop's stack high-water mark in the version-2 session, bytes.
-    pub stack_v2: u64,
+    /// The same in the current protocol version (the states through the unit's estimator),
+    /// where the image serves it.
+    pub per_state_field: Option<f64>,
+    /// The loop's stack high-water mark in the current version's session, bytes.
+    pub stack_field: u64,
     /// Instructions of the session without the states (two Configures, four refused inputs,
     /// ReadCounters, Shutdown).
     pub rest: f64,
@@ -75,9 +75,9 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
     };
     let tables = image == LoopImage::M4fTables;
     let (out, _) = build_and_print(cpu, bin)?;
-    // Ticks by [version 1, version 2][without, with the states].
+    // Ticks by [version 1, the current version][without, with the states].
     let mut ticks = [[None, None], [None, None]];
-    let (mut stack, mut stack_v2) = (0, 0);
+    let (mut stack, mut stack_field) = (0, 0);
     let mut replies = 0;
     for line in out.lines() {
         let fields: Vec<&str> = line.split_whitespace().collect();
@@ -107,19 +107,17 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
                 cpu.name
             ));
         }
-        let slot = ticks
-            .get_mut(usize::from(version.saturating_sub(1)))
-            .ok_or_else(bad)?;
+        let slot = ticks.get_mut(usize::from(version != 1)).ok_or_else(bad)?;
         slot[usize::from(with_states)] = Some(t.parse::<f64>().map_err(|_| bad())?);
         if with_states && version != 1 {
-            stack_v2 = s.parse().map_err(|_| bad())?;
+            stack_field = s.parse().map_err(|_| bad())?;
         }
         if with_states && version == 1 {
             stack = s.parse().map_err(|_| bad())?;
             replies = got.replies;
         }
     }
-    let [[Some(without), Some(with)], v2] = ticks else {
+    let [[Some(without), Some(with)], current] = ticks else {
         return Err(format!(
             "the serial loop's image did not report both sessions:\n{out}"
         ));
@@ -128,28 +126,30 @@ pub fn measure_loop(image: LoopImage) -> Result<LoopMeasured, String> {
     let frames = twocars_bench::main_loop::state_frames(tables) as f64;
     Ok(LoopMeasured {
         per_state: (with - without) / per_instruction / frames,
-        per_state_v2: match v2 {
+        per_state_field: match current {
             [Some(without), Some(with)] => Some((with - without) / per_instruction / frames),
             _ => None,
         },
-        stack_v2,
+        stack_field,
         rest: without / per_instruction,
         stack,
         replies,
     })
 }
 
-/// The version-2 sentence of a loop's paragraph: what a State frame costs through the unit's
-/// estimator.
-fn version_2(l: &LoopMeasured) -> String {
-    l.per_state_v2.map_or(String::new(), |v2| {
+/// The current version's sentence of a loop's paragraph: what a State frame costs through the
+/// unit's estimator.
+fn field_sentence(l: &LoopMeasured) -> String {
+    l.per_state_field.map_or(String::new(), |field| {
         format!(
-            " In protocol version 2 (the Configure with exact field settings, each State with \
-             its evader fix's time: the states go through the unit's estimator, both tracks \
-             taken and carried to the frame's time), the same session costs **{v2:.0} \
-             instructions per State frame**, {:+.0} for the estimator's path; stack {} B.",
-            v2 - l.per_state,
-            l.stack_v2
+            " In protocol version {} (the Configure with exact field settings and no team, \
+             each State with its evader fix's time: the states go through the unit's \
+             estimator, both tracks taken and carried to the frame's time), the same session \
+             costs **{field:.0} instructions per State frame**, {:+.0} for the estimator's \
+             path; stack {} B.",
+            twocars::protocol::frame::VERSION,
+            field - l.per_state,
+            l.stack_field
         )
     })
 }
@@ -157,7 +157,7 @@ fn version_2(l: &LoopMeasured) -> String {
 /// The serial loop's paragraph of the report for `image`.
 pub(crate) fn section(image: LoopImage) -> Result<String, String> {
     let l = measure_loop(image)?;
-    let v2 = version_2(&l);
+    let field = field_sentence(&l);
     Ok(match image {
         LoopImage::M4fFloat => format!(
             "Main loop (Cortex-M4F, f32; `serial` image: the firmware's serial path, the \
@@ -172,7 +172,7 @@ pub(crate) fn section(image: LoopImage) -> Result<String, String> {
              over its State frames); **stack \
              {} B** (the unit, its buffers and the law below the loop's frame, as in the \
              firmware's `main`; the queues are statics; an interrupt adds its exception frame, 104 B with the FPU \
-             context (108 B when realigned), and its handler's).{v2} Where a frame's \
+             context (108 B when realigned), and its handler's).{field} Where a frame's \
              instructions go (QEMU's exec log by function): docs/optimisation.md, \"The serial \
              path\".",
             l.replies, l.per_state, l.rest, l.stack
@@ -181,7 +181,7 @@ pub(crate) fn section(image: LoopImage) -> Result<String, String> {
             "Main loop (Cortex-M0, fixed point; the same session on the micro:bit, `serial_fixed` \
              with the Q17.14 law, the wire's f32 values converted with integers only, {} \
              replies, all equal to the same unit's on the host): **{:.0} instructions per \
-             State frame** (the session without its State frames: {:.0}); **stack {} B**.{v2}",
+             State frame** (the session without its State frames: {:.0}); **stack {} B**.{field}",
             l.replies, l.per_state, l.rest, l.stack
         ),
         LoopImage::M4fTables => format!(

@@ -6,7 +6,7 @@ use std::collections::VecDeque;
 
 use twocars::protocol::endpoint::Endpoint;
 use twocars::protocol::message::{
-    Configure, Counters, FieldConfig, StateMsg, ROLE_EVADER, ROLE_PURSUER,
+    Configure, Counters, FieldConfig, StateMsg, TeamConfig, ROLE_EVADER, ROLE_PURSUER,
 };
 use twocars::value_tables::ValueTables;
 use twocars::{Direction, Guidance, Law, Limits, Policy, Scalar, Variant};
@@ -200,6 +200,7 @@ fn configure(
         variant: twocars::protocol::message::variant_byte(variant),
         policy: twocars::protocol::message::policy_byte(policy),
         field: FieldConfig::EXACT,
+        team: TeamConfig::NONE,
     };
     *sequence = sequence.wrapping_add(1);
     unit.send(&link::configure(*sequence, &configure))?;
