@@ -1,7 +1,7 @@
 //! ArduPilot Rover SITL flying the pursuer, the MAVLink image its companion: the chase, a
 //! second rover as the evader, the unit's reading of ArduPilot's telemetry, and signing.
 
-use crate::harness::ardupilot::{cost_line, find_rover, fly, Flown, Options};
+use crate::harness::ardupilot::{cost_line, fly, Flown, Options};
 use crate::image::signing::SigningKey;
 
 /// `cargo xtask test`'s chases: one start below the threshold against the straight evader,
@@ -11,11 +11,7 @@ pub fn record(record: &mut impl FnMut(&str, Result<String, String>)) {
     println!(
         "== xtask test: ArduPilot Rover SITL flying the pursuer, the MAVLink image its companion"
     );
-    if find_rover(None).is_none() {
-        println!(
-            "   SKIPPED: ArduPilot Rover SITL not found (TWOCARS_ARDUROVER or \
-             ../shared/ardupilot/ardurover); docs/ardupilot.md says how to build it"
-        );
+    if super::skipped::rover_missing() {
         return;
     }
     let options = Options {

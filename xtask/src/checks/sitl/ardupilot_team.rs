@@ -2,18 +2,13 @@
 //! fourth rover (`cargo xtask test --only ardupilot-team`; not in the full run, which it would
 //! lengthen by about five minutes).
 
-use crate::harness::ardupilot::find_rover;
 use crate::harness::ardupilot::team::{fly, Options, Outcome};
 
 /// Each chase of `cargo xtask run --autopilot ardupilot --team` as a test: captured, and every
 /// unit naming a chaser from its first TC_CHASER on.
 pub fn record(record: &mut impl FnMut(&str, Result<String, String>)) {
     println!("== xtask test: a team of three ArduPilot Rover SITL pursuers against a fourth rover");
-    if find_rover(None).is_none() {
-        println!(
-            "   SKIPPED: ArduPilot Rover SITL not found (TWOCARS_ARDUROVER or \
-             ../shared/ardupilot/ardurover); docs/ardupilot.md says how to build it"
-        );
+    if super::skipped::rover_missing() {
         return;
     }
     let options = Options {

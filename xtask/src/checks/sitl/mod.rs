@@ -6,6 +6,7 @@ mod ardupilot_rover;
 mod ardupilot_team;
 mod px4_plane;
 mod px4_rover;
+mod skipped;
 
 /// ArduPlane, then ArduPilot Rover.
 pub fn ardupilot(record: &mut impl FnMut(&str, Result<String, String>)) {
