@@ -517,13 +517,11 @@ impl<S: Scalar> Session<S> {
 /// # Errors
 /// `InvalidConfig` for any other.
 fn check_team(message: &Configure) -> Result<(), WireError> {
-    let (size, own) = (message.team.size, message.team.own);
-    let none = size <= 1 && own == 0;
     #[cfg(feature = "serial-team")]
-    let team = (2..=crate::protocol::team::MAX_TEAM as u8).contains(&size) && own < size;
+    let max = crate::protocol::team::MAX_TEAM as u8;
     #[cfg(not(feature = "serial-team"))]
-    let team = false;
-    if none || team {
+    let max = 0;
+    if message.team.fits(max) {
         Ok(())
     } else {
         Err(WireError::InvalidConfig)

@@ -106,6 +106,17 @@ pub struct TeamConfig {
 impl TeamConfig {
     /// No team.
     pub const NONE: TeamConfig = TeamConfig { size: 0, own: 0 };
+
+    /// Whether this is no team (size 0 or 1, own 0).
+    pub const fn is_none(&self) -> bool {
+        self.size <= 1 && self.own == 0
+    }
+
+    /// Whether a unit that takes teams of up to `max` members can take this one: no team, or
+    /// 2 to `max` members and an own index among them.
+    pub const fn fits(&self, max: u8) -> bool {
+        self.is_none() || (self.size >= 2 && self.size <= max && self.own < self.size)
+    }
 }
 
 /// The field's settings in a [`Configure`] (protocol version 2): what the unit's estimator

@@ -38,13 +38,13 @@ impl Team {
     /// `InvalidConfig` for more than [`MAX_TEAM`] members, an own index outside the team, or
     /// limits the roles cannot take.
     pub fn of(config: TeamConfig, limits: [f32; 4]) -> Result<Option<Team>, WireError> {
-        let (size, own) = (usize::from(config.size), usize::from(config.own));
-        if size <= 1 && own == 0 {
+        if config.is_none() {
             return Ok(None);
         }
-        if !(2..=MAX_TEAM).contains(&size) || own >= size {
+        if !config.fits(MAX_TEAM as u8) {
             return Err(WireError::InvalidConfig);
         }
+        let (size, own) = (usize::from(config.size), usize::from(config.own));
         let [v_pm, w_pm, _, _] = limits;
         let roles = Roles::new([[v_pm, w_pm]; MAX_TEAM]).map_err(|_| WireError::InvalidConfig)?;
         Ok(Some(Team {
